@@ -1,0 +1,21 @@
+"""Exception types raised by geoimg; all derive from :class:`GeoimgError`."""
+
+
+class GeoimgError(Exception):
+    """Base class of every error geoimg raises on purpose."""
+
+
+class MeshError(GeoimgError, ValueError):
+    """A mesh (array or file) is malformed: bad indices, NaN coordinates, empty, corrupt."""
+
+
+class MeshFileError(MeshError):
+    """A mesh file cannot be read or written (unknown format, truncated, corrupt)."""
+
+
+class ParametrizationError(GeoimgError, ValueError):
+    """A parametrization cannot be built or does not fit its mesh."""
+
+
+class ImageFileError(GeoimgError, ValueError):
+    """A geometry-image file cannot be read or written."""

@@ -1,0 +1,155 @@
+"""Geometry images: a regular grid of surface points stored as an (H, W, 3) float image of X, Y, Z."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import GeoimgError
+from .mesh import Mesh
+
+__all__ = ["GeometryImage", "grid_normals", "DOMAINS"]
+
+DOMAINS = ("planar",)
+
+
+def grid_normals(pixels: np.ndarray, orientation: int = 1) -> np.ndarray:
+    """Unit normals of a geometry image from central differences of the grid (one-sided at the edges).
+
+    Examples
+    --------
+    >>> u, v = np.meshgrid(np.linspace(0, 1, 4), np.linspace(0, 1, 3))
+    >>> img = np.stack([u, v, 0 * u], axis=-1)
+    >>> grid_normals(img)[1, 1].tolist()
+    [0.0, 0.0, 1.0]
+    """
+    p = np.asarray(pixels, dtype=np.float64)
+    pv, pu = np.gradient(p, axis=(0, 1))
+    n = np.cross(pu, pv) * orientation
+    norm = np.linalg.norm(n, axis=-1, keepdims=True)
+    return np.divide(n, norm, out=np.zeros_like(n), where=norm > 0)
+
+
+@dataclass(frozen=True, eq=False)
+class GeometryImage:
+    """A geometry image.
+
+    Attributes
+    ----------
+    pixels : numpy.ndarray, shape (H, W, 3)
+        X, Y, Z of the surface at each grid point (float32 or float64, kept as given).
+    mask : numpy.ndarray of bool, shape (H, W), or None
+        Pixels inside the parametrized region (None: all valid).
+    domain : str
+        ``"planar"``: the parameter rectangle, u along columns, v along rows.
+    normals : numpy.ndarray, shape (H, W, 3), or None
+        Exact unit normals from the surface's derivatives, when known.
+    metadata : dict
+        How the image was made (s, weights, resolution, source, ...).
+
+    Examples
+    --------
+    >>> img = GeometryImage(np.zeros((4, 5, 3), np.float32))
+    >>> img.shape, img.to_mesh().n_faces
+    ((4, 5), 12)
+    """
+
+    pixels: np.ndarray
+    mask: np.ndarray | None = None
+    domain: str = "planar"
+    normals: np.ndarray | None = None
+    metadata: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        p = np.asarray(self.pixels)
+        if p.ndim != 3 or p.shape[2] != 3 or p.shape[0] < 2 or p.shape[1] < 2:
+            raise ValueError(f"pixels: expected shape (H, W, 3) with H, W >= 2, got {p.shape}")
+        if p.dtype not in (np.float32, np.float64):
+            raise TypeError(f"pixels: expected float32 or float64, got {p.dtype}")
+        if not np.isfinite(p).all():
+            raise ValueError("pixels: contain NaN or infinite values")
+        p = p.copy()
+        p.setflags(write=False)
+        object.__setattr__(self, "pixels", p)
+        if self.mask is not None:
+            m = np.asarray(self.mask)
+            if m.shape != p.shape[:2]:
+                raise ValueError(f"mask: expected shape {p.shape[:2]}, got {m.shape}")
+            if m.dtype != bool:
+                raise TypeError(f"mask: expected a boolean array, got {m.dtype}")
+            m = m.copy()
+            m.setflags(write=False)
+            object.__setattr__(self, "mask", m)
+        if self.normals is not None:
+            n = np.asarray(self.normals)
+            if n.shape != p.shape:
+                raise ValueError(f"normals: expected shape {p.shape}, got {n.shape}")
+            n = n.copy()
+            n.setflags(write=False)
+            object.__setattr__(self, "normals", n)
+        if self.domain not in DOMAINS:
+            raise ValueError(f"domain: expected one of {DOMAINS}, got {self.domain!r}")
+        object.__setattr__(self, "metadata", dict(self.metadata))
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(H, W)."""
+        return self.pixels.shape[:2]
+
+    @property
+    def valid(self) -> np.ndarray:
+        """The mask, or all True when there is none."""
+        return np.ones(self.shape, bool) if self.mask is None else self.mask
+
+    def parameter_grid(self) -> tuple[np.ndarray, np.ndarray]:
+        """The (u, v) of the columns and rows (from ``metadata['extent']``, else the unit square)."""
+        ext = self.metadata.get("extent", [1.0, 1.0])
+        return np.linspace(0, ext[0], self.shape[1]), np.linspace(0, ext[1], self.shape[0])
+
+    def to_mesh(self) -> Mesh:
+        """The regular quad mesh: one vertex per valid pixel, a quad per 2x2 block of valid pixels.
+
+        Quads are oriented like the source mesh (``metadata['orientation']``). Vertices carry the pixel's
+        (u, v) and a normal: the exact one when the image has ``normals``, else one from the grid.
+
+        Returns
+        -------
+        Mesh
+            (H - 1)(W - 1) quads when every pixel is valid.
+
+        Raises
+        ------
+        GeoimgError
+            If no 2 x 2 block of valid pixels exists.
+        """
+        H, W = self.shape
+        valid = self.valid
+        index = np.full((H, W), -1, np.int64)
+        index[valid] = np.arange(int(valid.sum()))
+        a, b = index[:-1, :-1], index[:-1, 1:]
+        c, d = index[1:, 1:], index[1:, :-1]
+        keep = (a >= 0) & (b >= 0) & (c >= 0) & (d >= 0)
+        if not keep.any():
+            raise GeoimgError("to_mesh: the image has no 2 x 2 block of valid pixels, so no quad")
+        quads = np.stack([a[keep], b[keep], c[keep], d[keep]], axis=1)
+        orientation = int(self.metadata.get("orientation", 1))
+        if orientation < 0:
+            quads = quads[:, ::-1]
+        normals = self.normals if self.normals is not None else grid_normals(self.pixels, orientation)
+        u, v = self.parameter_grid()
+        uu, vv = np.meshgrid(u, v)
+        uv = np.stack([uu[valid], vv[valid]], axis=1)
+        return Mesh(self.pixels[valid].astype(np.float64), quads, uv=uv,
+                    normals=np.asarray(normals, np.float64)[valid])
+
+    def save(self, path, *, overwrite: bool = False):
+        """Write the image to OpenEXR (float32, lossless, with metadata); see :func:`geoimg.save_image`."""
+        from .image_io import save_image
+
+        return save_image(self, path, overwrite=overwrite)
+
+    def preview(self, path, *, overwrite: bool = False):
+        """Write a 16-bit PNG with each channel stretched to its range over valid pixels (masked: black)."""
+        from .image_io import save_preview
+
+        return save_preview(self, path, overwrite=overwrite)

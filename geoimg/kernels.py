@@ -1,0 +1,417 @@
+"""The numba kernels of the weighted-mean surface, behind plain functions of arrays.
+
+Every weight contributes through ``(w, dw/du, dw/dv)``; with the face maps
+``P_i = C_i + A_i (u - uc_i) + B_i (v - vc_i)`` the kernels accumulate
+``S = sum w``, ``N = sum w P_i``, ``S_u = sum w_u``, ``N_u = sum w_u P_i``, ``N_A = sum w A_i`` (and the
+same in v), from which ``P = N / S`` and ``P_u = (N_u + N_A - P S_u) / S``.
+
+Truncation: a Gaussian face is summed only inside the box ``|u - uc_i| <= R_i, |v - vc_i| <= R_i``.
+A point whose truncated Gaussian sum ``S`` falls below ``g_ref`` (the least weight its own face can
+have) is not certified and is recomputed exactly over all faces, with exponents shifted by their
+maximum so that nothing underflows.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+__all__ = ["sample_grid_gaussian", "evaluate_points", "build_cells", "face_coverage", "GAUSSIAN", "LOCAL",
+           "TRUNCATED", "EXACT", "HOLE"]
+
+GAUSSIAN, LOCAL = 0, 1
+TRUNCATED, EXACT, HOLE = 0, 1, 2   # per-point status codes
+
+
+# --------------------------------------------------------------------------- regular grids
+def _ranges(coord: np.ndarray, centre: np.ndarray, radius: np.ndarray):
+    lo = np.searchsorted(coord, centre - radius, side="left")
+    hi = np.searchsorted(coord, centre + radius, side="right")
+    return lo.astype(np.int64), hi.astype(np.int64)
+
+
+@njit(parallel=True, cache=True)
+def _gauss_tables(coord, lo, ptr, centre, inv2s, out):
+    for f in prange(lo.shape[0]):
+        for t in range(ptr[f + 1] - ptr[f]):
+            d = coord[lo[f] + t] - centre[f]
+            out[ptr[f] + t] = math.exp(-d * d * inv2s[f])
+
+
+@njit(cache=True)
+def _row_lists(n_rows, faces, r0, r1):
+    counts = np.zeros(n_rows + 1, np.int64)
+    for k in range(faces.shape[0]):
+        f = faces[k]
+        for i in range(r0[f], r1[f]):
+            counts[i + 1] += 1
+    ptr = np.cumsum(counts)
+    fill = ptr[:-1].copy()
+    out = np.empty(ptr[-1], np.int64)
+    for k in range(faces.shape[0]):
+        f = faces[k]
+        for i in range(r0[f], r1[f]):
+            out[fill[i]] = f
+            fill[i] += 1
+    return ptr, out
+
+
+@njit(cache=True, fastmath=False)
+def _row_positions(f, i, u, v, uc, vc, C, A, B, c0, cptr, gu, gvv, s0, n0, n1, n2):
+    dv = v[i] - vc[f]
+    j0 = c0[f]
+    base = cptr[f] - j0
+    cx = C[f, 0] + B[f, 0] * dv
+    cy = C[f, 1] + B[f, 1] * dv
+    cz = C[f, 2] + B[f, 2] * dv
+    ax, ay, az = A[f, 0], A[f, 1], A[f, 2]
+    for j in range(j0, j0 + cptr[f + 1] - cptr[f]):
+        g = gu[base + j] * gvv
+        du = u[j] - uc[f]
+        s0[j] += g
+        n0[j] += g * (cx + ax * du)
+        n1[j] += g * (cy + ay * du)
+        n2[j] += g * (cz + az * du)
+
+
+@njit(cache=True)
+def _row_derivatives(f, i, u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, gvv, su, sv, nu, nv, na, nb):
+    dv = v[i] - vc[f]
+    hv = -2.0 * dv * inv2s[f]
+    j0 = c0[f]
+    base = cptr[f] - j0
+    k = -2.0 * inv2s[f]
+    for j in range(j0, j0 + cptr[f + 1] - cptr[f]):
+        g = gu[base + j] * gvv
+        du = u[j] - uc[f]
+        gu_ = g * k * du
+        gv_ = g * hv
+        su[j] += gu_
+        sv[j] += gv_
+        for c in range(3):
+            p = C[f, c] + A[f, c] * du + B[f, c] * dv
+            nu[j, c] += gu_ * p
+            nv[j, c] += gv_ * p
+            na[j, c] += g * A[f, c]
+            nb[j, c] += g * B[f, c]
+
+
+@njit(parallel=True, cache=True)
+def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, rptr, gv, row_ptr, row_faces,
+                 derivs, g_ref, P, Pu, Pv, ok):
+    W = u.shape[0]
+    for i in prange(v.shape[0]):
+        s0 = np.zeros(W)
+        n0 = np.zeros(W)
+        n1 = np.zeros(W)
+        n2 = np.zeros(W)
+        m = W if derivs else 1
+        su = np.zeros(m)
+        sv = np.zeros(m)
+        nu = np.zeros((m, 3))
+        nv = np.zeros((m, 3))
+        na = np.zeros((m, 3))
+        nb = np.zeros((m, 3))
+        for k in range(row_ptr[i], row_ptr[i + 1]):
+            f = row_faces[k]
+            gvv = gv[rptr[f] + i - r0[f]]
+            _row_positions(f, i, u, v, uc, vc, C, A, B, c0, cptr, gu, gvv, s0, n0, n1, n2)
+            if derivs:
+                _row_derivatives(f, i, u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, gvv, su, sv, nu, nv, na, nb)
+        for j in range(W):
+            s = s0[j]
+            if not s >= g_ref:
+                ok[i, j] = False
+                continue
+            ok[i, j] = True
+            P[i, j, 0] = n0[j] / s
+            P[i, j, 1] = n1[j] / s
+            P[i, j, 2] = n2[j] / s
+            if derivs:
+                for c in range(3):
+                    p = P[i, j, c]
+                    Pu[i, j, c] = (nu[j, c] + na[j, c] - p * su[j]) / s
+                    Pv[i, j, c] = (nv[j, c] + nb[j, c] - p * sv[j]) / s
+
+
+def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, g_ref):
+    """Truncated rational-Gaussian surface on the grid ``u`` (columns) x ``v`` (rows).
+
+    Uses the separability of each Gaussian: per face, one table of ``exp`` along u and one along v
+    over its box, so a pixel costs one product per face. Rows run in parallel.
+
+    Returns
+    -------
+    P, Pu, Pv : numpy.ndarray, shape (H, W, 3) float64
+        Surface and first derivatives (zeros when ``derivatives`` is false).
+    ok : numpy.ndarray, shape (H, W) bool
+        Pixels whose truncated sum is certified (the others need an exact evaluation).
+    """
+    u = np.ascontiguousarray(u, np.float64)
+    v = np.ascontiguousarray(v, np.float64)
+    inv2s = 0.5 / sigma ** 2
+    c0, c1 = _ranges(u, centres[:, 0], radius)
+    r0, r1 = _ranges(v, centres[:, 1], radius)
+    live = np.flatnonzero((c1 > c0) & (r1 > r0))
+    cn = np.where(c1 > c0, c1 - c0, 0)
+    rn = np.where(r1 > r0, r1 - r0, 0)
+    cptr = np.concatenate([[0], np.cumsum(cn)]).astype(np.int64)
+    rptr = np.concatenate([[0], np.cumsum(rn)]).astype(np.int64)
+    gu = np.empty(cptr[-1])
+    gv = np.empty(rptr[-1])
+    _gauss_tables(u, c0, cptr, centres[:, 0].copy(), inv2s, gu)
+    _gauss_tables(v, r0, rptr, centres[:, 1].copy(), inv2s, gv)
+    row_ptr, row_faces = _row_lists(v.shape[0], live.astype(np.int64), r0, np.maximum(r1, r0))
+    H, W = v.shape[0], u.shape[0]
+    P = np.zeros((H, W, 3))
+    Pu = np.zeros((H, W, 3))
+    Pv = np.zeros((H, W, 3))
+    ok = np.zeros((H, W), np.bool_)
+    _grid_kernel(u, v, centres[:, 0].copy(), centres[:, 1].copy(), inv2s, C, A, B, c0, cptr, gu, r0, rptr,
+                 gv, row_ptr, row_faces, bool(derivatives), float(g_ref), P, Pu, Pv, ok)
+    return P, Pu, Pv, ok
+
+
+# --------------------------------------------------------------------------- scattered points
+@njit(cache=True)
+def _fill_cells(lo_x, hi_x, lo_y, hi_y, nx, ny):
+    counts = np.zeros(nx * ny + 1, np.int64)
+    for f in range(lo_x.shape[0]):
+        for iy in range(lo_y[f], hi_y[f] + 1):
+            for ix in range(lo_x[f], hi_x[f] + 1):
+                counts[iy * nx + ix + 1] += 1
+    ptr = np.cumsum(counts)
+    fill = ptr[:-1].copy()
+    out = np.empty(ptr[-1], np.int64)
+    for f in range(lo_x.shape[0]):
+        for iy in range(lo_y[f], hi_y[f] + 1):
+            for ix in range(lo_x[f], hi_x[f] + 1):
+                c = iy * nx + ix
+                out[fill[c]] = f
+                fill[c] += 1
+    return ptr, out
+
+
+def build_cells(centres: np.ndarray, radius: np.ndarray, max_cells: int = 512):
+    """Bin faces into a uniform grid of cells by the box of half-size ``radius`` around each centre.
+
+    Returns ``(origin, h, nx, ny, ptr, faces)``: cell ``(ix, iy)`` lists
+    ``faces[ptr[iy*nx+ix]:ptr[iy*nx+ix+1]]``.
+    """
+    lo = (centres - radius[:, None]).min(axis=0)
+    hi = (centres + radius[:, None]).max(axis=0)
+    span = np.maximum(hi - lo, 1e-300)
+    h = max(float(np.median(radius)), float(span.max()) / max_cells)
+    nx, ny = (np.floor(span / h).astype(np.int64) + 1).tolist()
+    bx0 = np.clip(((centres[:, 0] - radius - lo[0]) / h).astype(np.int64), 0, nx - 1)
+    bx1 = np.clip(((centres[:, 0] + radius - lo[0]) / h).astype(np.int64), 0, nx - 1)
+    by0 = np.clip(((centres[:, 1] - radius - lo[1]) / h).astype(np.int64), 0, ny - 1)
+    by1 = np.clip(((centres[:, 1] + radius - lo[1]) / h).astype(np.int64), 0, ny - 1)
+    ptr, faces = _fill_cells(bx0, bx1, by0, by1, nx, ny)
+    return lo.astype(np.float64), h, nx, ny, ptr, faces
+
+
+@njit(cache=True)
+def _weight(kind, du, dv, param, radius):
+    """Weight exponent/value and its u, v derivative factors for one face at offset (du, dv)."""
+    if kind == 0:  # Gaussian: returns the exponent; derivative factors multiply exp(...)
+        e = -(du * du + dv * dv) * param
+        return e, -2.0 * du * param, -2.0 * dv * param
+    r2 = (du * du + dv * dv) / (radius * radius)
+    t = math.sqrt(r2)
+    w = 1.0 - 3.0 * r2 + 2.0 * r2 * t
+    k = 6.0 * (t - 1.0) / (radius * radius)
+    return w, k * du, k * dv
+
+
+@njit(cache=True)
+def _accumulate(kind, pu, pv, cand, n_cand, all_faces, uc, vc, param, radius, C, A, B, acc):
+    """Sum over candidate faces into acc[0:18]; returns the exponent shift (Gaussian) or 0."""
+    m = -np.inf
+    if kind == 0:
+        for k in range(n_cand):
+            f = k if all_faces else cand[k]
+            du = pu - uc[f]
+            dv = pv - vc[f]
+            if not all_faces and (abs(du) > radius[f] or abs(dv) > radius[f]):
+                continue
+            e = -(du * du + dv * dv) * param[f]
+            if e > m:
+                m = e
+        if m == -np.inf:
+            return m
+    else:
+        m = 0.0
+    for q in range(18):
+        acc[q] = 0.0
+    for k in range(n_cand):
+        f = k if all_faces else cand[k]
+        du = pu - uc[f]
+        dv = pv - vc[f]
+        if kind == 0:
+            if not all_faces and (abs(du) > radius[f] or abs(dv) > radius[f]):
+                continue
+            e, hu, hv = _weight(0, du, dv, param[f], radius[f])
+            w = math.exp(e - m)
+            wu = w * hu
+            wv = w * hv
+        else:
+            if du * du + dv * dv >= radius[f] * radius[f]:
+                continue
+            w, wu, wv = _weight(1, du, dv, param[f], radius[f])
+        for c in range(3):
+            p = C[f, c] + A[f, c] * du + B[f, c] * dv
+            acc[1 + c] += w * p
+            acc[6 + c] += wu * p
+            acc[9 + c] += wv * p
+            acc[12 + c] += w * A[f, c]
+            acc[15 + c] += w * B[f, c]
+        acc[0] += w
+        acc[4] += wu
+        acc[5] += wv
+    return m
+
+
+@njit(parallel=True, cache=True)
+def _points_kernel(kind, pts, uc, vc, param, radius, C, A, B, origin, h, nx, ny, cptr, cfaces,
+                   log_g_ref, force_exact, P, Pu, Pv, status):
+    n_faces = uc.shape[0]
+    dummy = np.zeros(1, np.int64)
+    for p in prange(pts.shape[0]):
+        acc = np.zeros(18)
+        pu = pts[p, 0]
+        pv = pts[p, 1]
+        st = TRUNCATED
+        certified = False
+        if not force_exact:
+            ix = int(math.floor((pu - origin[0]) / h))
+            iy = int(math.floor((pv - origin[1]) / h))
+            if 0 <= ix < nx and 0 <= iy < ny:
+                c = iy * nx + ix
+                cand = cfaces[cptr[c]:cptr[c + 1]]
+                m = _accumulate(kind, pu, pv, cand, cand.shape[0], False, uc, vc, param, radius, C, A, B, acc)
+                if kind == 0:
+                    certified = m > -np.inf and math.log(acc[0]) + m >= log_g_ref
+                else:
+                    certified = acc[0] > 0.0
+        if not certified:
+            if kind == 0:
+                _accumulate(0, pu, pv, dummy, n_faces, True, uc, vc, param, radius, C, A, B, acc)
+                st = EXACT
+            elif force_exact:
+                _accumulate(1, pu, pv, dummy, n_faces, True, uc, vc, param, radius, C, A, B, acc)
+                st = EXACT
+            if kind == 1 and not acc[0] > 0.0:
+                # a hole of the locally supported weights: report it, take the nearest face's plane
+                best = 0
+                bestd = np.inf
+                for f in range(n_faces):
+                    d2 = ((pu - uc[f]) ** 2 + (pv - vc[f]) ** 2) / (radius[f] * radius[f])
+                    if d2 < bestd:
+                        bestd = d2
+                        best = f
+                for q in range(18):
+                    acc[q] = 0.0
+                du = pu - uc[best]
+                dv = pv - vc[best]
+                acc[0] = 1.0
+                for c in range(3):
+                    acc[1 + c] = C[best, c] + A[best, c] * du + B[best, c] * dv
+                    acc[12 + c] = A[best, c]
+                    acc[15 + c] = B[best, c]
+                st = HOLE
+        s = acc[0]
+        status[p] = st
+        for c in range(3):
+            val = acc[1 + c] / s
+            P[p, c] = val
+            Pu[p, c] = (acc[6 + c] + acc[12 + c] - val * acc[4]) / s
+            Pv[p, c] = (acc[9 + c] + acc[15 + c] - val * acc[5]) / s
+
+
+def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, g_ref, exact=False):
+    """Evaluate the surface and its first derivatives at scattered parameter points.
+
+    Parameters
+    ----------
+    kind : int
+        ``GAUSSIAN`` (``param`` = 1 / (2 sigma^2), ``radius`` = truncation half-box) or ``LOCAL``
+        (``radius`` = support radius R_i).
+    pts : (k, 2) float64
+    cells : tuple from :func:`build_cells`
+    g_ref : float
+        Certification threshold of the truncated Gaussian sum.
+    exact : bool
+        Sum over every face (no truncation).
+
+    Returns
+    -------
+    P, Pu, Pv : (k, 3) float64
+    status : (k,) int8
+        ``TRUNCATED``, ``EXACT`` (recomputed over all faces) or ``HOLE`` (no local weight covers it).
+    """
+    origin, h, nx, ny, cptr, cfaces = cells
+    pts = np.ascontiguousarray(pts, np.float64)
+    k = pts.shape[0]
+    P, Pu, Pv = np.zeros((k, 3)), np.zeros((k, 3)), np.zeros((k, 3))
+    status = np.zeros(k, np.int8)
+    _points_kernel(int(kind), pts, np.ascontiguousarray(centres[:, 0]), np.ascontiguousarray(centres[:, 1]),
+                   param, radius, C, A, B, origin, float(h), int(nx), int(ny), cptr, cfaces,
+                   math.log(g_ref) if g_ref > 0 else -np.inf, bool(exact), P, Pu, Pv, status)
+    return P, Pu, Pv, status
+
+
+# --------------------------------------------------------------------------- coverage mask
+@njit(cache=True)
+def _coverage_kernel(u, v, poly, sizes, eps, mask):
+    for f in range(poly.shape[0]):
+        k = sizes[f]
+        umin, umax, vmin, vmax = np.inf, -np.inf, np.inf, -np.inf
+        for a in range(k):
+            umin = min(umin, poly[f, a, 0])
+            umax = max(umax, poly[f, a, 0])
+            vmin = min(vmin, poly[f, a, 1])
+            vmax = max(vmax, poly[f, a, 1])
+        j0 = np.searchsorted(u, umin - eps)
+        j1 = np.searchsorted(u, umax + eps, side="right")
+        i0 = np.searchsorted(v, vmin - eps)
+        i1 = np.searchsorted(v, vmax + eps, side="right")
+        for i in range(i0, i1):
+            py = v[i]
+            for j in range(j0, j1):
+                if mask[i, j]:
+                    continue
+                px = u[j]
+                inside = False
+                near = False
+                for a in range(k):
+                    b = (a + 1) % k
+                    ax, ay = poly[f, a, 0], poly[f, a, 1]
+                    bx, by = poly[f, b, 0], poly[f, b, 1]
+                    if (ay > py) != (by > py):
+                        xc = ax + (py - ay) * (bx - ax) / (by - ay)
+                        if px < xc:
+                            inside = not inside
+                    # distance from the pixel to the edge, for pixels on the boundary
+                    ex, ey = bx - ax, by - ay
+                    l2 = ex * ex + ey * ey
+                    t = 0.0 if l2 == 0.0 else min(1.0, max(0.0, ((px - ax) * ex + (py - ay) * ey) / l2))
+                    dx, dy = px - ax - t * ex, py - ay - t * ey
+                    if dx * dx + dy * dy <= eps * eps:
+                        near = True
+                if inside or near:
+                    mask[i, j] = True
+
+
+def face_coverage(u, v, polygons, sizes, eps):
+    """Boolean (len(v), len(u)) mask of the grid points inside or within ``eps`` of any polygon.
+
+    ``polygons`` is (F, K, 2) with ``sizes[f]`` real corners per face (even-odd rule, so non-convex
+    faces are handled).
+    """
+    mask = np.zeros((len(v), len(u)), np.bool_)
+    _coverage_kernel(np.ascontiguousarray(u, np.float64), np.ascontiguousarray(v, np.float64),
+                     np.ascontiguousarray(polygons, np.float64), np.ascontiguousarray(sizes, np.int64),
+                     float(eps), mask)
+    return mask

@@ -1,0 +1,186 @@
+"""The polygon mesh: float64 vertices and faces of any size, kept exactly as given.
+
+Faces are stored as a padded ``(F, K)`` int64 array, ``K`` the largest face size, with
+``-1`` after the last index of a shorter face; ``face_sizes`` holds each face's count.
+Nothing is triangulated, merged or reordered.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import MeshError
+
+__all__ = ["Mesh", "pad_faces"]
+
+
+def pad_faces(faces) -> np.ndarray:
+    """Turn faces given as an ``(F, K)`` array or a sequence of index sequences into a padded array.
+
+    Parameters
+    ----------
+    faces : array_like or sequence of sequences of int
+        Vertex indices of each face; ``-1`` entries of an array are padding.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(F, K)`` int64, shorter faces padded with ``-1``.
+
+    Examples
+    --------
+    >>> pad_faces([[0, 1, 2], [0, 2, 3, 4]]).tolist()
+    [[0, 1, 2, -1], [0, 2, 3, 4]]
+    """
+    if isinstance(faces, np.ndarray):
+        arr = faces
+    else:
+        faces = list(faces)
+        if not faces:
+            return np.zeros((0, 3), np.int64)
+        lengths = [len(f) for f in faces]
+        if len(set(lengths)) == 1:
+            arr = np.asarray(faces)
+        else:
+            arr = np.full((len(faces), max(lengths)), -1, np.int64)
+            for i, f in enumerate(faces):
+                arr[i, : len(f)] = f
+    if arr.ndim != 2:
+        raise MeshError(f"faces: expected a 2-D (F, K) index array, got shape {arr.shape}")
+    if arr.size and not np.issubdtype(arr.dtype, np.integer):
+        if not np.all(np.isfinite(arr)) or np.any(arr != np.round(arr)):
+            raise MeshError(f"faces: expected integer vertex indices, got dtype {arr.dtype} with non-integers")
+    return np.array(arr, dtype=np.int64)
+
+
+@dataclass(frozen=True, eq=False)
+class Mesh:
+    """A polygon mesh with optional per-vertex UVs and normals.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (N, 3)
+        Positions; stored as float64 (units are kept, never rescaled).
+    faces : array_like or sequence of sequences
+        Vertex indices per face (see :func:`pad_faces`); at least 3 per face.
+    uv : array_like, shape (N, 2), optional
+        Per-vertex parameter coordinates (for example from OBJ ``vt``).
+    normals : array_like, shape (N, 3), optional
+        Per-vertex unit normals.
+
+    Examples
+    --------
+    >>> m = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+    >>> m.n_vertices, m.n_faces, m.face_sizes.tolist()
+    (4, 1, [4])
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    uv: np.ndarray | None = None
+    normals: np.ndarray | None = None
+    face_sizes: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self):
+        v = np.array(self.vertices, dtype=np.float64, copy=True)
+        if v.ndim != 2 or v.shape[1] != 3:
+            raise MeshError(f"vertices: expected shape (N, 3), got {v.shape}")
+        if v.shape[0] == 0:
+            raise MeshError("vertices: the mesh has no vertices")
+        bad = ~np.isfinite(v).all(axis=1)
+        if bad.any():
+            raise MeshError(
+                f"vertices: {int(bad.sum())} vertices have NaN or infinite coordinates "
+                f"(first at index {int(np.flatnonzero(bad)[0])})")
+        f = pad_faces(self.faces)
+        if f.shape[0] == 0:
+            raise MeshError("faces: the mesh has no faces")
+        valid = f >= 0
+        sizes = valid.sum(axis=1)
+        # padding must be trailing: a -1 followed by an index is malformed
+        if np.any(valid[:, 1:] & ~valid[:, :-1]):
+            raise MeshError("faces: -1 padding must come after a face's indices")
+        if np.any(f < -1):
+            raise MeshError(f"faces: negative vertex index {int(f.min())} (only -1 padding is allowed)")
+        if sizes.min() < 3:
+            i = int(np.argmin(sizes))
+            raise MeshError(f"faces: every face needs at least 3 vertices; face {i} has {int(sizes[i])}")
+        if f.max() >= v.shape[0]:
+            i = int(np.argwhere(f >= v.shape[0])[0, 0])
+            raise MeshError(
+                f"faces: face {i} refers to vertex {int(f[i].max())} but there are only {v.shape[0]} vertices")
+        for name, width in (("uv", 2), ("normals", 3)):
+            a = getattr(self, name)
+            if a is None:
+                continue
+            a = np.array(a, dtype=np.float64, copy=True)
+            if a.shape != (v.shape[0], width):
+                raise MeshError(f"{name}: expected shape ({v.shape[0]}, {width}), got {a.shape}")
+            if not np.isfinite(a).all():
+                raise MeshError(f"{name}: contains NaN or infinite values")
+            a.setflags(write=False)
+            object.__setattr__(self, name, a)
+        v.setflags(write=False)
+        f.setflags(write=False)
+        sizes = sizes.astype(np.int64)
+        sizes.setflags(write=False)
+        object.__setattr__(self, "vertices", v)
+        object.__setattr__(self, "faces", f)
+        object.__setattr__(self, "face_sizes", sizes)
+
+    @property
+    def n_vertices(self) -> int:
+        """Number of vertices."""
+        return self.vertices.shape[0]
+
+    @property
+    def n_faces(self) -> int:
+        """Number of faces."""
+        return self.faces.shape[0]
+
+    @property
+    def is_triangle_mesh(self) -> bool:
+        """Whether every face is a triangle."""
+        return bool(np.all(self.face_sizes == 3))
+
+    def face_list(self) -> list[np.ndarray]:
+        """Faces as a list of index arrays (each of its own length)."""
+        return [row[:k] for row, k in zip(self.faces, self.face_sizes)]
+
+    def triangulate(self) -> tuple[np.ndarray, np.ndarray]:
+        """Fan-triangulate every face (for export to triangle-only formats).
+
+        Returns
+        -------
+        triangles : numpy.ndarray, shape (T, 3)
+        face_index : numpy.ndarray, shape (T,)
+            The face each triangle came from.
+
+        Examples
+        --------
+        >>> m = Mesh(np.eye(4, 3), [[0, 1, 2, 3]])
+        >>> m.triangulate()[0].tolist()
+        [[0, 1, 2], [0, 2, 3]]
+        """
+        tris, owner = [], []
+        for k in range(3, self.faces.shape[1] + 1):
+            idx = np.flatnonzero(self.face_sizes == k)
+            for j in range(1, k - 1):
+                tris.append(np.stack([self.faces[idx, 0], self.faces[idx, j], self.faces[idx, j + 1]], axis=1))
+                owner.append(idx)
+        t = np.concatenate(tris)
+        o = np.concatenate(owner)
+        order = np.argsort(o, kind="stable")
+        return t[order], o[order]
+
+    def referenced_vertices(self) -> np.ndarray:
+        """Boolean (N,) mask of the vertices used by at least one face."""
+        used = np.zeros(self.n_vertices, bool)
+        used[self.faces[self.faces >= 0]] = True
+        return used
+
+    def bounding_box_diagonal(self) -> float:
+        """Length of the diagonal of the axis-aligned bounding box of the referenced vertices."""
+        v = self.vertices[self.referenced_vertices()]
+        return float(np.linalg.norm(v.max(axis=0) - v.min(axis=0)))

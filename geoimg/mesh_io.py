@@ -1,0 +1,440 @@
+"""Reading and writing polygon meshes without triangulating, merging or reordering.
+
+OBJ, OFF (ASCII and binary) and PLY (ASCII and binary, ``face`` lists or ``tristrips``) are read and
+written here, so quads and n-gons survive. STL and GLB go through trimesh (``process=False``); they
+hold triangles only, and an STL's triangle soup has its exactly coincident corners joined (reported).
+"""
+from __future__ import annotations
+
+import struct
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from .atomic import atomic_path
+from .errors import MeshError, MeshFileError
+from .mesh import Mesh, pad_faces
+
+__all__ = ["load_mesh", "save_mesh", "MESH_FORMATS"]
+
+MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")
+
+
+def load_mesh(path) -> Mesh:
+    """Read a mesh file as stored: faces of any size, vertex order kept.
+
+    Parameters
+    ----------
+    path : str or path-like
+        An ``.obj``, ``.off``, ``.ply``, ``.stl`` or ``.glb`` file.
+
+    Returns
+    -------
+    Mesh
+        With ``uv`` when an OBJ's ``vt`` map one-to-one onto its positions (a position used with
+        several ``vt``, i.e. a UV seam, leaves ``uv`` as None and warns).
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no such file.
+    MeshFileError
+        If the format is unknown or the file is empty, truncated or corrupt.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "q.obj"
+    >>> _ = p.write_text("v 0 0 0\\nv 1 0 0\\nv 1 1 0\\nv 0 1 0\\nf 1 2 3 4\\n")
+    >>> load_mesh(p).faces.tolist()
+    [[0, 1, 2, 3]]
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no mesh file at {path}")
+    ext = path.suffix.lower()
+    readers = {".obj": _read_obj, ".off": _read_off, ".ply": _read_ply, ".stl": _read_trimesh, ".glb": _read_trimesh}
+    if ext not in readers:
+        raise MeshFileError(f"{path}: unknown mesh format {ext!r}; expected one of {', '.join(MESH_FORMATS)}")
+    if path.stat().st_size == 0:
+        raise MeshFileError(f"{path}: the file is empty")
+    try:
+        return readers[ext](path)
+    except MeshError as e:
+        if str(path) in str(e):
+            raise
+        raise type(e)(f"{path}: {e}") from None
+    except (ValueError, IndexError, struct.error, UnicodeDecodeError) as e:
+        raise MeshFileError(f"{path}: corrupt or truncated {ext[1:].upper()} file ({e})") from None
+
+
+def save_mesh(mesh: Mesh, path, *, overwrite: bool = False) -> Path:
+    """Write a mesh atomically; OBJ, OFF and PLY keep quads and n-gons, STL and GLB are triangulated.
+
+    OBJ also writes ``vt`` and ``vn`` when the mesh has UVs or normals; PLY writes normals.
+
+    Parameters
+    ----------
+    mesh : Mesh
+    path : str or path-like
+    overwrite : bool, default False
+        Replace an existing file.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "q.ply"
+    >>> m = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+    >>> load_mesh(save_mesh(m, p)).faces.tolist()
+    [[0, 1, 2, 3]]
+    """
+    if not isinstance(mesh, Mesh):
+        raise TypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
+    path = Path(path)
+    ext = path.suffix.lower()
+    writers = {".obj": _write_obj, ".off": _write_off, ".ply": _write_ply, ".stl": _write_trimesh, ".glb": _write_trimesh}
+    if ext not in writers:
+        raise MeshFileError(f"{path}: unknown mesh format {ext!r}; expected one of {', '.join(MESH_FORMATS)}")
+    with atomic_path(path, overwrite) as tmp:
+        writers[ext](mesh, tmp, ext)
+    return path
+
+
+# ----------------------------------------------------------------------------------------- OBJ
+def _obj_index(tok: str, count: int) -> int:
+    i = int(tok)
+    if i < 0:
+        return count + i
+    if i == 0:
+        raise MeshFileError("OBJ indices start at 1; found 0")
+    return i - 1
+
+
+def _read_obj(path: Path) -> Mesh:
+    verts, tex, faces, face_vt = [], [], [], []
+    with open(path, "r", encoding="utf-8", errors="replace") as fh:
+        for line in fh:
+            if not line or line[0] not in "vf":
+                continue
+            parts = line.split()
+            if not parts:
+                continue
+            key = parts[0]
+            if key == "v":
+                verts.append(parts[1:4])
+            elif key == "vt":
+                tex.append(parts[1:3])
+            elif key == "f":
+                nv, nt = len(verts), len(tex)
+                fv, ft = [], []
+                for tok in parts[1:]:
+                    sub = tok.split("/")
+                    fv.append(_obj_index(sub[0], nv))
+                    ft.append(_obj_index(sub[1], nt) if len(sub) > 1 and sub[1] else -1)
+                faces.append(fv)
+                face_vt.append(ft)
+    if not verts:
+        raise MeshFileError("no vertices ('v' lines) found")
+    if not faces:
+        raise MeshFileError("no faces ('f' lines) found")
+    if any(len(v) != 3 for v in verts):
+        raise MeshFileError("a 'v' line has fewer than 3 coordinates")
+    vertices = np.array(verts, dtype=np.float64)
+    f = pad_faces(faces)
+    uv = None
+    if tex:
+        t = pad_faces(face_vt)
+        uv = _one_to_one_uv(f, t, np.array([x + ["0"] * (2 - len(x)) for x in tex], dtype=np.float64),
+                            len(vertices), path)
+    return Mesh(vertices, f, uv=uv)
+
+
+def _one_to_one_uv(f: np.ndarray, t: np.ndarray, tex: np.ndarray, n: int, path: Path):
+    """Per-vertex UVs when every position is used with a single vt; else None (with a warning)."""
+    used = f >= 0
+    if np.any(t[used] < 0):
+        warnings.warn(f"{path}: some faces have no vt indices; per-vertex UVs not read", stacklevel=4)
+        return None
+    if np.any(t[used] >= len(tex)):
+        raise MeshFileError(f"a face refers to vt {int(t.max()) + 1} but there are only {len(tex)}")
+    pv, pt = f[used], t[used]
+    pairs = np.unique(np.stack([pv, pt], axis=1), axis=0)
+    if len(pairs) != len(np.unique(pv)):
+        dup = len(pairs) - len(np.unique(pv))
+        warnings.warn(
+            f"{path}: UV seams ({dup} extra (position, vt) pairs): per-vertex UVs are not one-to-one and were "
+            "not read; topology comes from the positions", stacklevel=4)
+        return None
+    uv = np.zeros((n, 2))
+    uv[pairs[:, 0]] = tex[pairs[:, 1]]
+    return uv
+
+
+def _write_obj(mesh: Mesh, tmp: Path, _ext: str) -> None:
+    with open(tmp, "w", encoding="ascii") as fh:
+        fh.write("# written by geoimg\n")
+        np.savetxt(fh, mesh.vertices, fmt="v %.17g %.17g %.17g")
+        if mesh.uv is not None:
+            np.savetxt(fh, mesh.uv, fmt="vt %.17g %.17g")
+        if mesh.normals is not None:
+            np.savetxt(fh, mesh.normals, fmt="vn %.9g %.9g %.9g")
+        one = mesh.faces + 1
+        if mesh.uv is not None and mesh.normals is not None:
+            tok = "{0}/{0}/{0}"
+        elif mesh.uv is not None:
+            tok = "{0}/{0}"
+        elif mesh.normals is not None:
+            tok = "{0}//{0}"
+        else:
+            tok = "{0}"
+        lines = []
+        for row, k in zip(one.tolist(), mesh.face_sizes.tolist()):
+            lines.append("f " + " ".join(tok.format(i) for i in row[:k]) + "\n")
+        fh.write("".join(lines))
+
+
+# ----------------------------------------------------------------------------------------- OFF
+def _read_off(path: Path) -> Mesh:
+    data = path.read_bytes()
+    head = data[:64].lstrip()
+    first_line = head.split(b"\n", 1)[0].strip()
+    if first_line.startswith(b"OFF") and b"BINARY" in first_line.upper():
+        return _read_off_binary(data)
+    text = data.decode("utf-8", errors="replace")
+    lines = [ln.split("#", 1)[0].strip() for ln in text.splitlines()]
+    lines = [ln for ln in lines if ln]
+    if not lines or not lines[0].startswith(("OFF", "COFF", "NOFF", "CNOFF", "STOFF")):
+        raise MeshFileError("missing OFF header")
+    header = lines[0].split()
+    rest = header[1:]
+    i = 1
+    if not rest:
+        rest, i = lines[1].split(), 2
+    nv, nf = int(rest[0]), int(rest[1])
+    if nv <= 0 or nf <= 0:
+        raise MeshFileError(f"header says {nv} vertices and {nf} faces")
+    if len(lines) < i + nv + nf:
+        raise MeshFileError(f"header says {nv} vertices and {nf} faces but the file ends early")
+    vertices = np.array([ln.split()[:3] for ln in lines[i:i + nv]], dtype=np.float64)
+    faces = []
+    for ln in lines[i + nv:i + nv + nf]:
+        p = ln.split()
+        k = int(p[0])
+        if len(p) < k + 1:
+            raise MeshFileError(f"face line {ln!r} has fewer than {k} indices")
+        faces.append([int(x) for x in p[1:k + 1]])
+    return Mesh(vertices, faces)
+
+
+def _read_off_binary(data: bytes) -> Mesh:
+    start = data.index(b"\n") + 1
+    nv, nf, _ne = struct.unpack(">iii", data[start:start + 12])
+    off = start + 12
+    vertices = np.frombuffer(data, ">f4", nv * 3, off).reshape(nv, 3).astype(np.float64)
+    off += nv * 12
+    faces = []
+    for _ in range(nf):
+        (k,) = struct.unpack_from(">i", data, off)
+        idx = struct.unpack_from(f">{k}i", data, off + 4)
+        (nc,) = struct.unpack_from(">i", data, off + 4 + 4 * k)
+        off += 8 + 4 * k + 4 * nc
+        faces.append(idx)
+    return Mesh(vertices, faces)
+
+
+def _write_off(mesh: Mesh, tmp: Path, _ext: str) -> None:
+    with open(tmp, "w", encoding="ascii") as fh:
+        fh.write(f"OFF\n{mesh.n_vertices} {mesh.n_faces} 0\n")
+        np.savetxt(fh, mesh.vertices, fmt="%.17g %.17g %.17g")
+        fh.write("".join(f"{k} " + " ".join(map(str, row[:k])) + "\n"
+                         for row, k in zip(mesh.faces.tolist(), mesh.face_sizes.tolist())))
+
+
+# ----------------------------------------------------------------------------------------- PLY
+_PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
+              "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
+              "float": "f4", "float32": "f4", "double": "f8", "float64": "f8"}
+
+
+def _parse_ply_header(data: bytes):
+    end = data.find(b"end_header")
+    if not data.startswith(b"ply") or end < 0:
+        raise MeshFileError("missing PLY header")
+    body = data.index(b"\n", end) + 1
+    fmt, elements = None, []
+    for line in data[:end].decode("ascii", errors="replace").splitlines()[1:]:
+        p = line.split()
+        if not p or p[0] in ("comment", "obj_info"):
+            continue
+        if p[0] == "format":
+            fmt = p[1]
+        elif p[0] == "element":
+            elements.append((p[1], int(p[2]), []))
+        elif p[0] == "property":
+            if p[1] == "list":
+                elements[-1][2].append((p[4], "list", _PLY_TYPES[p[2]], _PLY_TYPES[p[3]]))
+            else:
+                elements[-1][2].append((p[2], _PLY_TYPES[p[1]], None, None))
+    if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
+        raise MeshFileError(f"unknown PLY format {fmt!r}")
+    return fmt, elements, body
+
+
+def _read_ply(path: Path) -> Mesh:
+    data = path.read_bytes()
+    fmt, elements, body = _parse_ply_header(data)
+    values = {}
+    if fmt == "ascii":
+        tokens = data[body:].split()
+        pos = 0
+        for name, count, props in elements:
+            cols = {p[0]: [] for p in props}
+            for _ in range(count):
+                for pname, kind, ctype, itype in props:
+                    if kind == "list":
+                        k = int(tokens[pos])
+                        cols[pname].append([int(t) for t in tokens[pos + 1:pos + 1 + k]])
+                        pos += 1 + k
+                    else:
+                        cols[pname].append(float(tokens[pos]))
+                        pos += 1
+            if pos > len(tokens):
+                raise MeshFileError("the file ends before all elements were read")
+            values[name] = cols
+    else:
+        order = "<" if fmt == "binary_little_endian" else ">"
+        pos = body
+        for name, count, props in elements:
+            cols, pos = _read_ply_binary_element(data, pos, count, props, order)
+            values[name] = cols
+    if "vertex" not in values or not all(k in values["vertex"] for k in "xyz"):
+        raise MeshFileError("no vertex element with x, y, z")
+    vx = values["vertex"]
+    vertices = np.stack([np.asarray(vx[k], np.float64) for k in "xyz"], axis=1)
+    faces = []
+    if "face" in values:
+        key = "vertex_indices" if "vertex_indices" in values["face"] else "vertex_index"
+        faces = values["face"][key]
+    elif "tristrips" in values:
+        faces = _strips_to_triangles(values["tristrips"]["vertex_indices"])
+    if len(faces) == 0:
+        raise MeshFileError("no faces")
+    uv = None
+    for a, b in (("u", "v"), ("s", "t"), ("texture_u", "texture_v")):
+        if a in vx and b in vx:
+            uv = np.stack([np.asarray(vx[a], float), np.asarray(vx[b], float)], axis=1)
+    normals = None
+    if all(k in vx for k in ("nx", "ny", "nz")):
+        normals = np.stack([np.asarray(vx[k], float) for k in ("nx", "ny", "nz")], axis=1)
+    return Mesh(vertices, faces if isinstance(faces, np.ndarray) else pad_faces(faces), uv=uv, normals=normals)
+
+
+def _read_ply_binary_element(data, pos, count, props, order):
+    if all(p[1] != "list" for p in props):
+        dt = np.dtype([(p[0], order + p[1]) for p in props])
+        if pos + dt.itemsize * count > len(data):
+            raise MeshFileError("the file ends before all elements were read")
+        arr = np.frombuffer(data, dt, count, pos)
+        return {p[0]: arr[p[0]] for p in props}, pos + dt.itemsize * count
+    if len(props) == 1 and count:
+        # fast path: one list property whose every entry has the same length
+        pname, _, ctype, itype = props[0]
+        ct = np.dtype(order + ctype)
+        k = int(np.frombuffer(data, ct, 1, pos)[0])
+        dt = np.dtype([("n", ct), ("i", order + itype, (k,))])
+        if pos + dt.itemsize * count <= len(data):
+            arr = np.frombuffer(data, dt, count, pos)
+            if np.all(arr["n"] == k):
+                return {pname: arr["i"].astype(np.int64)}, pos + dt.itemsize * count
+    cols = {p[0]: [] for p in props}
+    for _ in range(count):
+        for pname, kind, ctype, itype in props:
+            if kind == "list":
+                ct, it = np.dtype(order + ctype), np.dtype(order + itype)
+                k = int(np.frombuffer(data, ct, 1, pos)[0])
+                pos += ct.itemsize
+                cols[pname].append(np.frombuffer(data, it, k, pos).tolist())
+                pos += it.itemsize * k
+            else:
+                t = np.dtype(order + kind)
+                cols[pname].append(float(np.frombuffer(data, t, 1, pos)[0]))
+                pos += t.itemsize
+    return cols, pos
+
+
+def _strips_to_triangles(strips) -> np.ndarray:
+    tris = []
+    for strip in strips:
+        run = []
+        for idx in list(strip) + [-1]:
+            if idx < 0:
+                for j in range(len(run) - 2):
+                    a, b, c = run[j], run[j + 1], run[j + 2]
+                    if a != b and b != c and a != c:
+                        tris.append((a, b, c) if j % 2 == 0 else (b, a, c))
+                run = []
+            else:
+                run.append(int(idx))
+    return np.array(tris, np.int64).reshape(-1, 3)
+
+
+def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
+    nrm = mesh.normals is not None
+    head = ["ply", "format binary_little_endian 1.0", "comment written by geoimg",
+            f"element vertex {mesh.n_vertices}", "property double x", "property double y", "property double z"]
+    if nrm:
+        head += ["property float nx", "property float ny", "property float nz"]
+    head += [f"element face {mesh.n_faces}", "property list uchar int vertex_indices", "end_header"]
+    vdt = [("x", "<f8"), ("y", "<f8"), ("z", "<f8")] + ([("nx", "<f4"), ("ny", "<f4"), ("nz", "<f4")] if nrm else [])
+    v = np.zeros(mesh.n_vertices, vdt)
+    v["x"], v["y"], v["z"] = mesh.vertices.T
+    if nrm:
+        v["nx"], v["ny"], v["nz"] = mesh.normals.T
+    with open(tmp, "wb") as fh:
+        fh.write(("\n".join(head) + "\n").encode("ascii"))
+        fh.write(v.tobytes())
+        if np.all(mesh.face_sizes == mesh.faces.shape[1]):
+            k = mesh.faces.shape[1]
+            f = np.zeros(mesh.n_faces, [("n", "u1"), ("i", "<i4", (k,))])
+            f["n"], f["i"] = k, mesh.faces
+            fh.write(f.tobytes())
+        else:
+            for row, k in zip(mesh.faces, mesh.face_sizes):
+                fh.write(struct.pack("<B", k) + row[:k].astype("<i4").tobytes())
+
+
+# ------------------------------------------------------------------------------ STL, GLB (trimesh)
+def _read_trimesh(path: Path) -> Mesh:
+    import trimesh
+
+    loaded = trimesh.load(str(path), process=False, force="mesh")
+    v = np.asarray(loaded.vertices, np.float64)
+    f = np.asarray(loaded.faces, np.int64)
+    if len(v) == 0 or len(f) == 0:
+        raise MeshFileError("no triangles found")
+    if path.suffix.lower() == ".stl":
+        # STL has no shared vertices: join exactly coincident corners, keeping first-seen order
+        uniq, first, inverse = np.unique(v, axis=0, return_index=True, return_inverse=True)
+        order = np.argsort(first)
+        rank = np.empty_like(order)
+        rank[order] = np.arange(len(order))
+        if len(uniq) < len(v):
+            warnings.warn(f"{path}: STL stores no shared vertices; joined {len(v) - len(uniq)} exactly "
+                          "coincident corners", stacklevel=4)
+        v, f = uniq[order], rank[inverse.ravel()][f]
+    return Mesh(v, f)
+
+
+def _write_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:
+    import trimesh
+
+    tris, _ = mesh.triangulate()
+    tm = trimesh.Trimesh(mesh.vertices, tris, process=False)
+    with open(tmp, "wb") as fh:
+        tm.export(fh, file_type=ext[1:])

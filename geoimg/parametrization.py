@@ -1,0 +1,183 @@
+"""Planar parametrizations: per-vertex (u, v) in the unit square, u right, v down.
+
+Two methods: ``uv`` (the mesh's own UVs) and ``heightfield`` (projection onto the mesh's best-fitting
+plane or onto the plane normal to a named axis). Coordinates are shifted and scaled by one factor so
+the longer side spans [0, 1]; the aspect ratio is kept and recorded in ``extent``.
+"""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import ParametrizationError
+from .mesh import Mesh
+
+__all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATION_METHODS"]
+
+PARAMETRIZATION_METHODS = ("uv", "heightfield")
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+@dataclass(frozen=True, eq=False)
+class Parametrization:
+    """Per-vertex parameter coordinates of a mesh.
+
+    Attributes
+    ----------
+    coords : numpy.ndarray, shape (N, 2)
+        (u, v) of every vertex, inside ``[0, extent[0]] x [0, extent[1]]``.
+    extent : tuple of float
+        Size of the parametrized rectangle; the larger side is 1.
+    domain : str
+        ``"planar"``.
+    method : str
+        How it was made.
+    flipped_faces : int
+        Faces whose orientation in (u, v) disagrees with the majority (0 for a bijective map).
+    degenerate_faces : int
+        Faces of zero area in (u, v).
+    info : dict
+        Method details (projection axes, scale).
+    """
+
+    coords: np.ndarray
+    extent: tuple
+    domain: str = "planar"
+    method: str = ""
+    flipped_faces: int = 0
+    degenerate_faces: int = 0
+    info: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        c = np.array(self.coords, dtype=np.float64, copy=True)
+        if c.ndim != 2 or c.shape[1] != 2:
+            raise ParametrizationError(f"coords: expected shape (N, 2), got {c.shape}")
+        if not np.isfinite(c).all():
+            raise ParametrizationError("coords: contains NaN or infinite values")
+        c.setflags(write=False)
+        object.__setattr__(self, "coords", c)
+        object.__setattr__(self, "extent", tuple(float(x) for x in self.extent))
+
+
+def signed_face_areas(mesh: Mesh, coords: np.ndarray) -> np.ndarray:
+    """Signed area of every face in 2-D coordinates (shoelace formula; positive = counter-clockwise).
+
+    Examples
+    --------
+    >>> m = Mesh(np.zeros((3, 3)), [[0, 1, 2]])
+    >>> signed_face_areas(m, np.array([[0., 0], [1, 0], [0, 1]])).tolist()
+    [0.5]
+    """
+    f = mesh.faces
+    k = mesh.face_sizes
+    idx = np.where(f >= 0, f, f[:, :1])  # padding repeats the first vertex: adds zero area
+    p = coords[idx]
+    q = np.roll(p, -1, axis=1)
+    # the wrap-around term of a padded row must close back to the first vertex
+    last = k - 1
+    rows = np.arange(len(f))
+    q[rows, last] = p[rows, 0]
+    cross = p[..., 0] * q[..., 1] - p[..., 1] * q[..., 0]
+    return 0.5 * cross.sum(axis=1)
+
+
+def _orientation_report(mesh: Mesh, coords: np.ndarray) -> tuple[int, int, int]:
+    area = signed_face_areas(mesh, coords)
+    scale = np.abs(area).max()
+    degenerate = np.abs(area) <= 1e-14 * max(scale, 1e-300)
+    pos = int(np.sum(area[~degenerate] > 0))
+    neg = int(np.sum(area[~degenerate] < 0))
+    majority = 1 if pos >= neg else -1
+    return min(pos, neg), int(degenerate.sum()), majority
+
+
+def _normalize(coords: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, tuple, dict]:
+    lo = coords[used].min(axis=0)
+    span = coords[used].max(axis=0) - lo
+    size = span.max()
+    if not size > 0:
+        raise ParametrizationError("the parameter coordinates of the mesh span no area (all points coincide)")
+    out = (coords - lo) / size
+    extent = tuple(span / size)
+    if min(extent) <= 1e-12:
+        raise ParametrizationError("the parameter coordinates of the mesh lie on a line; nothing to sample")
+    return out, extent, {"offset": lo.tolist(), "scale": float(size)}
+
+
+def parametrize(mesh: Mesh, method: str = "heightfield", *, axis: str | None = None) -> Parametrization:
+    """Parametrize a mesh over a planar rectangle.
+
+    Parameters
+    ----------
+    mesh : Mesh
+    method : {"heightfield", "uv"}
+        ``heightfield`` projects the vertices onto the best-fitting plane (or the plane normal to
+        ``axis``), for terrains; ``uv`` uses ``mesh.uv``.
+    axis : {"x", "y", "z"}, optional
+        For ``heightfield``: the up axis (for example ``"y"`` for a y-up terrain). Default: the normal
+        of the least-squares plane through the vertices.
+
+    Returns
+    -------
+    Parametrization
+        Its ``flipped_faces`` counts folded faces; a warning is issued when it is not 0.
+
+    Raises
+    ------
+    ParametrizationError
+        If the method is unknown, the mesh has no UVs for ``uv``, or the coordinates span no area.
+
+    Examples
+    --------
+    >>> m = Mesh([[0, 5, 0], [2, 6, 0], [2, 5, 1], [0, 4, 1]], [[0, 1, 2, 3]])
+    >>> p = parametrize(m, "heightfield", axis="y")
+    >>> p.extent, p.flipped_faces
+    ((1.0, 0.5), 0)
+    """
+    if not isinstance(mesh, Mesh):
+        raise TypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
+    used = mesh.referenced_vertices()
+    info: dict = {}
+    if method == "uv":
+        if axis is not None:
+            raise ParametrizationError("axis: only used with method='heightfield'")
+        if mesh.uv is None:
+            raise ParametrizationError(
+                "method='uv': the mesh has no per-vertex UVs (OBJ 'vt' that map one-to-one onto positions); "
+                "use method='heightfield' for a terrain")
+        raw = mesh.uv
+    elif method == "heightfield":
+        v = mesh.vertices
+        centre = v[used].mean(axis=0)
+        if axis is None:
+            _, _, vt = np.linalg.svd(v[used] - centre, full_matrices=False)
+            normal = vt[2]
+            # point the normal to the side the faces face (area-weighted face normals)
+            tris, _ = mesh.triangulate()
+            fn = np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]]).sum(axis=0)
+            if fn @ normal < 0:
+                normal = -normal
+        else:
+            if axis not in _AXES:
+                raise ParametrizationError(f"axis: expected one of 'x', 'y', 'z', got {axis!r}")
+            normal = np.eye(3)[_AXES[axis]]
+        # a right-handed in-plane frame (e1, e2, normal) keeps faces that face +normal counter-clockwise
+        helper = np.eye(3)[np.argmin(np.abs(normal))]
+        e1 = np.cross(helper, normal)
+        e1 /= np.linalg.norm(e1)
+        e2 = np.cross(normal, e1)
+        raw = np.stack([(v - centre) @ e1, (v - centre) @ e2], axis=1)
+        info.update(normal=normal.tolist(), u_axis=e1.tolist(), v_axis=e2.tolist())
+    else:
+        raise ParametrizationError(
+            f"method: expected one of {', '.join(map(repr, PARAMETRIZATION_METHODS))}, got {method!r}")
+    coords, extent, norm = _normalize(raw, used)
+    info.update(norm)
+    flipped, degenerate, majority = _orientation_report(mesh, coords)
+    info["orientation"] = majority
+    if flipped:
+        warnings.warn(f"parametrize({method!r}): {flipped} of {mesh.n_faces} faces are folded over in (u, v); "
+                      "the map is not one-to-one there", stacklevel=2)
+    return Parametrization(coords, extent, "planar", method, flipped, degenerate, info)
