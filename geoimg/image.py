@@ -107,7 +107,9 @@ class GeometryImage:
         return np.linspace(0, ext[0], self.shape[1]), np.linspace(0, ext[1], self.shape[0])
 
     def to_mesh(self) -> Mesh:
-        """The regular quad mesh: one vertex per valid pixel, a quad per 2x2 block of valid pixels.
+        """The regular quad mesh: a quad per 2x2 block of valid pixels, a vertex per pixel of a quad.
+
+        (A valid pixel that no quad uses, e.g. an isolated one, gives no vertex.)
 
         Quads are oriented like the source mesh (``metadata['orientation']``). Vertices carry the pixel's
         (u, v) and a normal: the exact one when the image has ``normals``, else one from the grid.
@@ -123,24 +125,28 @@ class GeometryImage:
             If no 2 x 2 block of valid pixels exists.
         """
         H, W = self.shape
-        valid = self.valid
-        index = np.full((H, W), -1, np.int64)
-        index[valid] = np.arange(int(valid.sum()))
-        a, b = index[:-1, :-1], index[:-1, 1:]
-        c, d = index[1:, 1:], index[1:, :-1]
-        keep = (a >= 0) & (b >= 0) & (c >= 0) & (d >= 0)
+        v = self.valid
+        keep = v[:-1, :-1] & v[:-1, 1:] & v[1:, 1:] & v[1:, :-1]
         if not keep.any():
             raise GeoimgError("to_mesh: the image has no 2 x 2 block of valid pixels, so no quad")
-        quads = np.stack([a[keep], b[keep], c[keep], d[keep]], axis=1)
+        used = np.zeros((H, W), bool)
+        used[:-1, :-1] |= keep
+        used[:-1, 1:] |= keep
+        used[1:, 1:] |= keep
+        used[1:, :-1] |= keep
+        index = np.full((H, W), -1, np.int64)
+        index[used] = np.arange(int(used.sum()))
+        quads = np.stack([index[:-1, :-1][keep], index[:-1, 1:][keep], index[1:, 1:][keep],
+                          index[1:, :-1][keep]], axis=1)
         orientation = int(self.metadata.get("orientation", 1))
         if orientation < 0:
             quads = quads[:, ::-1]
         normals = self.normals if self.normals is not None else grid_normals(self.pixels, orientation)
         u, v = self.parameter_grid()
         uu, vv = np.meshgrid(u, v)
-        uv = np.stack([uu[valid], vv[valid]], axis=1)
-        return Mesh(self.pixels[valid].astype(np.float64), quads, uv=uv,
-                    normals=np.asarray(normals, np.float64)[valid])
+        uv = np.stack([uu[used], vv[used]], axis=1)
+        return Mesh(self.pixels[used].astype(np.float64), quads, uv=uv,
+                    normals=np.asarray(normals, np.float64)[used])
 
     def save(self, path, *, overwrite: bool = False):
         """Write the image to OpenEXR (float32, lossless, with metadata); see :func:`geoimg.save_image`."""

@@ -16,8 +16,9 @@ from .mesh import Mesh
 
 __all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATION_METHODS"]
 
-PARAMETRIZATION_METHODS = ("uv", "heightfield")
+PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield")
 _AXES = {"x": 0, "y": 1, "z": 2}
+SNAP_DEGREES = 15.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,18 +107,20 @@ def _normalize(coords: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, tuple,
     return out, extent, {"offset": lo.tolist(), "scale": float(size)}
 
 
-def parametrize(mesh: Mesh, method: str = "heightfield", *, axis: str | None = None) -> Parametrization:
+def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None) -> Parametrization:
     """Parametrize a mesh over a planar rectangle.
 
     Parameters
     ----------
     mesh : Mesh
-    method : {"heightfield", "uv"}
+    method : {"auto", "heightfield", "uv"}
         ``heightfield`` projects the vertices onto the best-fitting plane (or the plane normal to
-        ``axis``), for terrains; ``uv`` uses ``mesh.uv``.
+        ``axis``), for terrains; ``uv`` uses ``mesh.uv``; ``auto`` takes the mesh's UVs when it has
+        unfolded ones, else a height field that folds no face, else fails saying what it found.
     axis : {"x", "y", "z"}, optional
         For ``heightfield``: the up axis (for example ``"y"`` for a y-up terrain). Default: the normal
-        of the least-squares plane through the vertices.
+        of the least-squares plane through the vertices, or the coordinate axis nearest to it when the
+        two are within 15 degrees (terrains are stored axis-up; ``info["snapped_to_axis"]`` says so).
 
     Returns
     -------
@@ -138,6 +141,8 @@ def parametrize(mesh: Mesh, method: str = "heightfield", *, axis: str | None = N
     """
     if not isinstance(mesh, Mesh):
         raise TypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
+    if method == "auto":
+        return _auto(mesh, axis)
     used = mesh.referenced_vertices()
     info: dict = {}
     if method == "uv":
@@ -159,6 +164,11 @@ def parametrize(mesh: Mesh, method: str = "heightfield", *, axis: str | None = N
             fn = np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]]).sum(axis=0)
             if fn @ normal < 0:
                 normal = -normal
+            # terrains are stored axis-up: take the nearest coordinate axis when within SNAP_DEGREES
+            k = int(np.argmax(np.abs(normal)))
+            if np.degrees(np.arccos(min(1.0, abs(normal[k])))) <= SNAP_DEGREES:
+                normal = np.sign(normal[k]) * np.eye(3)[k]
+                info["snapped_to_axis"] = "xyz"[k]
         else:
             if axis not in _AXES:
                 raise ParametrizationError(f"axis: expected one of 'x', 'y', 'z', got {axis!r}")
@@ -181,3 +191,23 @@ def parametrize(mesh: Mesh, method: str = "heightfield", *, axis: str | None = N
         warnings.warn(f"parametrize({method!r}): {flipped} of {mesh.n_faces} faces are folded over in (u, v); "
                       "the map is not one-to-one there", stacklevel=2)
     return Parametrization(coords, extent, "planar", method, flipped, degenerate, info)
+
+
+def _auto(mesh: Mesh, axis: str | None) -> Parametrization:
+    tried = []
+    candidates = (["uv"] if mesh.uv is not None and axis is None else []) + ["heightfield"]
+    for method in candidates:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                p = parametrize(mesh, method, axis=axis)
+            except ParametrizationError as e:
+                tried.append(f"{method}: {e}")
+                continue
+        if p.flipped_faces == 0:
+            return p
+        tried.append(f"{method}: {p.flipped_faces} of {mesh.n_faces} faces fold over")
+    raise ParametrizationError(
+        "no planar parametrization without folds was found (" + "; ".join(tried) + "). This mesh is not a "
+        "height field and has no usable UVs; give it UVs (OBJ vt), or pass axis= for a terrain whose up "
+        "axis is not its best-fitting plane's normal")

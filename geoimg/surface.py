@@ -159,7 +159,8 @@ class Surface:
         -------
         GeometryImage
             float32 pixels (H, W, 3); ``mask`` marks pixels inside the parametrized faces, or within
-            a thousandth of a pixel of one (and, for locally supported weights, outside holes).
+            half a pixel spacing of one, so a terrain whose border is not perfectly straight keeps its
+            outer ring (and, for locally supported weights, not in a hole).
 
         Examples
         --------
@@ -191,7 +192,7 @@ class Surface:
             status = st.reshape(H, W)
             n_exact = int((status == kernels.EXACT).sum())
         holes = status == kernels.HOLE
-        eps = 1e-3 * max(u[1] - u[0], v[1] - v[0])  # within a thousandth of a pixel of a face counts as inside
+        eps = 0.5 * max(u[1] - u[0], v[1] - v[0])  # conservative: within half a pixel of a face
         mask = kernels.face_coverage(u, v, self.polygons, self.sizes, eps) & ~holes
         nrm = _unit(np.cross(Pu, Pv) * self.orientation).astype(np.float32) if normals else None
         meta = {
