@@ -22,6 +22,7 @@ __all__ = ["sample_grid_gaussian", "evaluate_points", "build_cells", "face_cover
 
 GAUSSIAN, LOCAL = 0, 1
 TRUNCATED, EXACT, HOLE = 0, 1, 2   # per-point status codes
+MIN_PLAIN_SUM = 1e-250            # grid sums below this are recomputed in the log domain
 
 
 # --------------------------------------------------------------------------- regular grids
@@ -135,11 +136,13 @@ def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, rptr, gv, row_p
                     Pv[i, j, c] = (nv[j, c] + nb[j, c] - p * sv[j]) / s
 
 
-def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, g_ref):
+def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, log_g_ref):
     """Truncated rational-Gaussian surface on the grid ``u`` (columns) x ``v`` (rows).
 
     Uses the separability of each Gaussian: per face, one table of ``exp`` along u and one along v
-    over its box, so a pixel costs one product per face. Rows run in parallel.
+    over its box, so a pixel costs one product per face. Rows run in parallel. Sums are certified when
+    ``S >= max(exp(log_g_ref), MIN_PLAIN_SUM)``: below that (tiny s) plain exponentials may underflow,
+    and the caller recomputes those pixels in the log domain.
 
     Returns
     -------
@@ -169,7 +172,7 @@ def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, 
     Pv = np.zeros((H, W, 3))
     ok = np.zeros((H, W), np.bool_)
     _grid_kernel(u, v, centres[:, 0].copy(), centres[:, 1].copy(), inv2s, C, A, B, c0, cptr, gu, r0, rptr,
-                 gv, row_ptr, row_faces, bool(derivatives), float(g_ref), P, Pu, Pv, ok)
+                 gv, row_ptr, row_faces, bool(derivatives), max(math.exp(log_g_ref), MIN_PLAIN_SUM), P, Pu, Pv, ok)
     return P, Pu, Pv, ok
 
 
@@ -330,7 +333,7 @@ def _points_kernel(kind, pts, uc, vc, param, radius, C, A, B, origin, h, nx, ny,
             Pv[p, c] = (acc[9 + c] + acc[15 + c] - val * acc[5]) / s
 
 
-def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, g_ref, exact=False):
+def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, log_g_ref, exact=False):
     """Evaluate the surface and its first derivatives at scattered parameter points.
 
     Parameters
@@ -340,8 +343,8 @@ def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, g_ref,
         (``radius`` = support radius R_i).
     pts : (k, 2) float64
     cells : tuple from :func:`build_cells`
-    g_ref : float
-        Certification threshold of the truncated Gaussian sum.
+    log_g_ref : float
+        log of the certification threshold of the truncated Gaussian sum.
     exact : bool
         Sum over every face (no truncation).
 
@@ -358,7 +361,7 @@ def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, g_ref,
     status = np.zeros(k, np.int8)
     _points_kernel(int(kind), pts, np.ascontiguousarray(centres[:, 0]), np.ascontiguousarray(centres[:, 1]),
                    param, radius, C, A, B, origin, float(h), int(nx), int(ny), cptr, cfaces,
-                   math.log(g_ref) if g_ref > 0 else -np.inf, bool(exact), P, Pu, Pv, status)
+                   float(log_g_ref), bool(exact), P, Pu, Pv, status)
     return P, Pu, Pv, status
 
 

@@ -61,10 +61,8 @@ def load_mesh(path) -> Mesh:
         raise MeshFileError(f"{path}: the file is empty")
     try:
         return readers[ext](path)
-    except MeshError as e:
-        if str(path) in str(e):
-            raise
-        raise type(e)(f"{path}: {e}") from None
+    except MeshError as e:  # a malformed mesh inside a file is a bad file: name it
+        raise MeshFileError(f"{path}: {e}") from None
     except (ValueError, IndexError, struct.error, UnicodeDecodeError) as e:
         raise MeshFileError(f"{path}: corrupt or truncated {ext[1:].upper()} file ({e})") from None
 

@@ -66,11 +66,16 @@ class Surface:
     _cells: tuple = field(repr=False, default=None)
 
     @property
-    def g_ref(self) -> float:
-        """Least Gaussian a point inside a face receives from that face (0 for local weights)."""
+    def log_g_ref(self) -> float:
+        """log of the least Gaussian a point inside a face receives from that face (-inf for local weights)."""
         if self.weights != "gaussian":
-            return 0.0
-        return math.exp(-TRUNCATION_RHO ** 2 / (2.0 * self.s ** 2))
+            return -math.inf
+        return -TRUNCATION_RHO ** 2 / (2.0 * self.s ** 2)
+
+    @property
+    def g_ref(self) -> float:
+        """``exp(log_g_ref)`` (underflows to 0 for s below about 0.035)."""
+        return math.exp(self.log_g_ref)
 
     @property
     def sigma(self) -> np.ndarray:
@@ -87,7 +92,7 @@ class Surface:
         kind = kernels.GAUSSIAN if self.weights == "gaussian" else kernels.LOCAL
         fm = self.faces
         return kernels.evaluate_points(kind, pts, fm.centres, self._param, self._radius, fm.C, fm.A, fm.B,
-                                       self._cells, g_ref=self.g_ref, exact=exact or self.tol == 0)
+                                       self._cells, log_g_ref=self.log_g_ref, exact=exact or self.tol == 0)
 
     def evaluate(self, uv, *, exact: bool = False) -> np.ndarray:
         """Surface points at parameter points.
@@ -178,7 +183,7 @@ class Surface:
         n_exact = 0
         if self.weights == "gaussian" and self.tol > 0:
             P, Pu, Pv, ok = kernels.sample_grid_gaussian(
-                u, v, fm.centres, self.sigma, self._radius, fm.C, fm.A, fm.B, derivatives=normals, g_ref=self.g_ref)
+                u, v, fm.centres, self.sigma, self._radius, fm.C, fm.A, fm.B, derivatives=normals, log_g_ref=self.log_g_ref)
             status = np.zeros((H, W), np.int8)
             if not ok.all():
                 ii, jj = np.nonzero(~ok)

@@ -1,0 +1,67 @@
+import numpy as np
+import pytest
+
+from geoimg import Mesh, MeshError
+from geoimg.mesh import pad_faces
+
+
+def test_faces_kept_as_given_and_padded():
+    m = Mesh(np.zeros((6, 3)), [[0, 1, 2], [2, 3, 4, 5], [0, 2, 4, 5, 1]])
+    assert m.face_sizes.tolist() == [3, 4, 5]
+    assert m.faces.tolist()[0] == [0, 1, 2, -1, -1]
+    assert [f.tolist() for f in m.face_list()] == [[0, 1, 2], [2, 3, 4, 5], [0, 2, 4, 5, 1]]
+
+
+def test_inputs_are_copied_not_mutated():
+    v = np.arange(12, dtype=np.float32).reshape(4, 3)
+    f = np.array([[0, 1, 2, 3]])
+    v0, f0 = v.copy(), f.copy()
+    m = Mesh(v, f)
+    assert m.vertices.dtype == np.float64
+    v[0, 0] = 99
+    f[0, 0] = 3
+    assert np.array_equal(m.vertices, v0) and np.array_equal(m.faces, f0)
+    with pytest.raises(ValueError):
+        m.vertices[0, 0] = 1.0  # read-only
+
+
+def test_triangulate_fans_each_face_in_order():
+    m = Mesh(np.zeros((6, 3)), [[0, 1, 2, 3], [3, 2, 4, 5, 1]])
+    tris, owner = m.triangulate()
+    assert tris.tolist() == [[0, 1, 2], [0, 2, 3], [3, 2, 4], [3, 4, 5], [3, 5, 1]]
+    assert owner.tolist() == [0, 0, 1, 1, 1]
+
+
+@pytest.mark.parametrize("vertices, faces, message", [
+    (np.zeros((3, 2)), [[0, 1, 2]], "vertices: expected shape"),
+    (np.zeros((0, 3)), [[0, 1, 2]], "no vertices"),
+    ([[0, 0, 0], [1, np.nan, 0], [0, 1, 0]], [[0, 1, 2]], "NaN or infinite"),
+    ([[0, 0, 0], [1, np.inf, 0], [0, 1, 0]], [[0, 1, 2]], "NaN or infinite"),
+    (np.zeros((3, 3)), [[0, 1, 3]], "refers to vertex 3 but there are only 3"),
+    (np.zeros((3, 3)), [[0, 1, -2]], "negative vertex index"),
+    (np.zeros((3, 3)), [[0, 1]], "at least 3 vertices"),
+    (np.zeros((3, 3)), np.zeros((0, 3), int), "no faces"),
+    (np.zeros((3, 3)), [[0, -1, 1, 2]], "padding must come after"),
+    (np.zeros((3, 3)), np.array([[0.0, 1.5, 2.0]]), "integer vertex indices"),
+    (np.zeros((3, 3)), np.zeros((3,), int), "2-D"),
+])
+def test_bad_meshes_are_refused_with_a_clear_message(vertices, faces, message):
+    with pytest.raises(MeshError, match=message):
+        Mesh(vertices, faces)
+
+
+def test_bad_uv_and_normals_are_refused():
+    with pytest.raises(MeshError, match=r"uv: expected shape \(3, 2\)"):
+        Mesh(np.zeros((3, 3)), [[0, 1, 2]], uv=np.zeros((2, 2)))
+    with pytest.raises(MeshError, match="normals: contains NaN"):
+        Mesh(np.zeros((3, 3)), [[0, 1, 2]], normals=np.full((3, 3), np.nan))
+
+
+def test_pad_faces_accepts_lists_of_mixed_length():
+    assert pad_faces([[1, 2, 3], [4, 5, 6, 7]]).tolist() == [[1, 2, 3, -1], [4, 5, 6, 7]]
+
+
+def test_referenced_vertices_and_bbox():
+    m = Mesh([[0, 0, 0], [3, 0, 0], [0, 4, 0], [100, 100, 100]], [[0, 1, 2]])
+    assert m.referenced_vertices().tolist() == [True, True, True, False]
+    assert m.bounding_box_diagonal() == pytest.approx(5.0)

@@ -1,0 +1,138 @@
+import struct
+
+import numpy as np
+import pytest
+
+from geoimg import Mesh, MeshFileError, load_mesh, save_mesh
+
+from helpers import shared_file
+
+
+@pytest.fixture
+def mixed():
+    rng = np.random.default_rng(1)
+    v = rng.normal(size=(9, 3))
+    return Mesh(v, [[0, 1, 2], [2, 3, 4, 5], [5, 6, 7, 8, 0]])
+
+
+@pytest.mark.parametrize("ext", [".obj", ".off", ".ply"])
+def test_polygon_formats_round_trip_exactly(tmp_path, mixed, ext):
+    back = load_mesh(save_mesh(mixed, tmp_path / f"m{ext}"))
+    assert np.array_equal(back.faces, mixed.faces)
+    assert np.array_equal(back.vertices, mixed.vertices)  # %.17g text and binary doubles are exact
+
+
+def test_obj_round_trips_uv_and_normals(tmp_path):
+    m = Mesh(np.eye(3), [[0, 1, 2]], uv=[[0, 0], [1, 0], [0, 1]], normals=[[0, 0, 1]] * 3)
+    back = load_mesh(save_mesh(m, tmp_path / "m.obj"))
+    assert np.array_equal(back.uv, m.uv)
+
+
+def test_ply_round_trips_normals(tmp_path):
+    m = Mesh(np.eye(3), [[0, 1, 2]], normals=[[0, 0, 1]] * 3)
+    back = load_mesh(save_mesh(m, tmp_path / "m.ply"))
+    assert np.allclose(back.normals, m.normals)
+
+
+@pytest.mark.parametrize("ext", [".stl", ".glb"])
+def test_triangle_formats_are_triangulated(tmp_path, mixed, ext):
+    back = load_mesh(save_mesh(mixed, tmp_path / f"m{ext}"))
+    assert back.is_triangle_mesh and back.n_faces == 1 + 2 + 3
+    assert np.allclose(np.sort(back.vertices, axis=0), np.sort(mixed.vertices, axis=0), atol=1e-6)
+
+
+def test_obj_one_to_one_vt_become_uv_and_seams_warn(tmp_path):
+    p = tmp_path / "uv.obj"
+    p.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt .5 0\nvt .5 .5\nvt 0 .5\nf 1/1 2/2 3/3 4/4\n")
+    assert load_mesh(p).uv.tolist() == [[0, 0], [0.5, 0], [0.5, 0.5], [0, 0.5]]
+    p.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 9 9\n"
+                 "f 1/1 2/2 3/3\nf 1/4 3/3 4/1\n")
+    with pytest.warns(UserWarning, match="UV seams"):
+        m = load_mesh(p)
+    assert m.uv is None and m.faces.tolist() == [[0, 1, 2], [0, 2, 3]]
+
+
+def test_obj_negative_indices(tmp_path):
+    p = tmp_path / "neg.obj"
+    p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n")
+    assert load_mesh(p).faces.tolist() == [[0, 1, 2]]
+
+
+def test_binary_off(tmp_path):
+    p = tmp_path / "b.off"
+    body = struct.pack(">iii", 4, 1, 0) + struct.pack(">12f", 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0)
+    body += struct.pack(">i4ii", 4, 0, 1, 2, 3, 0)
+    p.write_bytes(b"OFF BINARY\n" + body)
+    m = load_mesh(p)
+    assert m.faces.tolist() == [[0, 1, 2, 3]] and m.vertices[2].tolist() == [1, 1, 0]
+
+
+def test_ascii_ply_with_tristrips(tmp_path):
+    p = tmp_path / "s.ply"
+    p.write_text("ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                 "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+                 "0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 1 0\n5 0 1 2 3 4\n")
+    m = load_mesh(p)
+    assert m.faces.tolist() == [[0, 1, 2], [2, 1, 3], [2, 3, 4]]  # alternate strip triangles flipped
+
+
+def test_real_polygonal_files_keep_their_faces():
+    L = load_mesh(shared_file("meshes/polygonal/L.off"))
+    assert L.face_sizes.tolist() == [6]
+    cyl = load_mesh(shared_file("meshes/polygonal/cylinder.obj"))
+    assert sorted(np.unique(cyl.face_sizes).tolist()) == [4, 20]
+    bunny = load_mesh(shared_file("meshes/open_other/stanford-bunny.obj"))
+    assert bunny.n_vertices == 35947 and int(bunny.referenced_vertices().sum()) == 34834
+
+
+def test_missing_unknown_empty_and_corrupt_files(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        load_mesh(tmp_path / "nope.obj")
+    (tmp_path / "a.xyz").write_text("1 2 3")
+    with pytest.raises(MeshFileError, match="unknown mesh format"):
+        load_mesh(tmp_path / "a.xyz")
+    (tmp_path / "e.obj").write_text("")
+    with pytest.raises(MeshFileError, match="empty"):
+        load_mesh(tmp_path / "e.obj")
+    (tmp_path / "nof.obj").write_text("v 0 0 0\n")
+    with pytest.raises(MeshFileError, match="no faces"):
+        load_mesh(tmp_path / "nof.obj")
+    (tmp_path / "bad.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n")
+    with pytest.raises(MeshFileError, match="bad.obj.*refers to vertex 6"):
+        load_mesh(tmp_path / "bad.obj")
+    (tmp_path / "junk.obj").write_text("v 0 zero 0\nf 1 2 3\n")
+    with pytest.raises(MeshFileError, match="corrupt"):
+        load_mesh(tmp_path / "junk.obj")
+    (tmp_path / "t.off").write_text("OFF\n4 1 0\n0 0 0\n1 0 0\n")
+    with pytest.raises(MeshFileError, match="ends early"):
+        load_mesh(tmp_path / "t.off")
+    (tmp_path / "t.ply").write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+                                     b"property float y\nproperty float z\nend_header\n" + b"\0" * 10)
+    with pytest.raises(MeshFileError, match="ends before"):
+        load_mesh(tmp_path / "t.ply")
+
+
+def test_save_refuses_to_overwrite_and_writes_atomically(tmp_path, mixed):
+    p = save_mesh(mixed, tmp_path / "m.obj")
+    before = p.read_bytes()
+    with pytest.raises(FileExistsError, match="overwrite=True"):
+        save_mesh(mixed, p)
+    save_mesh(Mesh(np.eye(3), [[0, 1, 2]]), p, overwrite=True)
+    assert p.read_bytes() != before
+    with pytest.raises(MeshFileError, match="unknown mesh format"):
+        save_mesh(mixed, tmp_path / "m.abc")
+    with pytest.raises(TypeError, match="geoimg.Mesh"):
+        save_mesh("not a mesh", tmp_path / "x.obj")
+    assert sorted(f.name for f in tmp_path.iterdir()) == ["m.obj"]  # no temporary files left behind
+
+
+def test_failed_write_leaves_nothing(tmp_path, monkeypatch, mixed):
+    import geoimg.mesh_io as mio
+
+    def boom(*a):
+        raise OSError("disk full")
+    monkeypatch.setattr(mio, "_write_obj", boom)
+    monkeypatch.setitem(mio.__dict__, "_write_obj", boom)
+    with pytest.raises(OSError, match="disk full"):
+        save_mesh(mixed, tmp_path / "m.obj")
+    assert list(tmp_path.iterdir()) == []
