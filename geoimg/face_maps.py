@@ -106,7 +106,7 @@ def face_maps(mesh: Mesh, coords: np.ndarray, *, sliver_rule: str = "robust") ->
     --------
     >>> m = Mesh([[0, 0, 0], [1, 0, 2], [0, 1, 3]], [[0, 1, 2]])
     >>> fm = face_maps(m, np.array([[0., 0], [1, 0], [0, 1]]))
-    >>> fm.A.tolist(), fm.B.tolist()
+    >>> fm.A.round(12).tolist(), fm.B.round(12).tolist()
     ([[1.0, 0.0, 2.0]], [[0.0, 1.0, 3.0]])
     """
     if sliver_rule not in SLIVER_RULES:

@@ -174,8 +174,9 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None) ->
                 raise ParametrizationError(f"axis: expected one of 'x', 'y', 'z', got {axis!r}")
             normal = np.eye(3)[_AXES[axis]]
         # a right-handed in-plane frame (e1, e2, normal) keeps faces that face +normal counter-clockwise
+        # u along the coordinate axis least aligned with the normal (x for a y-up or z-up terrain)
         helper = np.eye(3)[np.argmin(np.abs(normal))]
-        e1 = np.cross(helper, normal)
+        e1 = helper - (helper @ normal) * normal
         e1 /= np.linalg.norm(e1)
         e2 = np.cross(normal, e1)
         raw = np.stack([(v - centre) @ e1, (v - centre) @ e2], axis=1)

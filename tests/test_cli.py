@@ -1,0 +1,51 @@
+import numpy as np
+import pytest
+
+import geoimg
+from geoimg.cli import main
+
+from helpers import SAMPLES, shared_file
+
+
+def test_image_mesh_info_pipeline(tmp_path, capsys):
+    exr, obj = tmp_path / "m.exr", tmp_path / "m.obj"
+    assert main(["image", str(SAMPLES / "mountain.obj"), "-o", str(exr), "--res", "64", "--s", "2",
+                 "--preview", str(tmp_path / "m.png")]) == 0
+    assert main(["mesh", str(exr), "-o", str(obj)]) == 0
+    quads = geoimg.load_mesh(obj)
+    assert quads.n_faces == 63 * 63 and np.all(quads.face_sizes == 4)
+    src = geoimg.load_mesh(SAMPLES / "mountain.obj")
+    lo, hi = src.vertices.min(axis=0), src.vertices.max(axis=0)
+    qlo, qhi = quads.vertices.min(axis=0), quads.vertices.max(axis=0)
+    # the x-z footprint is the terrain's exactly; heights may overshoot a little (a mean of planes
+    # is not bound to the vertices' hull), here by under 1% of the height range
+    assert np.allclose([qlo[0], qlo[2], qhi[0], qhi[2]], [lo[0], lo[2], hi[0], hi[2]], atol=1e-6 * (hi - lo).max())
+    assert np.all(np.abs([qlo[1] - lo[1], qhi[1] - hi[1]]) < 0.01 * (hi[1] - lo[1]))
+    assert main(["info", str(exr)]) == 0
+    out = capsys.readouterr().out
+    assert "64 x 64" in out and "source: mountain.obj" in out
+    assert main(["info", str(obj)]) == 0
+    assert "3969 quad" in capsys.readouterr().out
+
+
+def test_errors_exit_2_with_a_message(tmp_path, capsys):
+    bunny = shared_file("meshes/closed_genus0/bunny.obj")
+    assert main(["image", str(bunny), "-o", str(tmp_path / "b.exr")]) == 2
+    assert "not a height field" in capsys.readouterr().err
+    assert main(["mesh", str(tmp_path / "none.exr"), "-o", str(tmp_path / "x.obj")]) == 2
+    assert "no image file" in capsys.readouterr().err
+    (tmp_path / "x.obj").write_text("keep")
+    exr = tmp_path / "m.exr"
+    main(["image", str(SAMPLES / "mountain.obj"), "-o", str(exr), "--res", "16"])
+    assert main(["mesh", str(exr), "-o", str(tmp_path / "x.obj")]) == 2
+    assert "--force" in capsys.readouterr().err and (tmp_path / "x.obj").read_text() == "keep"
+    assert main(["mesh", str(exr), "-o", str(tmp_path / "x.obj"), "--force"]) == 0
+    with pytest.raises(SystemExit):
+        main(["image", str(SAMPLES / "mountain.obj"), "-o", str(exr), "--s", "-1"])
+
+
+def test_demo_writes_its_files(tmp_path, capsys):
+    assert main(["demo", "-o", str(tmp_path), "--res", "48"]) == 0
+    out = capsys.readouterr().out
+    assert "mesh vertices to surface" in out
+    assert {p.name for p in tmp_path.iterdir()} == {"mountain.exr", "mountain_preview.png", "mountain_quads.obj"}
