@@ -14,11 +14,12 @@ from .mesh import Mesh
 from .mesh_io import load_mesh, save_mesh
 from .parametrization import Parametrization, parametrize
 from .surface import Surface, fit_surface
+from .terrain import grid_mesh
 
 __version__ = "0.1.0"
 
 __all__ = [
     "GeoimgError", "ImageFileError", "MeshError", "MeshFileError", "ParametrizationError",
     "GeometryImage", "grid_normals", "load_image", "save_image", "save_preview",
-    "Mesh", "load_mesh", "save_mesh", "Parametrization", "parametrize", "Surface", "fit_surface",
+    "Mesh", "load_mesh", "save_mesh", "Parametrization", "parametrize", "Surface", "fit_surface", "grid_mesh",
 ]

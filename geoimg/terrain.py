@@ -1,0 +1,45 @@
+"""Terrain meshes from elevation grids (DEMs)."""
+from __future__ import annotations
+
+import numpy as np
+
+from .mesh import Mesh
+
+__all__ = ["grid_mesh"]
+
+
+def grid_mesh(heights, spacing=(1.0, 1.0)) -> Mesh:
+    """Triangulate a regular elevation grid: vertex (x, y, z) = (col * dx, -row * dy, height), z up.
+
+    Rows run north to south as in a DEM, so y = -row * dy keeps north up; each grid cell becomes two
+    triangles, counter-clockwise seen from above.
+
+    Parameters
+    ----------
+    heights : array_like, shape (H, W)
+        Finite elevations, H, W >= 2.
+    spacing : (float, float)
+        Cell size (dx, dy), positive.
+
+    Examples
+    --------
+    >>> m = grid_mesh([[0, 1, 2], [3, 4, 5]])
+    >>> m.n_vertices, m.n_faces
+    (6, 4)
+    """
+    h = np.asarray(heights, dtype=np.float64)
+    if h.ndim != 2 or min(h.shape) < 2:
+        raise ValueError(f"heights: expected a 2-D grid of at least 2 x 2, got shape {h.shape}")
+    if not np.isfinite(h).all():
+        raise ValueError("heights: contains NaN or infinite values (fill or crop no-data cells first)")
+    dx, dy = (float(x) for x in spacing)
+    if not (dx > 0 and dy > 0):
+        raise ValueError(f"spacing: expected two positive numbers, got {spacing!r}")
+    H, W = h.shape
+    cols, rows = np.meshgrid(np.arange(W), np.arange(H))
+    vertices = np.stack([cols.ravel() * dx, -rows.ravel() * dy, h.ravel()], axis=1)
+    idx = np.arange(H * W).reshape(H, W)
+    a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
+    # (row, col) -> (x, -y): going a->d->c is counter-clockwise seen from +z
+    faces = np.concatenate([np.stack([a, d, c], 1), np.stack([a, c, b], 1)])
+    return Mesh(vertices, faces)
