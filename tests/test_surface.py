@@ -202,3 +202,43 @@ def test_bad_arguments_are_refused():
         surf.sample(1)
     with pytest.raises(ValueError, match="resolution"):
         surf.sample(2.5)
+
+
+def sliver_tin(n_points=1500, seed=0):
+    """A Delaunay TIN of scattered points of a real DEM: slivers line its convex hull."""
+    import OpenImageIO as oiio
+    from scipy.spatial import Delaunay
+
+    z = oiio.ImageBuf(str(shared_file("dem/msh_nad83_27_2007-07-05.tif"))).get_pixels(oiio.FLOAT)[..., 0]
+    rng = np.random.default_rng(seed)
+    rc = np.unique(np.stack([rng.integers(0, z.shape[0], n_points), rng.integers(0, z.shape[1], n_points)], 1), axis=0)
+    xy = np.stack([rc[:, 1] * 10.0, -rc[:, 0] * 10.0], axis=1)
+    tri = Delaunay(xy)
+    return Mesh(np.c_[xy, z[rc[:, 0], rc[:, 1]]], tri.simplices), tri
+
+
+def test_robust_sliver_rule_follows_a_real_tin_closer_than_the_paper_rule():
+    from scipy.interpolate import LinearNDInterpolator
+
+    mesh, tri = sliver_tin()
+    param = parametrize(mesh, "heightfield", axis="z")
+    tin = LinearNDInterpolator(tri, mesh.vertices[:, 2])
+    rms = {}
+    for rule in ("paper", "robust"):
+        surf = fit_surface(mesh, param, 1.0, sliver_rule=rule)
+        img = surf.sample(96, normals=False)
+        P = img.pixels.astype(float)
+        ref = tin(P[..., 0], P[..., 1])
+        inside = img.mask & np.isfinite(ref)
+        rms[rule] = np.sqrt(np.mean((P[..., 2] - ref)[inside] ** 2))
+        if rule == "robust":
+            assert surf.faces.n_slivers > 0
+    assert rms["robust"] < 0.25 * rms["paper"], rms
+
+
+def test_robust_rule_changes_nothing_on_well_shaped_faces(mountain):
+    param = parametrize(mountain, "heightfield", axis="y")
+    robust = fit_surface(mountain, param, 2.0)
+    paper = fit_surface(mountain, param, 2.0, sliver_rule="paper")
+    assert robust.faces.n_slivers == 0
+    assert np.array_equal(robust.sample(32).pixels, paper.sample(32).pixels)
