@@ -139,10 +139,11 @@ def _positive(kind):
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="geoimg", description="Polygon meshes to geometry images and back.")
-    p.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     sub = p.add_subparsers(dest="command", required=True)
 
-    im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)")
+    im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)", parents=[common])
     im.add_argument("mesh", help=f"input mesh ({', '.join(MESH_FORMATS)})")
     im.add_argument("-o", "--output", required=True, help="output .exr")
     im.add_argument("--res", type=_positive(int), default=None, help="pixels along the longer side (default: from s)")
@@ -157,17 +158,17 @@ def build_parser() -> argparse.ArgumentParser:
     im.add_argument("--force", action="store_true", help="overwrite existing files")
     im.set_defaults(func=cmd_image)
 
-    me = sub.add_parser("mesh", help="geometry image -> quad mesh")
+    me = sub.add_parser("mesh", help="geometry image -> quad mesh", parents=[common])
     me.add_argument("image", help="input .exr")
     me.add_argument("-o", "--output", required=True, help="output mesh (.obj/.ply/.off keep quads)")
     me.add_argument("--force", action="store_true", help="overwrite an existing file")
     me.set_defaults(func=cmd_mesh)
 
-    info = sub.add_parser("info", help="describe a mesh or geometry-image file")
+    info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common])
     info.add_argument("file")
     info.set_defaults(func=cmd_info)
 
-    demo = sub.add_parser("demo", help="run the whole pipeline on the bundled terrain")
+    demo = sub.add_parser("demo", help="run the whole pipeline on the bundled terrain", parents=[common])
     demo.add_argument("-o", "--output", default="geoimg-demo", help="output folder (default ./geoimg-demo)")
     demo.add_argument("--res", type=_positive(int), default=256)
     demo.add_argument("--s", type=_positive(float), default=2.0)

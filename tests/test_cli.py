@@ -49,3 +49,10 @@ def test_demo_writes_its_files(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "mesh vertices to surface" in out
     assert {p.name for p in tmp_path.iterdir()} == {"mountain.exr", "mountain_preview.png", "mountain_quads.obj"}
+
+
+def test_quiet_prints_nothing(tmp_path, capsys):
+    assert main(["image", str(SAMPLES / "mountain.obj"), "-o", str(tmp_path / "q.exr"), "--res", "16", "--quiet"]) == 0
+    assert main(["mesh", str(tmp_path / "q.exr"), "-o", str(tmp_path / "q.ply"), "-q"]) == 0
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err == ""

@@ -242,3 +242,16 @@ def test_robust_rule_changes_nothing_on_well_shaped_faces(mountain):
     paper = fit_surface(mountain, param, 2.0, sliver_rule="paper")
     assert robust.faces.n_slivers == 0
     assert np.array_equal(robust.sample(32).pixels, paper.sample(32).pixels)
+
+
+def test_unreferenced_vertices_and_repeated_indices_are_cleaned_up_and_reported():
+    mesh, param = affine_mesh()
+    v = np.vstack([mesh.vertices, [[1e6, 1e6, 1e6]]])          # an unreferenced far-away vertex
+    faces = [f.tolist() for f in mesh.face_list()] + [[0, 0, 1]]  # a face with a repeated index
+    dirty = Mesh(v, faces)
+    p = parametrize(dirty, "heightfield", axis="z")
+    with pytest.warns(UserWarning, match="1 faces of zero area"):
+        surf = fit_surface(dirty, p, 1.0)
+    pts = np.random.default_rng(5).uniform(0, 1, (50, 2)) * p.extent
+    clean = fit_surface(Mesh(mesh.vertices, mesh.face_list()), parametrize(mesh, "heightfield", axis="z"), 1.0)
+    assert np.allclose(surf.evaluate(pts), clean.evaluate(pts), atol=1e-9)
