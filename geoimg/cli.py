@@ -14,6 +14,7 @@ from .image_io import load_image
 from .mesh_io import MESH_FORMATS, load_mesh, save_mesh
 from .parametrization import PARAMETRIZATION_METHODS, parametrize
 from .surface import WEIGHTS, fit_surface
+from .topology import topology
 from .face_maps import SLIVER_RULES
 
 SAMPLE_MESH = Path(__file__).resolve().parent.parent / "samples" / "data" / "mountain.obj"
@@ -91,6 +92,8 @@ def cmd_info(args) -> int:
     print(f"  bounding box {np.round(v.min(axis=0), 6).tolist()} .. {np.round(v.max(axis=0), 6).tolist()}, "
           f"diagonal {mesh.bounding_box_diagonal():.6g}")
     print(f"  per-vertex UVs: {'yes' if mesh.uv is not None else 'no'}")
+    t = topology(mesh)
+    print(f"  topology: {t.describe()}; Euler characteristic {t.euler}, {t.boundary_edges} boundary edges")
     return 0
 
 

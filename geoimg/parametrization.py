@@ -208,7 +208,17 @@ def _auto(mesh: Mesh, axis: str | None) -> Parametrization:
         if p.flipped_faces == 0:
             return p
         tried.append(f"{method}: {p.flipped_faces} of {mesh.n_faces} faces fold over")
+    from .topology import topology
+
+    topo = topology(mesh)
+    if topo.genus is not None and topo.genus > 0:
+        advice = (f"geoimg needs genus 0: {topo.genus} handle{'s' if topo.genus > 1 else ''} would have to be "
+                  "cut first")
+    elif topo.closed:
+        advice = "a closed genus-0 mesh needs a spherical parametrization, which this version does not have yet"
+    else:
+        advice = ("give it UVs (OBJ vt), or pass axis= for a terrain whose up axis is not its best-fitting "
+                  "plane's normal")
     raise ParametrizationError(
-        "no planar parametrization without folds was found (" + "; ".join(tried) + "). This mesh is not a "
-        "height field and has no usable UVs; give it UVs (OBJ vt), or pass axis= for a terrain whose up "
-        "axis is not its best-fitting plane's normal")
+        f"mesh is a {topo.describe()}; no planar parametrization without folds was found ("
+        + "; ".join(tried) + f"): it is not a height field and has no usable UVs. {advice}")

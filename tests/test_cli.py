@@ -25,7 +25,8 @@ def test_image_mesh_info_pipeline(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "64 x 64" in out and "source: mountain.obj" in out
     assert main(["info", str(obj)]) == 0
-    assert "3969 quad" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "3969 quad" in out and "open surface with 1 boundary loop (a disk)" in out
 
 
 def test_errors_exit_2_with_a_message(tmp_path, capsys):

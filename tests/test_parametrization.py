@@ -45,8 +45,12 @@ def test_uv_method_uses_mesh_uv_and_normalizes():
 
 def test_auto_refuses_a_closed_mesh_and_says_why():
     bunny = geoimg.load_mesh(shared_file("meshes/closed_genus0/bunny.obj"))
-    with pytest.raises(ParametrizationError, match="heightfield: .* faces fold over.*not a height field"):
+    with pytest.raises(ParametrizationError, match="closed surface of genus 0.*heightfield: .* faces fold over"
+                                                  ".*not a height field.*spherical parametrization"):
         parametrize(bunny, "auto")
+    torus = geoimg.load_mesh(shared_file("meshes/closed_higher_genus/torus.obj"))
+    with pytest.raises(ParametrizationError, match="genus 1 .torus-like.*1 handle would have to be cut"):
+        parametrize(torus, "auto")
 
 
 def test_errors():

@@ -1,0 +1,88 @@
+"""Topology of a polygon mesh from its position indices: components, boundary loops, genus."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse.csgraph import connected_components
+
+from .mesh import Mesh
+
+__all__ = ["Topology", "topology"]
+
+
+@dataclass(frozen=True)
+class Topology:
+    """Counts that decide which parametrization a mesh can have.
+
+    ``genus`` is ``(2 components - euler - boundary_loops) / 2``, valid for a manifold mesh; it is None
+    when some edge has more than two faces.
+    """
+
+    vertices: int           # referenced by faces
+    edges: int
+    faces: int
+    components: int
+    boundary_loops: int
+    boundary_edges: int
+    nonmanifold_edges: int
+    euler: int
+    genus: int | None
+
+    @property
+    def closed(self) -> bool:
+        """No boundary edge and no non-manifold edge."""
+        return self.boundary_edges == 0 and self.nonmanifold_edges == 0
+
+    def describe(self) -> str:
+        """One line a user can read, e.g. ``closed surface of genus 1 (torus-like), 1 component``."""
+        parts = []
+        if self.nonmanifold_edges:
+            parts.append(f"non-manifold ({self.nonmanifold_edges} edges shared by more than two faces)")
+        elif self.closed:
+            kind = {0: "sphere-like", 1: "torus-like"}.get(self.genus, f"{self.genus} handles")
+            parts.append(f"closed surface of genus {self.genus} ({kind})")
+        else:
+            loops = "1 boundary loop" if self.boundary_loops == 1 else f"{self.boundary_loops} boundary loops"
+            shape = "a disk" if self.boundary_loops == 1 and self.genus == 0 and self.components == 1 else \
+                f"genus {self.genus}"
+            parts.append(f"open surface with {loops} ({shape})")
+        parts.append(f"{self.components} component" + ("s" if self.components != 1 else ""))
+        return ", ".join(parts)
+
+
+def topology(mesh: Mesh) -> Topology:
+    """Count the topology of a mesh by position indices (UV seams do not split it).
+
+    Examples
+    --------
+    >>> t = topology(Mesh(np.eye(4, 3), [[0, 1, 2], [0, 2, 3]]))
+    >>> t.components, t.boundary_loops, t.genus, t.describe()
+    (1, 1, 0, 'open surface with 1 boundary loop (a disk), 1 component')
+    """
+    f, k = mesh.faces, mesh.face_sizes
+    nxt = np.roll(f, -1, axis=1)
+    rows = np.arange(len(f))
+    nxt[rows, k - 1] = f[:, 0]                   # close each face back to its first vertex
+    valid = f >= 0
+    a, b = f[valid], nxt[valid]
+    e = np.sort(np.stack([a, b], axis=1), axis=1)
+    edges, counts = np.unique(e, axis=0, return_counts=True)
+    used = mesh.referenced_vertices()
+    n = mesh.n_vertices
+    adj = sparse.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
+    n_comp, labels = connected_components(adj, directed=False)
+    components = len(np.unique(labels[used]))
+    bnd = edges[counts == 1]
+    loops = 0
+    if len(bnd):
+        badj = sparse.coo_matrix((np.ones(len(bnd)), (bnd[:, 0], bnd[:, 1])), shape=(n, n))
+        _, blabels = connected_components(badj, directed=False)
+        loops = len(np.unique(blabels[np.unique(bnd)]))
+    nonmanifold = int((counts > 2).sum())
+    V, E, F = int(used.sum()), len(edges), len(f)
+    euler = V - E + F
+    twice = 2 * components - euler - loops
+    genus = None if nonmanifold or twice % 2 else twice // 2
+    return Topology(V, E, F, components, loops, len(bnd), nonmanifold, euler, genus)
