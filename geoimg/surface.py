@@ -58,7 +58,6 @@ class Surface:
     sliver_rule: str
     orientation: int
     domain: str = "planar"
-    source: str = ""
     polygons: np.ndarray = field(repr=False, default=None)   # (F, K, 2) parametric faces, for the mask
     sizes: np.ndarray = field(repr=False, default=None)
     _radius: np.ndarray = field(repr=False, default=None)
@@ -203,7 +202,7 @@ class Surface:
         meta = {
             "domain": self.domain, "s": float(self.s), "weights": self.weights, "n": int(self.n),
             "tol": float(self.tol), "sliver_rule": self.sliver_rule, "resolution": int(max(H, W)),
-            "extent": [float(e) for e in self.extent], "source": self.source, "orientation": int(self.orientation),
+            "extent": [float(e) for e in self.extent], "source": "", "orientation": int(self.orientation),
             "exact_pixels": int(n_exact), "hole_pixels": int(holes.sum()),
         }
         if holes.any():
@@ -293,5 +292,4 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
     cells = kernels.build_cells(fm.centres, np.where(np.isfinite(radius), radius, 0.0))
     polys = param.coords[np.where(mesh.faces >= 0, mesh.faces, mesh.faces[:, :1])][fm.face_index]
     return Surface(fm, param.extent, s, weights, int(n), float(tol), sliver_rule,
-                   int(param.info.get("orientation", 1)), param.domain, param.info.get("source", ""),
-                   polys, mesh.face_sizes[fm.face_index], radius, param_arr, cells)
+                   int(param.info.get("orientation", 1)), param.domain, polys, mesh.face_sizes[fm.face_index], radius, param_arr, cells)
