@@ -46,12 +46,12 @@ def _mesh_to_image(args, progress):
     image = surface.sample(res)
     image.metadata["source"] = Path(args.mesh).name
     image.metadata["parametrization"] = param.method
-    return mesh, surface, image
+    return mesh, param, surface, image
 
 
 def cmd_image(args) -> int:
     progress = Progress(args.quiet)
-    _, _, image = _mesh_to_image(args, progress)
+    *_, image = _mesh_to_image(args, progress)
     out = image.save(args.output, overwrite=args.force)
     if args.preview:
         image.preview(args.preview, overwrite=args.force)
@@ -108,7 +108,7 @@ def cmd_demo(args) -> int:
     ns = argparse.Namespace(mesh=str(src), method="auto", axis=None, s=args.s, weights="gaussian", n=10,
                             tol=1e-10, sliver_rule="robust", res=args.res)
     t0 = time.perf_counter()
-    mesh, surface, image = _mesh_to_image(ns, progress)
+    mesh, param, surface, image = _mesh_to_image(ns, progress)
     t1 = time.perf_counter()
     stem = src.stem
     files = [image.save(out / f"{stem}.exr", overwrite=True),
@@ -116,8 +116,8 @@ def cmd_demo(args) -> int:
     quads = load_image(files[0]).to_mesh()
     files.append(save_mesh(quads, out / f"{stem}_quads.obj", overwrite=True))
     # how far the surface lies from the mesh vertices it approximates
-    param_uv = parametrize(mesh, "auto").coords[mesh.referenced_vertices()]
-    dev = np.linalg.norm(surface.evaluate(param_uv) - mesh.vertices[mesh.referenced_vertices()], axis=1)
+    used = mesh.referenced_vertices()
+    dev = np.linalg.norm(surface.evaluate(param.coords[used]) - mesh.vertices[used], axis=1)
     diag = mesh.bounding_box_diagonal()
     H, W = image.shape
     print(f"geoimg demo on {src.name}: {mesh.n_vertices} vertices, {mesh.n_faces} faces")

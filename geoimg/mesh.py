@@ -148,6 +148,18 @@ class Mesh:
         """Faces as a list of index arrays (each of its own length)."""
         return [row[:k] for row, k in zip(self.faces, self.face_sizes)]
 
+    def next_vertices(self) -> np.ndarray:
+        """(F, K) index of the vertex after each corner in its face (the last wraps to the first); -1 on padding.
+
+        Examples
+        --------
+        >>> Mesh(np.zeros((5, 3)), [[0, 1, 2], [1, 3, 4, 2]]).next_vertices().tolist()
+        [[1, 2, 0, -1], [3, 4, 2, 1]]
+        """
+        nxt = np.roll(self.faces, -1, axis=1)
+        nxt[np.arange(self.n_faces), self.face_sizes - 1] = self.faces[:, 0]
+        return np.where(self.faces >= 0, nxt, -1)
+
     def triangulate(self) -> tuple[np.ndarray, np.ndarray]:
         """Fan-triangulate every face (for export to triangle-only formats).
 

@@ -71,15 +71,10 @@ def signed_face_areas(mesh: Mesh, coords: np.ndarray) -> np.ndarray:
     >>> signed_face_areas(m, np.array([[0., 0], [1, 0], [0, 1]])).tolist()
     [0.5]
     """
-    f = mesh.faces
-    k = mesh.face_sizes
-    idx = np.where(f >= 0, f, f[:, :1])  # padding repeats the first vertex: adds zero area
-    p = coords[idx]
-    q = np.roll(p, -1, axis=1)
-    # the wrap-around term of a padded row must close back to the first vertex
-    last = k - 1
-    rows = np.arange(len(f))
-    q[rows, last] = p[rows, 0]
+    first = mesh.faces[:, :1]
+    p = coords[np.where(mesh.faces >= 0, mesh.faces, first)]   # padding repeats the first vertex:
+    nxt = mesh.next_vertices()
+    q = coords[np.where(nxt >= 0, nxt, first)]                  # its (v0, v0) term adds zero area
     cross = p[..., 0] * q[..., 1] - p[..., 1] * q[..., 0]
     return 0.5 * cross.sum(axis=1)
 

@@ -61,12 +61,9 @@ def topology(mesh: Mesh) -> Topology:
     >>> t.components, t.boundary_loops, t.genus, t.describe()
     (1, 1, 0, 'open surface with 1 boundary loop (a disk), 1 component')
     """
-    f, k = mesh.faces, mesh.face_sizes
-    nxt = np.roll(f, -1, axis=1)
-    rows = np.arange(len(f))
-    nxt[rows, k - 1] = f[:, 0]                   # close each face back to its first vertex
+    f = mesh.faces
     valid = f >= 0
-    a, b = f[valid], nxt[valid]
+    a, b = f[valid], mesh.next_vertices()[valid]
     e = np.sort(np.stack([a, b], axis=1), axis=1)
     edges, counts = np.unique(e, axis=0, return_counts=True)
     used = mesh.referenced_vertices()
