@@ -10,7 +10,7 @@ from .mesh import Mesh
 
 __all__ = ["GeometryImage", "grid_normals", "DOMAINS"]
 
-DOMAINS = ("planar",)
+DOMAINS = ("planar", "octahedral")
 
 
 def grid_normals(pixels: np.ndarray, orientation: int = 1) -> np.ndarray:
@@ -41,7 +41,8 @@ class GeometryImage:
     mask : numpy.ndarray of bool, shape (H, W), or None
         Pixels inside the parametrized region (None: all valid).
     domain : str
-        ``"planar"``: the parameter rectangle, u along columns, v along rows.
+        ``"planar"``: the parameter rectangle, u along columns, v along rows. ``"octahedral"``: the
+        unfolded sphere (an odd square, see :mod:`geoimg.octahedral`), whose sides are glued.
     normals : numpy.ndarray, shape (H, W, 3), or None
         Exact unit normals from the surface's derivatives, when known.
     metadata : dict
@@ -89,6 +90,14 @@ class GeometryImage:
             object.__setattr__(self, "normals", n)
         if self.domain not in DOMAINS:
             raise ValueError(f"domain: expected one of {DOMAINS}, got {self.domain!r}")
+        if self.domain == "octahedral":
+            from .octahedral import check_size
+
+            if p.shape[0] != p.shape[1]:
+                raise ValueError(f"pixels: an octahedral image must be square, got {p.shape[:2]}")
+            check_size(p.shape[0])
+            if self.mask is not None and not np.all(self.mask):
+                raise ValueError("mask: an octahedral image covers the whole sphere; it takes no mask")
         object.__setattr__(self, "metadata", dict(self.metadata))
 
     @property
@@ -124,6 +133,8 @@ class GeometryImage:
         GeoimgError
             If no 2 x 2 block of valid pixels exists.
         """
+        if self.domain == "octahedral":
+            return self._octahedral_mesh()
         H, W = self.shape
         v = self.valid
         keep = v[:-1, :-1] & v[:-1, 1:] & v[1:, 1:] & v[1:, :-1]
@@ -147,6 +158,32 @@ class GeometryImage:
         uv = np.stack([uu[used], vv[used]], axis=1)
         return Mesh(self.pixels[used].astype(np.float64), quads, uv=uv,
                     normals=np.asarray(normals, np.float64)[used])
+
+    def _octahedral_mesh(self) -> Mesh:
+        """(N-1)^2 quads with the glued boundary welded by index: a closed genus-0 mesh.
+        A welded vertex takes the mean of its pixels (identical unless a filter broke the symmetry)."""
+        from .octahedral import weld_index
+
+        n = self.shape[0]
+        weld = weld_index(n).ravel()
+        reps, index = np.unique(weld, return_inverse=True)
+        counts = np.bincount(index).astype(np.float64)[:, None]
+
+        def pool(a):
+            a = np.asarray(a, np.float64).reshape(-1, a.shape[-1])
+            return np.stack([np.bincount(index, a[:, c]) for c in range(a.shape[1])], axis=1) / counts
+
+        grid = index.reshape(n, n)
+        quads = np.stack([grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1]], axis=-1).reshape(-1, 4)
+        if int(self.metadata.get("orientation", 1)) < 0:
+            quads = quads[:, ::-1]
+        normals = pool(self.normals) if self.normals is not None else None
+        if normals is not None:
+            normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
+        u, v = self.parameter_grid()
+        uu, vv = np.meshgrid(u, v)
+        uv = np.stack([uu.ravel(), vv.ravel()], axis=1)[reps]
+        return Mesh(pool(self.pixels), quads, uv=uv, normals=normals)
 
     def save(self, path, *, overwrite: bool = False):
         """Write the image to OpenEXR (float32, lossless, with metadata); see :func:`geoimg.save_image`."""

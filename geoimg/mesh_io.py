@@ -221,12 +221,19 @@ def _read_off(path: Path) -> Mesh:
         raise MeshFileError(f"header says {nv} vertices and {nf} faces but the file ends early")
     vertices = np.array([ln.split()[:3] for ln in lines[i:i + nv]], dtype=np.float64)
     faces = []
-    for ln in lines[i + nv:i + nv + nf]:
-        p = ln.split()
+    j = i + nv
+    for _ in range(nf):
+        if j >= len(lines):
+            raise MeshFileError(f"header says {nf} faces but the file ends after {len(faces)}")
+        p = lines[j].split()
+        j += 1
         k = int(p[0])
+        while len(p) < k + 1 and j < len(lines):   # a long face may run on over several lines
+            p += lines[j].split()
+            j += 1
         if len(p) < k + 1:
-            raise MeshFileError(f"face line {ln!r} has fewer than {k} indices")
-        faces.append([int(x) for x in p[1:k + 1]])
+            raise MeshFileError(f"a face of {k} vertices has only {len(p) - 1} indices")
+        faces.append([int(x) for x in p[1:k + 1]])   # extra values on the line (colours) are ignored
     return Mesh(vertices, faces)
 
 

@@ -1,8 +1,10 @@
-"""Planar parametrizations: per-vertex (u, v) in the unit square, u right, v down.
+"""Parametrizations: per-vertex (u, v) in the unit square (u right, v down), or unit vectors on the sphere.
 
-Two methods: ``uv`` (the mesh's own UVs) and ``heightfield`` (projection onto the mesh's best-fitting
-plane or onto the plane normal to a named axis). Coordinates are shifted and scaled by one factor so
-the longer side spans [0, 1]; the aspect ratio is kept and recorded in ``extent``.
+Planar methods: ``uv`` (the mesh's own UVs), ``heightfield`` (projection onto the mesh's best-fitting
+plane or onto the plane normal to a named axis) and ``disk`` (one boundary loop onto the square, see
+:mod:`geoimg.disk`). Coordinates are shifted and scaled by one factor so the longer side spans [0, 1];
+the aspect ratio is kept and recorded in ``extent``. ``sphere`` (see :mod:`geoimg.sphere`) maps a
+closed genus-0 mesh onto the unit sphere, for the ``octahedral`` domain.
 """
 from __future__ import annotations
 
@@ -16,7 +18,7 @@ from .mesh import Mesh
 
 __all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATION_METHODS"]
 
-PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield")
+PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere")
 _AXES = {"x": 0, "y": 1, "z": 2}
 SNAP_DEGREES = 15.0
 
@@ -27,12 +29,13 @@ class Parametrization:
 
     Attributes
     ----------
-    coords : numpy.ndarray, shape (N, 2)
-        (u, v) of every vertex, inside ``[0, extent[0]] x [0, extent[1]]``.
+    coords : numpy.ndarray, shape (N, 2) or (N, 3)
+        Planar: (u, v) of every vertex, inside ``[0, extent[0]] x [0, extent[1]]``.
+        Octahedral: unit vectors on the sphere.
     extent : tuple of float
-        Size of the parametrized rectangle; the larger side is 1.
+        Size of the parametrized rectangle; the larger side is 1 ((1, 1) for the octahedral square).
     domain : str
-        ``"planar"``.
+        ``"planar"`` or ``"octahedral"``.
     method : str
         How it was made.
     flipped_faces : int
@@ -53,10 +56,15 @@ class Parametrization:
 
     def __post_init__(self):
         c = np.array(self.coords, dtype=np.float64, copy=True)
-        if c.ndim != 2 or c.shape[1] != 2:
-            raise ParametrizationError(f"coords: expected shape (N, 2), got {c.shape}")
+        if self.domain not in ("planar", "octahedral"):
+            raise ParametrizationError(f"domain: expected 'planar' or 'octahedral', got {self.domain!r}")
+        dim = 2 if self.domain == "planar" else 3
+        if c.ndim != 2 or c.shape[1] != dim:
+            raise ParametrizationError(f"coords: expected shape (N, {dim}) for the {self.domain} domain, got {c.shape}")
         if not np.isfinite(c).all():
             raise ParametrizationError("coords: contains NaN or infinite values")
+        if dim == 3 and not np.allclose(np.linalg.norm(c, axis=1), 1.0, atol=1e-9):
+            raise ParametrizationError("coords: octahedral coordinates must be unit vectors")
         c.setflags(write=False)
         object.__setattr__(self, "coords", c)
         object.__setattr__(self, "extent", tuple(float(x) for x in self.extent))
@@ -102,20 +110,28 @@ def _normalize(coords: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, tuple,
     return out, extent, {"offset": lo.tolist(), "scale": float(size)}
 
 
-def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None) -> Parametrization:
-    """Parametrize a mesh over a planar rectangle.
+def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, boundary: str = "square",
+                progress=None) -> Parametrization:
+    """Parametrize a mesh over a planar rectangle or the sphere.
 
     Parameters
     ----------
     mesh : Mesh
-    method : {"auto", "heightfield", "uv"}
+    method : {"auto", "heightfield", "uv", "disk", "sphere"}
         ``heightfield`` projects the vertices onto the best-fitting plane (or the plane normal to
-        ``axis``), for terrains; ``uv`` uses ``mesh.uv``; ``auto`` takes the mesh's UVs when it has
-        unfolded ones, else a height field that folds no face, else fails saying what it found.
+        ``axis``), for terrains; ``uv`` uses ``mesh.uv``; ``disk`` maps a mesh with one boundary loop
+        onto the square (mean-value coordinates); ``sphere`` maps a closed genus-0 mesh onto the sphere
+        (octahedral domain). ``auto`` takes the mesh's UVs when they fold nothing, else a height field
+        that folds no face, else ``disk`` for one boundary loop or ``sphere`` for a closed genus-0
+        mesh, else fails saying what it found and what to do.
     axis : {"x", "y", "z"}, optional
         For ``heightfield``: the up axis (for example ``"y"`` for a y-up terrain). Default: the normal
         of the least-squares plane through the vertices, or the coordinate axis nearest to it when the
         two are within 15 degrees (terrains are stored axis-up; ``info["snapped_to_axis"]`` says so).
+    boundary : {"square", "keep"}
+        For ``disk``: the boundary on the unit square, or kept as it is when it is a convex planar polygon.
+    progress : callable, optional
+        For ``sphere``: called with a short message as the map improves.
 
     Returns
     -------
@@ -137,10 +153,23 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None) ->
     if not isinstance(mesh, Mesh):
         raise TypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
     if method == "auto":
-        return _auto(mesh, axis)
+        return _auto(mesh, axis, boundary, progress)
     used = mesh.referenced_vertices()
     info: dict = {}
-    if method == "uv":
+    if method == "sphere":
+        from .sphere import sphere_coords
+
+        coords, info = sphere_coords(mesh, progress=progress)
+        info["orientation"] = 1
+        if info["flipped_triangles"]:
+            warnings.warn(f"parametrize('sphere'): {info['flipped_triangles']} triangles are folded over on the "
+                          "sphere; the map is not one-to-one there", stacklevel=2)
+        return Parametrization(coords, (1.0, 1.0), "octahedral", "sphere", info["flipped_triangles"], 0, info)
+    if method == "disk":
+        from .disk import disk_coords
+
+        raw, info = disk_coords(mesh, boundary)
+    elif method == "uv":
         if axis is not None:
             raise ParametrizationError("axis: only used with method='heightfield'")
         if mesh.uv is None:
@@ -189,7 +218,7 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None) ->
     return Parametrization(coords, extent, "planar", method, flipped, degenerate, info)
 
 
-def _auto(mesh: Mesh, axis: str | None) -> Parametrization:
+def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrization:
     tried = []
     candidates = (["uv"] if mesh.uv is not None and axis is None else []) + ["heightfield"]
     for method in candidates:
@@ -200,20 +229,32 @@ def _auto(mesh: Mesh, axis: str | None) -> Parametrization:
             except ParametrizationError as e:
                 tried.append(f"{method}: {e}")
                 continue
-        if p.flipped_faces == 0:
+        if p.flipped_faces == 0 and p.degenerate_faces == 0:
             return p
-        tried.append(f"{method}: {p.flipped_faces} of {mesh.n_faces} faces fold over")
+        tried.append(f"{method}: {p.flipped_faces} of {mesh.n_faces} faces fold over" if p.flipped_faces else
+                     f"{method}: {p.degenerate_faces} of {mesh.n_faces} faces project to a line")
     from .topology import topology
 
     topo = topology(mesh)
-    if topo.genus is not None and topo.genus > 0:
+    single = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.genus == 0
+    if single and topo.boundary_loops == 1 and axis is None:
+        return parametrize(mesh, "disk", boundary=boundary)
+    if single and topo.closed and axis is None:
+        return parametrize(mesh, "sphere", progress=progress)
+    if topo.components > 1:
+        advice = (f"geoimg needs one piece: split the {topo.components} components (e.g. trimesh's "
+                  "mesh.split()) and convert each")
+    elif topo.nonmanifold_edges:
+        advice = "geoimg needs a manifold mesh: repair the edges shared by more than two faces first"
+    elif topo.genus is not None and topo.genus > 0:
         advice = (f"geoimg needs genus 0: {topo.genus} handle{'s' if topo.genus > 1 else ''} would have to be "
                   "cut first")
-    elif topo.closed:
-        advice = "a closed genus-0 mesh needs a spherical parametrization, which this version does not have yet"
+    elif topo.boundary_loops > 1:
+        advice = (f"geoimg maps one boundary loop onto the square: fill {topo.boundary_loops - 1} of the "
+                  f"{topo.boundary_loops} holes (or all of them, for a sphere) first")
     else:
         advice = ("give it UVs (OBJ vt), or pass axis= for a terrain whose up axis is not its best-fitting "
                   "plane's normal")
     raise ParametrizationError(
-        f"mesh is a {topo.describe()}; no planar parametrization without folds was found ("
+        f"mesh: {topo.describe()}; no parametrization without folds was found ("
         + "; ".join(tried) + f"): it is not a height field and has no usable UVs. {advice}")

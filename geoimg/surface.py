@@ -239,7 +239,8 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
 
     Returns
     -------
-    Surface
+    Surface or SphereSurface
+        A :class:`~geoimg.sphere_surface.SphereSurface` for a spherical (octahedral) parametrization.
 
     Raises
     ------
@@ -261,8 +262,6 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         raise TypeError(f"param: expected a geoimg.Parametrization, got {type(param).__name__}")
     if param.coords.shape[0] != mesh.n_vertices:
         raise ValueError(f"param: has {param.coords.shape[0]} points but the mesh has {mesh.n_vertices} vertices")
-    if param.domain != "planar":
-        raise ValueError(f"param: domain {param.domain!r} is not supported here (expected 'planar')")
     if weights not in WEIGHTS:
         raise ValueError(f"weights: expected one of {WEIGHTS}, got {weights!r}")
     if isinstance(s, bool) or not isinstance(s, (int, float, np.number)) or not (np.isfinite(s) and s > 0):
@@ -271,6 +270,13 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         raise ValueError(f"tol: expected a number in [0, 1), got {tol!r}")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
         raise ValueError(f"n: expected an integer >= 2, got {n!r}")
+    if param.domain == "octahedral":
+        if weights != "gaussian":
+            raise ValueError("weights: the octahedral (spherical) domain supports only 'gaussian' weights")
+        from .sphere_surface import fit_sphere_surface
+
+        return fit_sphere_surface(mesh, param.coords, float(s), float(tol), sliver_rule,
+                                  int(param.info.get("orientation", 1)))
     fm = face_maps(mesh, param.coords, sliver_rule=sliver_rule)
     if fm.n_degenerate:
         warnings.warn(f"fit_surface: {fm.n_degenerate} faces of zero area in the parameter domain were left out",

@@ -9,7 +9,7 @@ from scipy.sparse.csgraph import connected_components
 
 from .mesh import Mesh
 
-__all__ = ["Topology", "topology"]
+__all__ = ["Topology", "topology", "boundary_loops"]
 
 
 @dataclass(frozen=True)
@@ -83,3 +83,38 @@ def topology(mesh: Mesh) -> Topology:
     twice = 2 * components - euler - loops
     genus = None if nonmanifold or twice % 2 else twice // 2
     return Topology(V, E, F, components, loops, len(bnd), nonmanifold, euler, genus)
+
+
+def boundary_loops(mesh: Mesh) -> list[np.ndarray]:
+    """The boundary loops of a manifold mesh as ordered vertex indices, each running the way its faces'
+    edges do (counter-clockwise around the surface for counter-clockwise faces).
+
+    Examples
+    --------
+    >>> [loop.tolist() for loop in boundary_loops(Mesh(np.eye(4, 3), [[0, 1, 2], [0, 2, 3]]))]
+    [[0, 1, 2, 3]]
+    """
+    f = mesh.faces
+    valid = f >= 0
+    a, b = f[valid], mesh.next_vertices()[valid]
+    key = np.minimum(a, b) * mesh.n_vertices + np.maximum(a, b)
+    _, inv, counts = np.unique(key, return_inverse=True, return_counts=True)
+    on_bnd = counts[inv] == 1
+    nxt = {}
+    for s, t in zip(a[on_bnd].tolist(), b[on_bnd].tolist()):
+        if s in nxt:
+            raise ValueError("boundary_loops: a vertex starts two boundary edges (the boundary is not manifold)")
+        nxt[s] = t
+    loops, seen = [], set()
+    for start in sorted(nxt):
+        if start in seen:
+            continue
+        loop, v = [], start
+        while v not in seen:
+            seen.add(v)
+            loop.append(v)
+            v = nxt.get(v)
+            if v is None:
+                raise ValueError("boundary_loops: a boundary edge leads nowhere (inconsistent face orientation)")
+        loops.append(np.array(loop, np.int64))
+    return loops

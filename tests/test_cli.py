@@ -30,9 +30,9 @@ def test_image_mesh_info_pipeline(tmp_path, capsys):
 
 
 def test_errors_exit_2_with_a_message(tmp_path, capsys):
-    bunny = shared_file("meshes/closed_genus0/bunny.obj")
-    assert main(["image", str(bunny), "-o", str(tmp_path / "b.exr")]) == 2
-    assert "not a height field" in capsys.readouterr().err
+    torus = shared_file("meshes/closed_higher_genus/torus.obj")
+    assert main(["image", str(torus), "-o", str(tmp_path / "b.exr")]) == 2
+    assert "1 handle would have to be cut" in capsys.readouterr().err
     assert main(["mesh", str(tmp_path / "none.exr"), "-o", str(tmp_path / "x.obj")]) == 2
     assert "no image file" in capsys.readouterr().err
     (tmp_path / "x.obj").write_text("keep")

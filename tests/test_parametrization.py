@@ -1,3 +1,5 @@
+import warnings
+
 import numpy as np
 import pytest
 
@@ -43,14 +45,19 @@ def test_uv_method_uses_mesh_uv_and_normalizes():
     assert p.coords.tolist() == [[0, 0], [1, 0], [0, 0.5]] and p.extent == (1.0, 0.5)
 
 
-def test_auto_refuses_a_closed_mesh_and_says_why():
-    bunny = geoimg.load_mesh(shared_file("meshes/closed_genus0/bunny.obj"))
-    with pytest.raises(ParametrizationError, match="closed surface of genus 0.*heightfield: .* faces fold over"
-                                                  ".*not a height field.*spherical parametrization"):
-        parametrize(bunny, "auto")
-    torus = geoimg.load_mesh(shared_file("meshes/closed_higher_genus/torus.obj"))
-    with pytest.raises(ParametrizationError, match="genus 1 .torus-like.*1 handle would have to be cut"):
-        parametrize(torus, "auto")
+@pytest.mark.parametrize("rel, words", [
+    ("meshes/closed_higher_genus/torus.obj", "genus 1 .torus-like.*1 handle would have to be cut"),
+    ("meshes/closed_higher_genus/bob_tri.obj", "genus 1 .torus-like.*1 handle would have to be cut"),
+    ("meshes/open_other/stanford-bunny.obj", "5 boundary loops.*fill 4 of the 5 holes"),
+    ("meshes/polygonal/suzanne.obj", "3 components.*split the 3 components"),
+])
+def test_auto_refuses_unsupported_meshes_and_says_why(rel, words):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        mesh = geoimg.load_mesh(shared_file(rel))
+    with pytest.raises(ParametrizationError, match=words) as err:
+        parametrize(mesh, "auto")
+    assert "heightfield: " in str(err.value) and "faces fold over" in str(err.value)
 
 
 def test_errors():
@@ -58,7 +65,15 @@ def test_errors():
     with pytest.raises(ParametrizationError, match="no per-vertex UVs"):
         parametrize(m, "uv")
     with pytest.raises(ParametrizationError, match="method: expected one of"):
+        parametrize(m, "conformal")
+    with pytest.raises(ParametrizationError, match="needs a closed genus-0 mesh.*1 boundary loop"):
         parametrize(m, "sphere")
+    with pytest.raises(ParametrizationError, match="four are needed"):
+        parametrize(m, "disk")
+    with pytest.raises(ParametrizationError, match="coords: expected shape .N, 3. for the octahedral"):
+        geoimg.Parametrization(np.zeros((3, 2)), (1, 1), "octahedral")
+    with pytest.raises(ParametrizationError, match="unit vectors"):
+        geoimg.Parametrization(np.ones((3, 3)), (1, 1), "octahedral")
     with pytest.raises(ParametrizationError, match="axis: expected one of"):
         parametrize(m, "heightfield", axis="w")
     with pytest.raises(ParametrizationError, match="lie on a line"):

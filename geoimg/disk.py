@@ -1,0 +1,177 @@
+"""Disk parametrization: a mesh with one boundary loop onto the unit square (or its own convex outline).
+
+The boundary goes to the square's sides by arc length, with the four corners at boundary vertices
+chosen to be the sharpest turns near quarter lengths of the loop, and so that no face has all its
+corners on one side (which would flatten it). When no choice avoids that (a boundary with more than
+four "ears"), the sides are bowed out by 2 % at their middles, so the outline is strictly convex and no
+face is flat; the pixels outside the bowed square are masked. The interior follows from Floater's mean-value
+coordinates: every free vertex is the mean-value-weighted mean of its neighbours. The weights are
+positive and the boundary convex, so no triangle folds over (Floater 2003).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import ParametrizationError
+from .laplacian import mean_value_weights, solve_free
+from .mesh import Mesh
+from .topology import boundary_loops, topology
+
+__all__ = ["disk_coords", "DISK_BOUNDARIES"]
+
+DISK_BOUNDARIES = ("square", "keep")
+_CANDIDATE_STARTS = 24
+BULGE = 0.02
+
+
+def _check_disk(mesh: Mesh):
+    topo = topology(mesh)
+    if not (topo.nonmanifold_edges == 0 and topo.components == 1 and topo.boundary_loops == 1 and topo.genus == 0):
+        raise ParametrizationError(
+            f"method='disk' needs one boundary loop around a single genus-0 piece; the mesh is a {topo.describe()}")
+
+
+def _interior_angle_sums(mesh: Mesh, tris: np.ndarray) -> np.ndarray:
+    p = mesh.vertices[tris]
+    e1 = np.roll(p, -1, axis=1) - p
+    e2 = np.roll(p, 1, axis=1) - p
+    ang = np.arctan2(np.linalg.norm(np.cross(e1, e2), axis=2), np.einsum("tkc,tkc->tk", e1, e2))
+    return np.bincount(tris.ravel(), ang.ravel(), minlength=mesh.n_vertices)
+
+
+def _square_positions(t: np.ndarray, corners: np.ndarray, total: float, bulge: float = 0.0) -> np.ndarray:
+    """Points on the unit square's outline (counter-clockwise from (0, 0)) for arc positions ``t`` of
+    the loop, with the four ``corners`` (arc positions, increasing from 0) going to the square's corners.
+    ``bulge`` > 0 bows each side outwards by that much at its middle (a parabola), which makes the
+    outline strictly convex."""
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]])
+    outward = np.array([[0.0, -1.0], [1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]])
+    knots = np.append(corners, total)
+    side = np.clip(np.searchsorted(knots, t, side="right") - 1, 0, 3)
+    frac = (t - knots[side]) / (knots[side + 1] - knots[side])
+    pos = square[side] + frac[:, None] * (square[side + 1] - square[side])
+    return pos + (bulge * 4.0 * frac * (1.0 - frac))[:, None] * outward[side]
+
+
+def _side_of(t: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """Side (0-3) of every boundary arc position; corners count as lying on both neighbouring sides."""
+    side = np.clip(np.searchsorted(corners, t, side="right") - 1, 0, 3)
+    at_corner = np.isin(t, corners)
+    return side, at_corner
+
+
+def _flat_faces(faces_b: np.ndarray, t_of: np.ndarray, corners: np.ndarray) -> int:
+    """Faces whose corners all lie on one side of the square (they would have zero area)."""
+    side, at_corner = _side_of(t_of, corners)
+    bad = 0
+    for s in range(4):
+        on = (side == s) | (at_corner & (side == (s + 1) % 4))
+        bad += int(np.all(on[faces_b] | (faces_b < 0), axis=1).sum())
+    return bad
+
+
+def _choose_corners(mesh: Mesh, loop: np.ndarray, arc: np.ndarray, total: float, sharp: np.ndarray):
+    n = len(loop)
+    if n < 4:
+        raise ParametrizationError(f"method='disk': the boundary has {n} vertices; four are needed for the corners")
+    local = np.full(mesh.n_vertices, -1, np.int64)
+    local[loop] = np.arange(n)
+    f = mesh.faces
+    all_bnd = np.all((f < 0) | (local[np.where(f >= 0, f, 0)] >= 0), axis=1)
+    faces_b = np.where(f[all_bnd] >= 0, local[np.where(f[all_bnd] >= 0, f[all_bnd], 0)], -1)
+    starts = np.unique(np.concatenate([np.argsort(-sharp)[:_CANDIDATE_STARTS // 2],
+                                       np.linspace(0, n, _CANDIDATE_STARTS // 2, endpoint=False).astype(int)]))
+    best = None
+    for s in starts:
+        targets = (arc[s] + total * np.arange(4) / 4.0) % total
+        # snap each quarter point to the sharpest vertex within an eighth of the loop, preferring near ones
+        idx = []
+        for q in targets:
+            dist = np.abs((arc - q + total / 2) % total - total / 2)
+            score = sharp - 4.0 * dist / total * np.pi
+            score[dist > total / 8] = -np.inf
+            score[idx] = -np.inf
+            idx.append(int(np.argmax(score)))
+        if len(set(idx)) < 4:
+            continue
+        order = np.argsort([(arc[i] - arc[idx[0]]) % total for i in idx])
+        idx = [idx[k] for k in order]
+        shift = arc[idx[0]]
+        t_of = (arc - shift) % total
+        corners = np.sort(t_of[idx])
+        if np.any(np.diff(np.append(corners, total)) <= 0):
+            continue
+        key = (_flat_faces(faces_b, t_of, corners), -float(sharp[idx].sum()))
+        if best is None or key < best[0]:
+            best = (key, t_of, corners, idx)
+    if best is None:
+        raise ParametrizationError("method='disk': could not place four distinct corners on the boundary")
+    return best
+
+
+def _keep_outline(mesh: Mesh, loop: np.ndarray) -> np.ndarray:
+    p = mesh.vertices[loop]
+    c = p.mean(axis=0)
+    _, _, vt = np.linalg.svd(p - c, full_matrices=False)
+    xy = (p - c) @ vt[:2].T
+    area = 0.5 * np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - xy[:, 1] * np.roll(xy[:, 0], -1))
+    if area < 0:
+        xy[:, 1] = -xy[:, 1]
+    planar = np.abs((p - c) @ vt[2]).max() <= 1e-6 * np.abs(xy).max()
+    e = np.roll(xy, -1, axis=0) - xy
+    turn = np.roll(e[:, 0], 1) * e[:, 1] - np.roll(e[:, 1], 1) * e[:, 0]   # previous edge x this edge
+    reflex = int(np.sum(turn < -1e-12 * np.abs(turn).max()))
+    if reflex or not planar:
+        why = f"{reflex} reflex boundary vertices" if reflex else "the boundary is not planar"
+        raise ParametrizationError(f"boundary='keep' needs a boundary that is a convex polygon in a plane ({why}); "
+                                   "use boundary='square'")
+    return xy
+
+
+def disk_coords(mesh: Mesh, boundary: str = "square") -> tuple[np.ndarray, dict]:
+    """Per-vertex (u, v) of a disk-like mesh; boundary on the unit square or on its own convex outline.
+
+    Returns
+    -------
+    coords : (N, 2) float64
+        Unreferenced vertices get (0, 0).
+    info : dict
+        ``corners`` (vertex indices at the square's corners) and ``boundary_vertices``.
+
+    Examples
+    --------
+    >>> v = [[0, 0, 0], [1, 0, 0], [2, 0, 1], [2, 1, 1], [1, 1, 0], [0, 1, 0], [1, 0.5, 0.2]]
+    >>> m = Mesh(v, [[0, 1, 6], [1, 2, 6], [2, 3, 6], [3, 4, 6], [4, 5, 6], [5, 0, 6]])
+    >>> uv, info = disk_coords(m)
+    >>> sorted(info["corners"])
+    [0, 2, 3, 5]
+    """
+    if boundary not in DISK_BOUNDARIES:
+        raise ParametrizationError(f"boundary: expected one of {DISK_BOUNDARIES}, got {boundary!r}")
+    _check_disk(mesh)
+    loop = boundary_loops(mesh)[0]
+    tris, _ = mesh.triangulate()
+    info: dict = {"boundary_vertices": int(len(loop))}
+    if boundary == "keep":
+        pos = _keep_outline(mesh, loop)
+    else:
+        seg = np.linalg.norm(mesh.vertices[np.roll(loop, -1)] - mesh.vertices[loop], axis=1)
+        arc = np.concatenate([[0.0], np.cumsum(seg)[:-1]])
+        total = float(seg.sum())
+        if not total > 0:
+            raise ParametrizationError("method='disk': the boundary has zero length")
+        sharp = np.pi - _interior_angle_sums(mesh, tris)[loop]
+        (flat, _), t_of, corners, idx = _choose_corners(mesh, loop, arc, total, sharp)
+        # faces with every corner on one side would be flat: bow the sides out a little instead
+        bulge = BULGE if flat else 0.0
+        pos = _square_positions(t_of, corners, total, bulge)
+        info.update(corners=loop[idx].tolist(), side_bulge=bulge)
+    coords = np.zeros((mesh.n_vertices, 2))
+    coords[loop] = pos
+    used = mesh.referenced_vertices()
+    is_fixed = np.zeros(mesh.n_vertices, bool)
+    is_fixed[loop] = True
+    free = np.flatnonzero(used & ~is_fixed)
+    if len(free):
+        coords[free] = solve_free(mean_value_weights(mesh.vertices, tris), loop, pos, free)
+    return coords, info

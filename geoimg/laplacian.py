@@ -1,0 +1,95 @@
+"""Edge weights of a triangle mesh and the linear solve that places free vertices at weighted means.
+
+With positive weights and fixed vertices on a convex polygon, the solution is a planar embedding
+(Tutte 1963, Floater 1997/2003): no triangle folds over. Mean-value weights are always positive;
+cotangent weights are clamped to stay so.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse import linalg as splinalg
+
+__all__ = ["mean_value_weights", "cotangent_weights", "solve_free"]
+
+_TINY = 1e-300
+
+
+def _corners(vertices: np.ndarray, tris: np.ndarray):
+    """Per triangle and corner k: edge vectors to the next and previous corner, their lengths, cross norm."""
+    p = vertices[tris]                                   # (T, 3, 3)
+    e_next = np.roll(p, -1, axis=1) - p                  # corner k -> k+1
+    e_prev = np.roll(p, 1, axis=1) - p                   # corner k -> k-1
+    l_next = np.linalg.norm(e_next, axis=2)
+    l_prev = np.linalg.norm(e_prev, axis=2)
+    dot = np.einsum("tkc,tkc->tk", e_next, e_prev)
+    cross = np.linalg.norm(np.cross(e_next, e_prev), axis=2)
+    return l_next, l_prev, dot, cross
+
+
+def mean_value_weights(vertices: np.ndarray, tris: np.ndarray) -> sparse.csr_matrix:
+    """Floater's mean-value weights ``w_ij = (tan(a/2) + tan(b/2)) / |x_i - x_j|`` (not symmetric).
+
+    ``a`` and ``b`` are the angles at vertex i of the two triangles beside edge ij. Row i holds the
+    weights of vertex i's neighbours.
+
+    Examples
+    --------
+    >>> v = np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0], [-1, 0, 0], [0, -1, 0]])
+    >>> w = mean_value_weights(v, np.array([[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 1]]))
+    >>> w[0].toarray().round(6).tolist()
+    [[0.0, 2.0, 2.0, 2.0, 2.0]]
+    """
+    n = len(vertices)
+    l_next, l_prev, dot, cross = _corners(vertices, tris)
+    tan_half = cross / np.maximum(l_next * l_prev + dot, _TINY)   # tan(angle / 2), >= 0
+    tan_half = np.minimum(tan_half, 1e8)
+    i = tris.ravel()
+    j_next = np.roll(tris, -1, axis=1).ravel()
+    j_prev = np.roll(tris, 1, axis=1).ravel()
+    t = tan_half.ravel()
+    rows = np.concatenate([i, i])
+    cols = np.concatenate([j_next, j_prev])
+    vals = np.concatenate([t / np.maximum(l_next.ravel(), _TINY), t / np.maximum(l_prev.ravel(), _TINY)])
+    return sparse.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+
+def cotangent_weights(vertices: np.ndarray, tris: np.ndarray, floor: float = 1e-3) -> sparse.csr_matrix:
+    """Symmetric cotangent weights ``(cot a + cot b) / 2``, each edge's weight kept at least
+    ``floor`` times the mean absolute weight, so that every weight is positive.
+
+    Examples
+    --------
+    >>> v = np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    >>> w = cotangent_weights(v, np.array([[0, 1, 2], [1, 3, 2]]))
+    >>> round(float(w[1, 2]), 6), round(float(w[0, 1]), 6)
+    (0.0005, 0.5)
+    """
+    n = len(vertices)
+    l_next, l_prev, dot, cross = _corners(vertices, tris)
+    cot = dot / np.maximum(cross, _TINY)                 # cot of the angle at corner k
+    cot = np.clip(cot, -1e8, 1e8)
+    # the angle at corner k faces the edge (k+1, k+2)
+    a = np.roll(tris, -1, axis=1).ravel()
+    b = np.roll(tris, -2, axis=1).ravel()
+    w = sparse.coo_matrix((0.5 * cot.ravel(), (np.minimum(a, b), np.maximum(a, b))), shape=(n, n)).tocsr()
+    w.sum_duplicates()
+    mean = np.abs(w.data).mean() if w.nnz else 1.0
+    w.data = np.maximum(w.data, floor * mean)
+    return (w + w.T).tocsr()
+
+
+def solve_free(weights: sparse.spmatrix, fixed: np.ndarray, fixed_pos: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """Positions of the ``free`` vertices such that each is the ``weights``-weighted mean of its neighbours,
+    with the ``fixed`` vertices at ``fixed_pos``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(free), D)
+    """
+    w = weights.tocsr()
+    lap = sparse.diags(np.asarray(w.sum(axis=1)).ravel()) - w
+    lap = lap.tocsr()
+    a = lap[free][:, free].tocsc()
+    rhs = -(lap[free][:, fixed] @ fixed_pos)
+    return np.column_stack([np.asarray(col) for col in splinalg.splu(a).solve(np.asarray(rhs)).T])

@@ -1,0 +1,137 @@
+"""The octahedral map (Praun & Hoppe 2003): the unit sphere unfolded onto the square.
+
+A direction ``p`` is pushed onto the octahedron ``|x| + |y| + |z| = 1``; the upper half (z >= 0) is the
+diamond ``|a| + |b| <= 1`` of the square ``[-1, 1]^2`` (``a = x, b = y``), and each lower face is folded
+out over the diamond's edge into a corner triangle. Image coordinates are ``u = (a + 1) / 2`` (columns)
+and ``v = (b + 1) / 2`` (rows), both in ``[0, 1]``.
+
+Seams: each side of the square is glued to itself, mirrored about its midpoint, and all four corners
+are the south pole. On an ``N x N`` grid whose samples include the sides (``N`` odd), pixel
+``(0, j)`` is pixel ``(0, N-1-j)``, pixel ``(i, 0)`` is pixel ``(N-1-i, 0)`` (and likewise on the last
+row and column): :func:`weld_index` lists these pairs, so a quad mesh welds them by index. An even
+``N`` would put the two ends of each side's middle edge on one point, which is why it is refused.
+
+The map preserves orientation: ``d p / d u x d p / d v`` points out of the sphere everywhere.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["square_to_sphere", "sphere_to_square", "check_size", "weld_index", "area_ratio", "grid_directions",
+           "square_jacobian"]
+
+
+def _unfold(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    z = 1.0 - np.abs(a) - np.abs(b)
+    lower = z < 0
+    x = np.where(lower, np.copysign(1.0 - np.abs(b), a), a)
+    y = np.where(lower, np.copysign(1.0 - np.abs(a), b), b)
+    return np.stack([x, y, z], axis=-1)
+
+
+def square_jacobian(uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Derivatives ``dq/du`` and ``dq/dv`` (..., 3) of the unit direction at image points ``uv``
+    (one-sided on the creases, where the map bends)."""
+    uv = np.asarray(uv, dtype=np.float64)
+    a = 2.0 * uv[..., 0] - 1.0
+    b = 2.0 * uv[..., 1] - 1.0
+    p = _unfold(a, b)
+    norm = np.linalg.norm(p, axis=-1, keepdims=True)
+    q = p / norm
+    sa, sb = np.where(a < 0, -1.0, 1.0), np.where(b < 0, -1.0, 1.0)
+    lower = (1.0 - np.abs(a) - np.abs(b)) < 0
+    zero = np.zeros_like(a)
+    dpa = np.where(lower[..., None], np.stack([zero, -sa * sb, -sa], -1), np.stack([zero + 1, zero, -sa], -1))
+    dpb = np.where(lower[..., None], np.stack([-sa * sb, zero, -sb], -1), np.stack([zero, zero + 1, -sb], -1))
+    out = []
+    for dp in (dpa, dpb):
+        dq = (dp - q * (q * dp).sum(-1, keepdims=True)) / norm
+        out.append(2.0 * dq)
+    return out[0], out[1]
+
+
+def grid_directions(n: int) -> np.ndarray:
+    """Unit directions of the ``n x n`` octahedral grid (rows v, columns u), computed from integers so
+    that glued pixels get bit-identical directions."""
+    n = check_size(n)
+    a = (2.0 * np.arange(n) - (n - 1)) / (n - 1)
+    aa, bb = np.meshgrid(a, a)
+    p = _unfold(aa, bb)
+    return p / np.linalg.norm(p, axis=-1, keepdims=True)
+
+
+def square_to_sphere(uv: np.ndarray) -> np.ndarray:
+    """Unit directions of image points ``uv`` (..., 2) in ``[0, 1]^2``.
+
+    Examples
+    --------
+    >>> square_to_sphere(np.array([[0.5, 0.5], [1.0, 0.5], [0.0, 0.0]])).round(12) + 0.0
+    array([[ 0.,  0.,  1.],
+           [ 1.,  0.,  0.],
+           [ 0.,  0., -1.]])
+    """
+    uv = np.asarray(uv, dtype=np.float64)
+    p = _unfold(2.0 * uv[..., 0] - 1.0, 2.0 * uv[..., 1] - 1.0)
+    return p / np.linalg.norm(p, axis=-1, keepdims=True)
+
+
+def sphere_to_square(p: np.ndarray) -> np.ndarray:
+    """Image points ``uv`` in ``[0, 1]^2`` of directions ``p`` (..., 3) (need not be unit length).
+
+    Examples
+    --------
+    >>> q = square_to_sphere(np.array([[0.3, 0.9], [0.8, 0.6]]))
+    >>> sphere_to_square(q).round(12).tolist()
+    [[0.3, 0.9], [0.8, 0.6]]
+    """
+    p = np.asarray(p, dtype=np.float64)
+    q = p / np.abs(p).sum(axis=-1, keepdims=True)
+    x, y, z = q[..., 0], q[..., 1], q[..., 2]
+    lower = z < 0
+    a = np.where(lower, np.copysign(1.0 - np.abs(y), x), x)
+    b = np.where(lower, np.copysign(1.0 - np.abs(x), y), y)
+    return np.stack([(a + 1.0) / 2.0, (b + 1.0) / 2.0], axis=-1)
+
+
+def area_ratio(p: np.ndarray) -> np.ndarray:
+    """Square area per sphere area at directions ``p`` (..., 3): ``1 / (|x| + |y| + |z|)^3`` for unit ``p``
+    (in the ``[-1, 1]^2`` square's units; between ``3^-1.5`` and 1).
+
+    Examples
+    --------
+    >>> float(area_ratio(np.array([0.0, 0.0, 1.0])))
+    1.0
+    """
+    p = np.asarray(p, dtype=np.float64)
+    p = p / np.linalg.norm(p, axis=-1, keepdims=True)
+    return 1.0 / np.abs(p).sum(axis=-1) ** 3
+
+
+def check_size(n) -> int:
+    """Validate the side of an octahedral image: an odd integer >= 3 (so glued pixels pair up)."""
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 3 or n % 2 == 0:
+        hint = f" (for example {int(n) + 1})" if isinstance(n, (int, np.integer)) and n >= 2 and n % 2 == 0 else ""
+        raise ValueError(f"resolution: an octahedral image needs an odd side >= 3, so that the glued boundary "
+                         f"pixels pair up exactly{hint}; got {n!r}")
+    return int(n)
+
+
+def weld_index(n: int) -> np.ndarray:
+    """For each pixel of an ``n x n`` octahedral image, the flat index of the pixel it is glued to
+    (the smallest index of its group; itself for interior pixels).
+
+    Examples
+    --------
+    >>> w = weld_index(5)
+    >>> int(w[0, 4]), int(w[4, 4]), int(w[3, 0]), int(w[2, 0])
+    (0, 0, 5, 10)
+    >>> len(np.unique(w))   # (n - 1)^2 + 2 vertices: a closed genus-0 quad mesh
+    18
+    """
+    n = check_size(n)
+    idx = np.arange(n * n).reshape(n, n)
+    rev = np.arange(n)[::-1]
+    for side in (idx[0], idx[-1], idx[:, 0], idx[:, -1]):  # views: fold each side onto itself
+        side[:] = np.minimum(side, side[rev])
+    idx[0, 0] = idx[0, -1] = idx[-1, 0] = idx[-1, -1] = 0
+    return idx

@@ -1,0 +1,338 @@
+"""Spherical parametrization of a closed genus-0 mesh: a one-to-one map of its vertices onto the unit sphere.
+
+1. Linear conformal map (Angenent et al. 1999; Haker et al. 2000): one triangle ``f0`` is punctured and
+   the (floored, positive) cotangent Laplacian is solved with a dipole at ``f0``, which maps the mesh
+   onto the plane with ``f0`` at infinity.
+2. The inverse stereographic projection puts it on the sphere, and Moebius transformations move the
+   area-weighted centre of the vertices to the sphere's centre (the "centring" of Springborn; Baden,
+   Crane & Kazhdan 2018).
+3. Area balancing. A conformal map shrinks ears and limbs exponentially (the bunny's ears get a
+   thousandth of their share of the sphere). A descent on
+   ``E = sum_t a_t [log(r_t)^2 + beta (D_t / A_t - 2)]`` (``r_t`` a triangle's share of the sphere over
+   its share of the mesh; ``D_t / A_t - 2`` its conformal distortion, the Dirichlet energy over the
+   area) moves the vertices on the sphere. Gradients are smoothed by the mesh's Laplacian (a Sobolev
+   preconditioner: limbs move as a whole) and every step that would turn a triangle over is halved
+   until none does, so the map stays one-to-one.
+4. A rotation lines the sphere up with the mesh (vertex directions from the mesh's centre), so the
+   octahedral image shows the shape the way it stands.
+"""
+from __future__ import annotations
+
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse import linalg as splinalg
+
+from .errors import ParametrizationError
+from .laplacian import cotangent_weights, mean_value_weights, solve_free
+from .mesh import Mesh
+from .topology import topology
+
+__all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
+
+DEFAULT_STEPS = 100
+DEFAULT_BETA = 0.3
+
+
+def _check_sphere(mesh: Mesh):
+    topo = topology(mesh)
+    if not (topo.closed and topo.components == 1 and topo.genus == 0):
+        raise ParametrizationError(
+            f"method='sphere' needs a closed genus-0 mesh in one piece; the mesh is a {topo.describe()}")
+
+
+def chord_orientation(s: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """``det(s_a, s_b, s_c)`` of every triangle on the sphere: positive when it runs counter-clockwise
+    seen from outside."""
+    a, b, c = s[tris[:, 0]], s[tris[:, 1]], s[tris[:, 2]]
+    return np.einsum("ij,ij->i", a, np.cross(b, c))
+
+
+def _areas(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    p = x[tris]
+    return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+
+
+def _inverse_stereographic(z: np.ndarray) -> np.ndarray:
+    r2 = (z ** 2).sum(axis=1, keepdims=True)
+    return np.hstack([2.0 * z, r2 - 1.0]) / (r2 + 1.0)
+
+
+def mobius_centre(s: np.ndarray, weights: np.ndarray, *, tol: float = 1e-10, max_steps: int = 500) -> np.ndarray:
+    """Apply Moebius transformations of the sphere until the weighted centre of the points ``s`` is 0.
+
+    Uses ``phi_a(x) = (1 - |a|^2)(x - a) / |x - a|^2 - a``, which maps the sphere onto itself and
+    spreads out the points near ``a``; ``a`` is half the current centre at each step.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> x = rng.normal(size=(500, 3)) + [0, 0, 3]
+    >>> x /= np.linalg.norm(x, axis=1, keepdims=True)
+    >>> c = mobius_centre(x, np.ones(500))
+    >>> bool(np.linalg.norm(c.mean(axis=0)) < 1e-9), bool(np.allclose(np.linalg.norm(c, axis=1), 1))
+    (True, True)
+    """
+    x = np.array(s, dtype=np.float64)
+    w = np.asarray(weights, dtype=np.float64) / np.sum(weights)
+    for _ in range(max_steps):
+        mu = w @ x
+        norm = np.linalg.norm(mu)
+        if norm < tol:
+            break
+        a = 0.5 * mu
+        d = x - a
+        x = (1.0 - a @ a) * d / (d ** 2).sum(axis=1, keepdims=True) - a
+        x /= np.linalg.norm(x, axis=1, keepdims=True)
+    return x
+
+
+def distortion(mesh_xyz: np.ndarray, s: np.ndarray, tris: np.ndarray) -> dict:
+    """Area and angle distortion of a map of triangles onto the sphere (chord triangles).
+
+    ``area_ratio`` of a triangle is its share of the sphere's area over its share of the mesh's; 1 is
+    area-preserving. Angle distortion is the mean of ``|angle on sphere - angle on mesh|`` in degrees.
+    """
+    a3, a2 = _areas(mesh_xyz, tris), _areas(s, tris)
+    ratio = (a2 / a2.sum()) / np.maximum(a3 / a3.sum(), 1e-300)
+    w = a3 / a3.sum()
+
+    def angles(x):
+        p = x[tris]
+        e1 = np.roll(p, -1, axis=1) - p
+        e2 = np.roll(p, 1, axis=1) - p
+        return np.arctan2(np.linalg.norm(np.cross(e1, e2), axis=2), np.einsum("tkc,tkc->tk", e1, e2))
+
+    dang = np.degrees(np.abs(angles(s) - angles(mesh_xyz)))
+    lr = np.log(np.maximum(ratio, 1e-300))
+    return {
+        "area_ratio_min": float(ratio.min()), "area_ratio_max": float(ratio.max()),
+        "area_ratio_p01": float(np.percentile(ratio, 1)), "area_ratio_p99": float(np.percentile(ratio, 99)),
+        "area_log_rms": float(np.sqrt(w @ lr ** 2)),
+        "angle_error_mean_deg": float(dang.mean()), "angle_error_max_deg": float(dang.max()),
+    }
+
+
+def _align(s: np.ndarray, x: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Rotate the sphere so that ``s_i`` best matches the directions of ``x_i`` from their weighted centre."""
+    d = x - w @ x / w.sum()
+    d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+    h = (s * w[:, None]).T @ d
+    u, _, vt = np.linalg.svd(h)
+    k = np.diag([1.0, 1.0, np.sign(np.linalg.det(vt.T @ u.T))])
+    return s @ (vt.T @ k @ u.T).T
+
+
+def _pick_removed_face(x: np.ndarray, tris: np.ndarray) -> int:
+    area = _areas(x, tris)
+    e = np.linalg.norm(x[np.roll(tris, -1, axis=1)] - x[tris], axis=2)
+    quality = 4.0 * np.sqrt(3.0) * area / np.maximum((e ** 2).sum(axis=1), 1e-300)   # 1 = equilateral
+    good = quality >= 0.8 * quality.max()
+    return int(np.flatnonzero(good)[np.argmax(area[good])])
+
+
+
+
+def _laplacian(weights: sparse.spmatrix) -> sparse.csc_matrix:
+    return (sparse.diags(np.asarray(weights.sum(axis=1)).ravel()) - weights).tocsc()
+
+
+def _conformal_plane(x: np.ndarray, tris: np.ndarray, lap: sparse.csc_matrix, f0: int, keep: np.ndarray):
+    """Solve ``L z = b`` with the dipole of face ``f0`` on its corners (Haker et al. 2000, eq. 6-8)."""
+    ia, ib, ic = tris[f0]
+    a, b, c = x[ia], x[ib], x[ic]
+    ab = np.linalg.norm(b - a)
+    theta = (c - a) @ (b - a) / ab ** 2
+    height = np.linalg.norm(c - (a + theta * (b - a)))
+    rhs = np.zeros((len(x), 2))
+    rhs[ia, 0], rhs[ib, 0] = -1.0 / ab, 1.0 / ab
+    rhs[ia, 1], rhs[ib, 1], rhs[ic, 1] = (1.0 - theta) / height, theta / height, -1.0 / height
+    # L is singular (constants): pin the vertex farthest from f0 at the origin
+    idx = np.flatnonzero(keep)
+    pin = idx[np.argmax(np.linalg.norm(x[idx] - a, axis=1))]
+    free = idx[idx != pin]
+    z = np.zeros((len(x), 2))
+    z[free] = splinalg.splu(lap[free][:, free].tocsc()).solve(rhs[free])
+    return z
+
+
+def _tutte_plane(x: np.ndarray, tris: np.ndarray, f0: int, keep: np.ndarray):
+    """Pin ``f0``'s corners to an equilateral triangle and place every other vertex at the mean-value-weighted
+    mean of its neighbours: a planar embedding whatever the mesh (Floater 2003), used when the conformal
+    map folds triangles over."""
+    fixed = tris[f0]
+    ang = -np.pi / 2 - 2 * np.pi * np.arange(3) / 3
+    pos = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+    is_fixed = np.zeros(len(x), bool)
+    is_fixed[fixed] = True
+    free = np.flatnonzero(keep & ~is_fixed)
+    z = np.zeros((len(x), 2))
+    z[fixed] = pos
+    z[free] = solve_free(mean_value_weights(x, tris), fixed, pos, free)
+    return z
+
+
+def _plane_to_sphere(z: np.ndarray, vertex_area: np.ndarray, used: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """Inverse stereographic projection (half the mesh's area inside the equator), centred, faces outward."""
+    z = z - vertex_area @ z / vertex_area.sum()
+    r = np.linalg.norm(z, axis=1)
+    order = np.argsort(r)
+    cum = np.cumsum(vertex_area[order])
+    radius = max(r[order][np.searchsorted(cum, cum[-1] / 2)], 1e-300)
+    s = np.zeros((len(z), 3))
+    s[:, 2] = 1.0
+    idx = np.flatnonzero(used)
+    s[idx] = mobius_centre(_inverse_stereographic(z[idx] / radius), vertex_area[idx] + 1e-12 * vertex_area.max())
+    if np.sum(chord_orientation(s, tris) > 0) < len(tris) / 2:   # keep faces counter-clockwise from outside
+        s = s * [-1.0, 1.0, 1.0]
+    return s
+
+
+class _AreaBalance:
+    """Energy ``sum_t a_t [log(r_t)^2 + beta (D_t / A_t - 2)]`` of points on the sphere and its gradient.
+
+    ``a_t`` are the mesh's triangle areas (normalized to sum 1), ``A_t`` the sphere's chord-triangle areas
+    (signed: projected on the triangle's mean direction) scaled to sum 1, ``r_t = A_t / a_t`` and ``D_t``
+    the Dirichlet energy of the triangle's affine map (cotangent formula with the mesh's angles).
+    """
+
+    def __init__(self, x, tris, n, beta):
+        self.tris, self.beta = tris, beta
+        a3 = _areas(x, tris)
+        self.a = a3 / a3.sum()
+        p = x[tris]
+        e1 = np.roll(p, -1, axis=1) - p
+        e2 = np.roll(p, 1, axis=1) - p
+        self.cot = np.einsum("tkc,tkc->tk", e1, e2) / np.maximum(np.linalg.norm(np.cross(e1, e2), axis=2), 1e-300)
+        rows = tris.T.ravel()       # scatter of per-corner vectors to vertices
+        self.scatter = sparse.csr_matrix((np.ones(len(rows)), (rows, np.arange(len(rows)))), shape=(n, len(rows)))
+
+    def energy(self, s):
+        p = s[self.tris]
+        u = p.sum(axis=1)
+        u /= np.linalg.norm(u, axis=1, keepdims=True)
+        area = 0.5 * np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), u)
+        if not (area > 0).all():
+            return np.inf, None
+        lam = 1.0 / area.sum()
+        opp = np.roll(p, -1, axis=1) - np.roll(p, 1, axis=1)          # edge facing corner k
+        dirichlet = 0.5 * lam * (self.cot * (opp ** 2).sum(axis=2)).sum(axis=1)
+        ay = lam * area
+        lr = np.log(ay / self.a)
+        e = self.a @ lr ** 2 + self.beta * (self.a @ (dirichlet / ay - 2.0))
+        return float(e), (p, u, ay, lam, lr, dirichlet)
+
+    def gradient(self, state):
+        p, u, ay, lam, lr, dirichlet = state
+        f_d = (self.beta * self.a / ay * lam)[:, None]
+        f_a = ((2.0 * self.a * lr / ay - self.beta * self.a * dirichlet / ay ** 2) * lam)[:, None]
+        parts = []
+        for k in range(3):
+            k1, k2 = (k + 1) % 3, (k + 2) % 3
+            g = 0.5 * np.cross(u, p[:, k2] - p[:, k1]) * f_a
+            g += f_d * (self.cot[:, k2, None] * (p[:, k] - p[:, k1]) + self.cot[:, k1, None] * (p[:, k] - p[:, k2]))
+            parts.append(g)
+        return self.scatter @ np.concatenate(parts)
+
+
+def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
+    """Descend the area-balancing energy from ``s``; every accepted step keeps all triangles positive."""
+    bal = _AreaBalance(x, tris, len(x), beta)
+    e, state = bal.energy(s)
+    if not np.isfinite(e):
+        return s, 0, e
+    mass = vertex_area / vertex_area.sum()
+    precond = splinalg.splu((lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used))).tocsc())
+    alpha, done = 1.0, 0
+    for step in range(steps):
+        g = bal.gradient(state)
+        g -= (g * s).sum(axis=1, keepdims=True) * s
+        d = -precond.solve(g)
+        d -= (d * s).sum(axis=1, keepdims=True) * s
+        d[~used] = 0.0
+        d /= max(np.abs(d).max(), 1e-300)
+        while alpha > 1e-10:
+            trial = s + alpha * d
+            trial /= np.linalg.norm(trial, axis=1, keepdims=True)
+            e_new, st = bal.energy(trial)
+            if e_new < e:
+                break
+            alpha *= 0.5
+        else:
+            break
+        converged = e - e_new < 1e-6 * e
+        s, e, state, done = trial, e_new, st, step + 1
+        alpha = min(2.0 * alpha, 1.0)
+        if progress is not None and step % 10 == 0:
+            progress(f"area balancing step {step}: energy {e:.4f}")
+        if converged:
+            break
+    return s, done, e
+
+
+def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAULT_BETA,
+                  progress=None) -> tuple[np.ndarray, dict]:
+    """Unit vectors of a closed genus-0 mesh's vertices: a spherical parametrization.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Closed, one component, genus 0; polygons are split into fans for the map.
+    steps : int, default 100
+        Area-balancing steps (0: the centred, nearly conformal map).
+    beta : float, default 0.3
+        Weight of angle (conformal) distortion against area distortion while balancing.
+    progress : callable, optional
+        Called with a short message every ten steps.
+
+    Returns
+    -------
+    coords : (N, 3) float64
+        Unreferenced vertices get (0, 0, 1).
+    info : dict
+        ``flipped_triangles``, ``balance_steps`` and the distortion figures of :func:`distortion`.
+
+    Raises
+    ------
+    ParametrizationError
+        If the mesh is not a closed genus-0 surface in one piece.
+
+    Examples
+    --------
+    >>> t = (1 + 5 ** 0.5) / 2   # an icosahedron
+    >>> v = [[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
+    ...      [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]]
+    >>> f = [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2],
+    ...      [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5],
+    ...      [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]]
+    >>> s, info = sphere_coords(Mesh(v, f))
+    >>> info["flipped_triangles"], bool(np.allclose(np.linalg.norm(s, axis=1), 1))
+    (0, True)
+    """
+    _check_sphere(mesh)
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
+        raise ValueError(f"steps: expected an integer >= 0, got {steps!r}")
+    if not (isinstance(beta, (int, float, np.number)) and np.isfinite(beta) and beta >= 0):
+        raise ValueError(f"beta: expected a number >= 0, got {beta!r}")
+    x = mesh.vertices
+    tris, _ = mesh.triangulate()
+    used = mesh.referenced_vertices()
+    a3 = _areas(x, tris)
+    vertex_area = np.bincount(tris.ravel(), np.repeat(a3 / 3.0, 3), minlength=len(x))
+    lap = _laplacian(cotangent_weights(x, tris))
+    f0 = _pick_removed_face(x, tris)
+    s = _plane_to_sphere(_conformal_plane(x, tris, lap, f0, used), vertex_area, used, tris)
+    start = "conformal"
+    if np.any(chord_orientation(s, tris) <= 0):
+        s = _plane_to_sphere(_tutte_plane(x, tris, f0, used), vertex_area, used, tris)
+        start = "mean-value"
+    idx = np.flatnonzero(used)
+    conformal = distortion(x, s, tris)   # of the starting map
+    s, done, _ = _balance(s, x, tris, lap, vertex_area, used, float(beta), int(steps), progress)
+    s[idx] = _align(s[idx], x[idx], vertex_area[idx])
+    det = chord_orientation(s, tris)
+    info = {"flipped_triangles": int(np.sum(det <= 0)), "balance_steps": done, "removed_face": f0, "start": start,
+            "conformal_area_ratio_min": conformal["area_ratio_min"],
+            "conformal_area_ratio_max": conformal["area_ratio_max"]}
+    info.update(distortion(x, s, tris))
+    return s, info

@@ -1,0 +1,167 @@
+"""numba kernels of the weighted-mean surface on the sphere (octahedral domain).
+
+A face i has a weight centre ``c_i`` (unit vector), a plane ``n_i . g = h_i`` through its vertices on
+the sphere, a frame ``(o_i, e1_i, e2_i)`` in that plane and the affine map ``P_i = C_i + A_i a + B_i b``
+of the frame coordinates. A direction ``q`` reaches the plane by the gnomonic projection
+``g = q h_i / (n_i . q)``, so the map of a face is its own plane's, extended over the sphere, and faces
+across the octahedron's creases need no special case. Weights are ``exp(-|q - c_i|^2 / 2 sigma_i^2)``.
+
+For each point the kernel returns P and its derivatives along two tangent directions ``t1, t2``.
+Faces are skipped outside ``|q - c_i| <= R_i`` (3-D cells); a point whose largest weight exponent is
+below ``log_g_ref`` is recomputed over all faces. Sums are shifted by the largest exponent (no underflow).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+__all__ = ["build_cells_3d", "evaluate_sphere", "TRUNCATED", "EXACT"]
+
+TRUNCATED, EXACT = 0, 1
+MIN_FACING = 0.05   # gnomonic projection: n.q is clamped at this fraction of h (far faces, tiny weights)
+
+
+def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96):
+    """Bin faces into a uniform grid of cubes over [-1, 1]^3 by the cube of half-size ``radius`` around
+    each centre. Returns ``(h, n, ptr, faces)``; cell ``(ix, iy, iz)`` is ``(iz * n + iy) * n + ix``."""
+    r = np.minimum(radius, 2.0)
+    h = max(float(np.median(r)), 2.0 / max_cells)
+    n = int(math.ceil(2.0 / h)) + 1
+    lo = np.clip(np.floor((centres - r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
+    hi = np.clip(np.floor((centres + r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
+    ptr, faces = _fill(lo, hi, n)
+    return h, n, ptr, faces
+
+
+@njit(cache=True)
+def _fill(lo, hi, n):
+    counts = np.zeros(n * n * n + 1, np.int64)
+    for f in range(lo.shape[0]):
+        for iz in range(lo[f, 2], hi[f, 2] + 1):
+            for iy in range(lo[f, 1], hi[f, 1] + 1):
+                for ix in range(lo[f, 0], hi[f, 0] + 1):
+                    counts[(iz * n + iy) * n + ix + 1] += 1
+    ptr = np.cumsum(counts)
+    fill = ptr[:-1].copy()
+    out = np.empty(ptr[-1], np.int64)
+    for f in range(lo.shape[0]):
+        for iz in range(lo[f, 2], hi[f, 2] + 1):
+            for iy in range(lo[f, 1], hi[f, 1] + 1):
+                for ix in range(lo[f, 0], hi[f, 0] + 1):
+                    c = (iz * n + iy) * n + ix
+                    out[fill[c]] = f
+                    fill[c] += 1
+    return ptr, out
+
+
+@njit(cache=True)
+def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, normal, height, origin, e1, e2, C, A, B, acc):
+    """Accumulate over candidate faces; returns the largest exponent (-inf when no face is in range)."""
+    m = -np.inf
+    for k in range(n_cand):
+        f = k if all_faces else cand[k]
+        d2 = 0.0
+        for c in range(3):
+            d2 += (q[c] - centre[f, c]) ** 2
+        if not all_faces and d2 > radius[f] * radius[f]:
+            continue
+        e = -d2 * inv2s[f]
+        if e > m:
+            m = e
+    if m == -np.inf:
+        return m
+    for j in range(16):
+        acc[j] = 0.0
+    for k in range(n_cand):
+        f = k if all_faces else cand[k]
+        d2 = 0.0
+        dq1 = 0.0
+        dq2 = 0.0
+        for c in range(3):
+            dc = q[c] - centre[f, c]
+            d2 += dc * dc
+            dq1 += dc * t1[c]
+            dq2 += dc * t2[c]
+        if not all_faces and d2 > radius[f] * radius[f]:
+            continue
+        w = math.exp(-d2 * inv2s[f] - m)
+        w1 = -2.0 * inv2s[f] * dq1 * w
+        w2 = -2.0 * inv2s[f] * dq2 * w
+        nq = normal[f, 0] * q[0] + normal[f, 1] * q[1] + normal[f, 2] * q[2]
+        nq = max(nq, MIN_FACING * height[f])
+        ts = height[f] / nq
+        n1 = normal[f, 0] * t1[0] + normal[f, 1] * t1[1] + normal[f, 2] * t1[2]
+        n2 = normal[f, 0] * t2[0] + normal[f, 1] * t2[1] + normal[f, 2] * t2[2]
+        a = 0.0
+        b = 0.0
+        a1 = 0.0
+        b1 = 0.0
+        a2 = 0.0
+        b2 = 0.0
+        for c in range(3):
+            g = ts * q[c] - origin[f, c]
+            a += g * e1[f, c]
+            b += g * e2[f, c]
+            dg1 = ts * (t1[c] - q[c] * n1 / nq)
+            dg2 = ts * (t2[c] - q[c] * n2 / nq)
+            a1 += dg1 * e1[f, c]
+            b1 += dg1 * e2[f, c]
+            a2 += dg2 * e1[f, c]
+            b2 += dg2 * e2[f, c]
+        for c in range(3):
+            p = C[f, c] + A[f, c] * a + B[f, c] * b
+            acc[1 + c] += w * p
+            acc[4 + c] += w1 * p + w * (A[f, c] * a1 + B[f, c] * b1)
+            acc[7 + c] += w2 * p + w * (A[f, c] * a2 + B[f, c] * b2)
+        acc[0] += w
+        acc[10] += w1
+        acc[11] += w2
+    return m
+
+
+@njit(parallel=True, cache=True)
+def _kernel(q, t1, t2, centre, inv2s, radius, normal, height, origin, e1, e2, C, A, B, h, n, ptr, cells,
+            log_g_ref, force_exact, P, P1, P2, status):
+    n_faces = centre.shape[0]
+    dummy = np.zeros(1, np.int64)
+    for p in prange(q.shape[0]):
+        acc = np.zeros(16)
+        certified = False
+        if not force_exact:
+            ix = min(max(int(math.floor((q[p, 0] + 1.0) / h)), 0), n - 1)
+            iy = min(max(int(math.floor((q[p, 1] + 1.0) / h)), 0), n - 1)
+            iz = min(max(int(math.floor((q[p, 2] + 1.0) / h)), 0), n - 1)
+            c = (iz * n + iy) * n + ix
+            cand = cells[ptr[c]:ptr[c + 1]]
+            m = _sum(q[p], t1[p], t2[p], cand, cand.shape[0], False, centre, inv2s, radius, normal, height,
+                     origin, e1, e2, C, A, B, acc)
+            certified = m >= log_g_ref
+        status[p] = TRUNCATED
+        if not certified:
+            _sum(q[p], t1[p], t2[p], dummy, n_faces, True, centre, inv2s, radius, normal, height,
+                 origin, e1, e2, C, A, B, acc)
+            status[p] = EXACT
+        s = acc[0]
+        for c in range(3):
+            val = acc[1 + c] / s
+            P[p, c] = val
+            P1[p, c] = (acc[4 + c] - val * acc[10]) / s
+            P2[p, c] = (acc[7 + c] - val * acc[11]) / s
+
+
+def evaluate_sphere(q, t1, t2, faces, cells, *, log_g_ref, exact=False):
+    """Surface points and derivatives along ``t1``, ``t2`` at unit directions ``q`` (k, 3).
+
+    ``faces`` is a tuple ``(centre, inv2s, radius, normal, height, origin, e1, e2, C, A, B)``; ``cells``
+    comes from :func:`build_cells_3d`. Returns ``P, P_t1, P_t2`` (k, 3) and a status per point.
+    """
+    q = np.ascontiguousarray(q, np.float64)
+    k = len(q)
+    P, P1, P2 = np.zeros((k, 3)), np.zeros((k, 3)), np.zeros((k, 3))
+    status = np.zeros(k, np.int8)
+    h, n, ptr, cf = cells
+    _kernel(q, np.ascontiguousarray(t1, np.float64), np.ascontiguousarray(t2, np.float64), *faces,
+            float(h), int(n), ptr, cf, float(log_g_ref), bool(exact), P, P1, P2, status)
+    return P, P1, P2, status

@@ -1,0 +1,233 @@
+"""The weighted-mean surface over the sphere, sampled on the octahedral square.
+
+Each face lives on the sphere through its parametrized vertices: its plane through them (the chord
+polygon), a frame in that plane, ``d_i`` the smallest enclosing circle of the chord triangle (mean vertex
+distance for n > 3) and the affine map of the frame coordinates onto the face in space, as in
+:mod:`geoimg.face_maps` (same sliver rule). Weights are Gaussians of the chord distance between a
+direction and the face's centre, ``sigma_i = s d_i``; truncation and its certificate are those of
+:mod:`geoimg.surface`. See :mod:`geoimg.sphere_kernels` for the evaluation.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import sphere_kernels
+from .errors import ParametrizationError
+from .face_maps import SLIVER_RATIO, SLIVER_RULES, _fit_planes, _vertex_ring_points, enclosing_circle_radius
+from .mesh import Mesh
+from .octahedral import check_size, grid_directions, square_jacobian, square_to_sphere, area_ratio
+
+__all__ = ["SphereSurface", "fit_sphere_surface"]
+
+MAX_AUTO_RESOLUTION = 2049
+
+
+def _gnomonic(points: np.ndarray, normal: np.ndarray, height: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Project directions (F, K, 3) onto the planes ``n . g = h`` of their faces; ok where n . p > 0."""
+    nq = np.einsum("fkc,fc->fk", points, normal)
+    ok = nq > 1e-12
+    t = np.where(ok, height[:, None] / np.where(ok, nq, 1.0), 0.0)
+    return points * t[..., None], ok
+
+
+def _tangent_frame(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    helper = np.eye(3)[np.argmin(np.abs(q), axis=1)]
+    t1 = np.cross(helper, q)
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    return t1, np.cross(q, t1)
+
+
+def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
+    f, k = mesh.faces, mesh.face_sizes
+    valid = f >= 0
+    idx = np.where(valid, f, f[:, :1])
+    sp = s[idx]                                            # (F, K, 3) on the sphere
+    xyz = mesh.vertices[idx]
+    nxt = np.roll(sp, -1, axis=1)
+    nxt = np.where(np.roll(valid, -1, axis=1)[..., None], nxt, sp[:, :1])   # Newell's normal of the polygon
+    normal = (np.cross(sp, nxt) * valid[..., None]).sum(axis=1)
+    origin = (sp * valid[..., None]).sum(axis=1) / k[:, None]
+    nlen = np.linalg.norm(normal, axis=1)
+    keep = nlen > 1e-300
+    normal = normal / np.where(keep, nlen, 1.0)[:, None]
+    height = np.einsum("fc,fc->f", normal, origin)
+    keep &= height > 1e-9
+    g, ok = _gnomonic(sp, normal, height)
+    keep &= np.all(ok | ~valid, axis=1)
+    origin = origin - (height - np.einsum("fc,fc->f", normal, origin))[:, None] * normal
+    e1 = g[:, 1] - g[:, 0]
+    e1 = e1 - np.einsum("fc,fc->f", e1, normal)[:, None] * normal
+    e1len = np.linalg.norm(e1, axis=1)
+    keep &= e1len > 1e-300
+    e1 = e1 / np.where(keep, e1len, 1.0)[:, None]
+    e2 = np.cross(normal, e1)
+    ab = np.stack([np.einsum("fkc,fc->fk", g - origin[:, None], e1), np.einsum("fkc,fc->fk", g - origin[:, None], e2)],
+                  axis=-1)
+    nxt_ab = np.where(np.roll(valid, -1, axis=1)[..., None], np.roll(ab, -1, axis=1), ab[:, :1])
+    area = 0.5 * np.abs((ab[..., 0] * nxt_ab[..., 1] - ab[..., 1] * nxt_ab[..., 0]).sum(axis=1))
+    d = np.empty(len(f))
+    tri = k == 3
+    if tri.any():
+        d[tri] = enclosing_circle_radius(ab[tri, :3])
+    if (~tri).any():
+        d[~tri] = (np.linalg.norm(ab[~tri], axis=2) * valid[~tri]).sum(axis=1) / k[~tri]
+    scale = max(float(d[keep].max()) if keep.any() else 0.0, 1e-300)
+    keep &= (d > 1e-12 * scale) & (area > 1e-14 * scale * scale)
+    if not keep.any():
+        raise ParametrizationError("every face has zero area on the sphere")
+    face_index = np.flatnonzero(keep)
+    sel = (normal, height, origin, e1, e2, ab, xyz, valid, d, area)
+    normal, height, origin, e1, e2, ab, xyz, valid, d, area = (a[keep] for a in sel)
+    C, A, B = _fit_planes(ab, xyz, valid, np.zeros((len(d), 2)))
+    n_slivers = 0
+    if sliver_rule == "robust":
+        cap = SLIVER_RATIO * np.sqrt(area)
+        sliver = d > cap
+        n_slivers = int(sliver.sum())
+        if n_slivers:
+            d = np.where(sliver, cap, d)
+            ring = _vertex_ring_points(mesh, face_index[sliver])
+            rv = ring >= 0
+            ridx = np.where(rv, ring, ring[:, :1])
+            rg, rok = _gnomonic(s[ridx], normal[sliver], height[sliver])
+            rv &= rok
+            rel = rg - origin[sliver][:, None]
+            rab = np.stack([np.einsum("fkc,fc->fk", rel, e1[sliver]), np.einsum("fkc,fc->fk", rel, e2[sliver])], -1)
+            Cs, As, Bs = _fit_planes(rab, mesh.vertices[ridx], rv, np.zeros((n_slivers, 2)))
+            C[sliver], A[sliver], B[sliver] = Cs, As, Bs
+    centre = origin / np.linalg.norm(origin, axis=1, keepdims=True)
+    return dict(centre=centre, normal=normal, height=height, origin=origin, e1=e1, e2=e2, C=C, A=A, B=B, d=d,
+                face_index=face_index, n_slivers=n_slivers, n_degenerate=int((~keep).sum()))
+
+
+@dataclass(frozen=True, eq=False)
+class SphereSurface:
+    """A fitted weighted-mean surface over the sphere; build it with :func:`geoimg.fit_surface` on a
+    ``sphere`` parametrization. Points are addressed by octahedral image coordinates ``(u, v)`` in
+    ``[0, 1]^2`` (or by unit directions, see :meth:`evaluate_directions`)."""
+
+    s: float
+    tol: float
+    sliver_rule: str
+    d: np.ndarray = field(repr=False)
+    face_index: np.ndarray = field(repr=False)
+    n_slivers: int = 0
+    n_degenerate: int = 0
+    _faces: tuple = field(repr=False, default=None)
+    _cells: tuple = field(repr=False, default=None)
+    weights: str = "gaussian"
+    n: int = 0
+    orientation: int = 1
+    domain: str = "octahedral"
+    extent: tuple = (1.0, 1.0)
+
+    @property
+    def log_g_ref(self) -> float:
+        """log of the least Gaussian a point inside a face receives from that face."""
+        from .surface import TRUNCATION_RHO
+
+        return -TRUNCATION_RHO ** 2 / (2.0 * self.s ** 2)
+
+    def evaluate_directions(self, q, *, exact: bool = False):
+        """Points and derivatives along a tangent frame ``(t1, t2)`` (with ``t1 x t2 = q``) at unit
+        directions ``q`` (k, 3). Returns ``P, P_t1, P_t2, t1, t2, status``."""
+        q = np.asarray(q, dtype=np.float64)
+        if q.ndim != 2 or q.shape[1] != 3 or not np.isfinite(q).all():
+            raise ValueError(f"q: expected finite directions of shape (k, 3), got {q.shape}")
+        q = q / np.linalg.norm(q, axis=1, keepdims=True)
+        t1, t2 = _tangent_frame(q)
+        P, P1, P2, st = sphere_kernels.evaluate_sphere(q, t1, t2, self._faces, self._cells, log_g_ref=self.log_g_ref,
+                                                       exact=exact or self.tol == 0)
+        return P, P1, P2, t1, t2, st
+
+    def _uv(self, uv):
+        pts = np.asarray(uv, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] != 2:
+            raise ValueError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
+        if not np.isfinite(pts).all() or pts.min() < 0 or pts.max() > 1:
+            raise ValueError("uv: octahedral image coordinates must lie in [0, 1]")
+        return pts
+
+    def evaluate(self, uv, *, exact: bool = False) -> np.ndarray:
+        """Surface points at octahedral image coordinates ``uv`` (k, 2); shape (k, 3)."""
+        return self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)[0]
+
+    def derivatives(self, uv, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """``(P_u, P_v)`` at image coordinates (one-sided on the octahedron's creases)."""
+        uv = self._uv(uv)
+        _, P1, P2, t1, t2, _ = self.evaluate_directions(square_to_sphere(uv), exact=exact)
+        du, dv = square_jacobian(uv)
+        pu = P1 * (du * t1).sum(1, keepdims=True) + P2 * (du * t2).sum(1, keepdims=True)
+        pv = P1 * (dv * t1).sum(1, keepdims=True) + P2 * (dv * t2).sum(1, keepdims=True)
+        return pu, pv
+
+    def normals(self, uv, *, exact: bool = False) -> np.ndarray:
+        """Unit normals from the analytic derivatives (smooth across the creases), shape (k, 3)."""
+        _, P1, P2, _, _, _ = self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)
+        return _unit(np.cross(P1, P2) * self.orientation)
+
+    def auto_resolution(self) -> int:
+        """Odd side whose pixels cover about ``(s * mean d)^2`` of the sphere each, on average."""
+        spacing = self.s * float(self.d.mean())
+        side = int(math.ceil(math.sqrt(4.0 * math.pi) / spacing)) + 1
+        side += 1 - side % 2
+        if side > MAX_AUTO_RESOLUTION:
+            warnings.warn(f"automatic resolution {side} capped at {MAX_AUTO_RESOLUTION}", stacklevel=3)
+        return max(3, min(side, MAX_AUTO_RESOLUTION))
+
+    def grid(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Columns ``u`` and rows ``v`` of the ``N x N`` octahedral grid (``N`` odd; corners included)."""
+        n = check_size(self.auto_resolution() if resolution is None else resolution)
+        g = np.linspace(0.0, 1.0, n)
+        return g, g
+
+    def sample(self, resolution: int | None = None, *, normals: bool = True):
+        """Resample into an ``N x N`` octahedral :class:`~geoimg.GeometryImage` (``N`` odd; no mask).
+
+        Glued boundary pixels are evaluated at bit-identical directions, so they hold identical values.
+        """
+        from .image import GeometryImage
+
+        n = check_size(self.auto_resolution() if resolution is None else resolution)
+        q = grid_directions(n).reshape(-1, 3)
+        P, P1, P2, _, _, st = self.evaluate_directions(q)
+        nrm = _unit(np.cross(P1, P2) * self.orientation).reshape(n, n, 3).astype(np.float32) if normals else None
+        meta = {"domain": "octahedral", "s": float(self.s), "weights": "gaussian", "n": 0, "tol": float(self.tol),
+                "sliver_rule": self.sliver_rule, "resolution": int(n), "extent": [1.0, 1.0], "source": "",
+                "orientation": int(self.orientation), "exact_pixels": int((st == sphere_kernels.EXACT).sum()),
+                "hole_pixels": 0}
+        return GeometryImage(P.reshape(n, n, 3).astype(np.float32), None, domain="octahedral", normals=nrm,
+                             metadata=meta)
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    n = np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.divide(v, n, out=np.zeros_like(v), where=n > 0)
+
+
+def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, s: float, tol: float, sliver_rule: str,
+                       orientation: int = 1) -> SphereSurface:
+    """Fit the surface to a mesh whose vertices have unit vectors ``coords`` (called by ``fit_surface``)."""
+    from .surface import TRUNCATION_RHO
+
+    if sliver_rule not in SLIVER_RULES:
+        raise ValueError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
+    fm = _sphere_face_maps(mesh, coords, sliver_rule)
+    if fm["n_degenerate"]:
+        warnings.warn(f"fit_surface: {fm['n_degenerate']} faces of zero area on the sphere were left out",
+                      stacklevel=3)
+    sigma = s * fm["d"]
+    if tol > 0:
+        radius = sigma * math.sqrt(2.0 * math.log(1.0 / tol) + TRUNCATION_RHO ** 2 / s ** 2)
+    else:
+        radius = np.full_like(sigma, 4.0)
+    faces = tuple(np.ascontiguousarray(a, np.float64) for a in (
+        fm["centre"], 0.5 / sigma ** 2, radius, fm["normal"], fm["height"], fm["origin"], fm["e1"], fm["e2"],
+        fm["C"], fm["A"], fm["B"]))
+    cells = sphere_kernels.build_cells_3d(fm["centre"], np.minimum(radius, 4.0))
+    return SphereSurface(float(s), float(tol), sliver_rule, fm["d"], fm["face_index"], fm["n_slivers"],
+                         fm["n_degenerate"], faces, cells, orientation=int(orientation))
