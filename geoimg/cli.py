@@ -37,7 +37,7 @@ def _mesh_to_image(args, progress):
     progress(f"loading {args.mesh}")
     mesh = load_mesh(args.mesh)
     progress(f"{mesh.n_vertices} vertices, {mesh.n_faces} faces; parametrizing ({args.method})")
-    param = parametrize(mesh, args.method, axis=args.axis)
+    param = parametrize(mesh, args.method, axis=args.axis, progress=progress)
     progress(f"parametrized by {param.method}; fitting the surface (s={args.s}, {args.weights} weights)")
     surface = fit_surface(mesh, param, args.s, weights=args.weights, n=args.n, tol=args.tol,
                           sliver_rule=args.sliver_rule)

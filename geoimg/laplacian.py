@@ -63,7 +63,7 @@ def cotangent_weights(vertices: np.ndarray, tris: np.ndarray, floor: float = 1e-
     >>> v = np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
     >>> w = cotangent_weights(v, np.array([[0, 1, 2], [1, 3, 2]]))
     >>> round(float(w[1, 2]), 6), round(float(w[0, 1]), 6)
-    (0.0005, 0.5)
+    (0.0004, 0.5)
     """
     n = len(vertices)
     l_next, l_prev, dot, cross = _corners(vertices, tris)

@@ -20,7 +20,7 @@ from numba import njit, prange
 __all__ = ["build_cells_3d", "evaluate_sphere", "TRUNCATED", "EXACT"]
 
 TRUNCATED, EXACT = 0, 1
-MIN_FACING = 0.05   # gnomonic projection: n.q is clamped at this fraction of h (far faces, tiny weights)
+MIN_FACING = 0.05   # gnomonic projection: below this fraction of h, n.q is blended (C1) into a constant
 
 
 def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96):
@@ -89,11 +89,20 @@ def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, normal, heig
         w = math.exp(-d2 * inv2s[f] - m)
         w1 = -2.0 * inv2s[f] * dq1 * w
         w2 = -2.0 * inv2s[f] * dq2 * w
-        nq = normal[f, 0] * q[0] + normal[f, 1] * q[1] + normal[f, 2] * q[2]
-        nq = max(nq, MIN_FACING * height[f])
+        x = normal[f, 0] * q[0] + normal[f, 1] * q[1] + normal[f, 2] * q[2]
+        eps = MIN_FACING * height[f]
+        if x >= eps:            # phi(x) = x: the plain gnomonic projection
+            nq = x
+            slope = 1.0
+        elif x > 0.0:           # C1 blend to a constant for faces turned away (far, tiny weights)
+            nq = 0.5 * eps + 0.5 * x * x / eps
+            slope = x / eps
+        else:
+            nq = 0.5 * eps
+            slope = 0.0
         ts = height[f] / nq
-        n1 = normal[f, 0] * t1[0] + normal[f, 1] * t1[1] + normal[f, 2] * t1[2]
-        n2 = normal[f, 0] * t2[0] + normal[f, 1] * t2[1] + normal[f, 2] * t2[2]
+        n1 = (normal[f, 0] * t1[0] + normal[f, 1] * t1[1] + normal[f, 2] * t1[2]) * slope
+        n2 = (normal[f, 0] * t2[0] + normal[f, 1] * t2[1] + normal[f, 2] * t2[2]) * slope
         a = 0.0
         b = 0.0
         a1 = 0.0

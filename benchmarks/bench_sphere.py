@@ -1,0 +1,67 @@
+"""Closed genus-0 meshes through the octahedral domain: parametrization and sampling time, distortion,
+Hausdorff distance and PSNR between the input and the reconstructed quad mesh (s = 1).
+
+Run by hand:  python benchmarks/bench_sphere.py [mesh ...]   (paths relative to ../shared/data/meshes)
+Also writes the bunny's octahedral image, its quad mesh rendering and a distortion map to benchmarks/.
+"""
+from __future__ import annotations
+
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+import geoimg
+from geoimg.metrics import surface_distance
+from geoimg.octahedral import area_ratio
+from geoimg.topology import topology
+
+DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "meshes"
+MESHES = ["closed_genus0/sphere.obj", "closed_genus0/bumpy.off", "closed_genus0/spot_low_resolution.obj",
+          "closed_genus0/spot.obj", "closed_genus0/bunny.obj", "closed_genus0/armadillo.obj",
+          "closed_genus0/human_man.obj", "closed_genus0/bunny.off", "polygonal/horse_quad.obj",
+          "polygonal/chamfer-cube.off", "polygonal/spot_control_mesh.obj", "polygonal/cylinder.obj",
+          "polygonal/sword-quad-dominant.obj"]
+SIZES = (129, 257, 513)
+
+
+def samples_per_area(mesh, s):
+    """Octahedral-grid samples per unit of surface area, per triangle, relative to the mean: (min, max, p1, p99)."""
+    tris, _ = mesh.triangulate()
+    p3, p2 = mesh.vertices[tris], s[tris]
+    a3 = 0.5 * np.linalg.norm(np.cross(p3[:, 1] - p3[:, 0], p3[:, 2] - p3[:, 0]), axis=1)
+    a2 = 0.5 * np.linalg.norm(np.cross(p2[:, 1] - p2[:, 0], p2[:, 2] - p2[:, 0]), axis=1)
+    dens = a2 * area_ratio(p2.mean(axis=1)) / np.maximum(a3, 1e-300)
+    dens /= (dens * a3).sum() / a3.sum()
+    return dens.min(), dens.max(), np.percentile(dens, 1), np.percentile(dens, 99)
+
+
+def main(names):
+    warnings.simplefilter("ignore")
+    print("| mesh | faces | param s | flips | samples/area min..max (p1..p99) | N | sample s | closed | Hausdorff/diag | PSNR dB |")
+    print("|---|---:|---:|---:|---|---:|---:|:--:|---:|---:|")
+    for name in names:
+        mesh = geoimg.load_mesh(DATA / name)
+        t = time.perf_counter()
+        param = geoimg.parametrize(mesh, "sphere")
+        t_param = time.perf_counter() - t
+        lo, hi, p1, p99 = samples_per_area(mesh, param.coords)
+        surf = geoimg.fit_surface(mesh, param, s=1.0)
+        surf.sample(9)   # compile / warm the cells
+        for n in SIZES:
+            t = time.perf_counter()
+            img = surf.sample(n)
+            t_sample = time.perf_counter() - t
+            quads = img.to_mesh()
+            topo = topology(quads)
+            d = surface_distance(mesh, quads, n=100000)
+            print(f"| {name.split('/')[-1]} | {mesh.n_faces} | {t_param:.2f} | {param.flipped_faces} | "
+                  f"{lo:.3f}..{hi:.2f} ({p1:.2f}..{p99:.2f}) | {n} | {t_sample:.2f} | "
+                  f"{'yes' if topo.closed and topo.genus == 0 else 'NO'} | {d['hausdorff'] / d['diagonal']:.2e} | "
+                  f"{d['psnr_db']:.1f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:] or MESHES)

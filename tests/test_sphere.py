@@ -1,0 +1,115 @@
+import warnings
+
+import numpy as np
+import pytest
+
+import geoimg
+from geoimg import ParametrizationError, parametrize
+from geoimg.octahedral import weld_index
+from geoimg.sphere import chord_orientation, sphere_coords
+from geoimg.topology import topology
+
+from helpers import shared_file
+
+
+def load(rel):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")   # UV seams
+        return geoimg.load_mesh(shared_file(rel))
+
+
+@pytest.fixture(scope="module")
+def spot_small():
+    mesh = load("meshes/closed_genus0/spot_low_resolution.obj")
+    return mesh, parametrize(mesh, "sphere")
+
+
+@pytest.mark.parametrize("rel", ["meshes/closed_genus0/spot.obj", "meshes/closed_genus0/bunny.obj",
+                                 "meshes/closed_genus0/bumpy.off", "meshes/closed_genus0/sphere.obj",
+                                 "meshes/polygonal/chamfer-cube.off", "meshes/polygonal/horse_quad.obj"])
+def test_sphere_map_folds_nothing_and_balances_area(rel):
+    mesh = load(rel)
+    before = mesh.vertices.copy()
+    s, info = sphere_coords(mesh)
+    tris, _ = mesh.triangulate()
+    assert info["flipped_triangles"] == 0 and (chord_orientation(s, tris) > 0).all()
+    assert np.allclose(np.linalg.norm(s, axis=1), 1)
+    # area balancing never makes the worst-squeezed triangle worse than the conformal start
+    assert info["area_ratio_min"] >= info["conformal_area_ratio_min"]
+    assert np.array_equal(mesh.vertices, before)
+
+
+def test_area_balancing_lifts_the_bunny_ears():
+    s, info = sphere_coords(load("meshes/closed_genus0/bunny.obj"))
+    assert info["conformal_area_ratio_min"] < 1e-3 and info["area_ratio_min"] > 0.05
+
+
+def test_auto_picks_sphere_for_closed_genus_0(spot_small):
+    mesh, p = spot_small
+    assert parametrize(mesh).method == "sphere"
+    assert p.domain == "octahedral" and p.coords.shape == (mesh.n_vertices, 3) and p.flipped_faces == 0
+
+
+def test_octahedral_image_welds_into_a_closed_genus_0_quad_mesh(spot_small):
+    mesh, p = spot_small
+    img = geoimg.fit_surface(mesh, p, s=1).sample(65)
+    w = weld_index(65)
+    flat = img.pixels.reshape(-1, 3)
+    assert np.array_equal(flat, flat[w.ravel()])       # glued pixels are bit-identical
+    quads = img.to_mesh()
+    topo = topology(quads)
+    assert topo.closed and topo.genus == 0 and topo.components == 1
+    assert quads.n_vertices == 64 ** 2 + 2 and quads.n_faces == 64 ** 2
+    # consistently oriented outwards: positive enclosed volume close to the source mesh's
+    def volume(m):
+        t, _ = m.triangulate()
+        v = m.vertices
+        return np.einsum("ij,ij->i", v[t[:, 0]], np.cross(v[t[:, 1]], v[t[:, 2]])).sum() / 6
+    assert volume(quads) == pytest.approx(volume(mesh), rel=0.05)
+
+
+def test_sphere_surface_truncation_derivatives_and_convergence(spot_small):
+    mesh, p = spot_small
+    surf = geoimg.fit_surface(mesh, p, s=1)
+    uv = np.random.default_rng(3).uniform(0.02, 0.98, (200, 2))
+    diag = mesh.bounding_box_diagonal()
+    assert np.abs(surf.evaluate(uv) - surf.evaluate(uv, exact=True)).max() < 1e-9 * diag
+    h = 1e-6
+    pu, pv = surf.derivatives(uv)
+    fu = (surf.evaluate(uv + [h, 0]) - surf.evaluate(uv - [h, 0])) / (2 * h)
+    fv = (surf.evaluate(uv + [0, h]) - surf.evaluate(uv - [0, h])) / (2 * h)
+    away = np.all(np.abs(np.abs(uv - 0.5)) > 0.01, axis=1) & (np.abs(np.abs(uv - 0.5).sum(1) - 0.5) > 0.01)
+    scale = np.abs(pu).max()
+    assert np.abs(pu - fu)[away].max() < 1e-5 * scale and np.abs(pv - fv)[away].max() < 1e-5 * scale
+    # at the vertices' directions the surface approaches the vertices as s falls
+    used = mesh.referenced_vertices()
+    errs = []
+    for s in (1.0, 0.5, 0.25):
+        surf_s = geoimg.fit_surface(mesh, p, s=s)
+        errs.append(np.sqrt(np.mean((surf_s.evaluate_directions(p.coords[used])[0] - mesh.vertices[used]) ** 2)))
+    assert errs[0] > errs[1] > errs[2] and errs[2] < 0.003 * diag
+
+
+def test_octahedral_exr_round_trip(spot_small, tmp_path):
+    mesh, p = spot_small
+    img = geoimg.fit_surface(mesh, p, s=2).sample(17)
+    back = geoimg.load_image(img.save(tmp_path / "spot.exr"))
+    assert back.domain == "octahedral" and np.array_equal(back.pixels, img.pixels)
+    assert back.to_mesh().n_faces == 256
+
+
+def test_octahedral_errors(spot_small):
+    mesh, p = spot_small
+    surf = geoimg.fit_surface(mesh, p, s=2)
+    with pytest.raises(ValueError, match="odd side .* 18"):
+        surf.sample(17 + 1)
+    with pytest.raises(ValueError, match="only 'gaussian'"):
+        geoimg.fit_surface(mesh, p, weights="local")
+    with pytest.raises(ValueError, match="must be square"):
+        geoimg.GeometryImage(np.zeros((5, 7, 3), np.float32), domain="octahedral")
+    with pytest.raises(ValueError, match="takes no mask"):
+        geoimg.GeometryImage(np.zeros((5, 5, 3), np.float32), np.eye(5, dtype=bool), domain="octahedral")
+    with pytest.raises(ValueError, match=r"\[0, 1\]"):
+        surf.evaluate([[1.5, 0.2]])
+    with pytest.raises(ParametrizationError, match="genus 1"):
+        parametrize(load("meshes/closed_higher_genus/torus.obj"), "sphere")
