@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ParametrizationError
-from .laplacian import mean_value_weights, solve_free
+from .laplacian import corner_angles, mean_value_weights, solve_free
 from .mesh import Mesh
 from .topology import boundary_loops, topology
 
@@ -32,11 +32,7 @@ def _check_disk(mesh: Mesh):
 
 
 def _interior_angle_sums(mesh: Mesh, tris: np.ndarray) -> np.ndarray:
-    p = mesh.vertices[tris]
-    e1 = np.roll(p, -1, axis=1) - p
-    e2 = np.roll(p, 1, axis=1) - p
-    ang = np.arctan2(np.linalg.norm(np.cross(e1, e2), axis=2), np.einsum("tkc,tkc->tk", e1, e2))
-    return np.bincount(tris.ravel(), ang.ravel(), minlength=mesh.n_vertices)
+    return np.bincount(tris.ravel(), corner_angles(mesh.vertices, tris).ravel(), minlength=mesh.n_vertices)
 
 
 def _square_positions(t: np.ndarray, corners: np.ndarray, total: float, bulge: float = 0.0) -> np.ndarray:

@@ -24,7 +24,8 @@ from .errors import ParametrizationError
 from .mesh import Mesh
 from .parametrization import signed_face_areas
 
-__all__ = ["FaceMaps", "face_maps", "enclosing_circle_radius", "SLIVER_RULES", "SLIVER_RATIO"]
+__all__ = ["FaceMaps", "face_maps", "enclosing_circle_radius", "robust_sliver_planes", "SLIVER_RULES",
+           "SLIVER_RATIO"]
 
 SLIVER_RULES = ("robust", "paper")
 SLIVER_RATIO = 2.0
@@ -135,14 +136,27 @@ def face_maps(mesh: Mesh, coords: np.ndarray, *, sliver_rule: str = "robust") ->
     C, A, B = _fit_planes(uv, xyz, valid, centres)
     n_slivers = 0
     if sliver_rule == "robust":
-        cap = SLIVER_RATIO * np.sqrt(area)
-        sliver = d > cap
-        n_slivers = int(sliver.sum())
-        if n_slivers:
-            d = np.where(sliver, cap, d)
-            ring = _vertex_ring_points(mesh, face_index[sliver])
-            rv = ring >= 0
-            ridx = np.where(rv, ring, ring[:, :1])
-            Cs, As, Bs = _fit_planes(coords[ridx], mesh.vertices[ridx], rv, centres[sliver])
-            C[sliver], A[sliver], B[sliver] = Cs, As, Bs
+        d, n_slivers = robust_sliver_planes(mesh, face_index, d, area, C, A, B,
+                                            lambda ridx, sliver: (coords[ridx], True, centres[sliver]))
     return FaceMaps(centres, d, C, A, B, face_index, n_slivers, n_degenerate)
+
+
+def robust_sliver_planes(mesh: Mesh, face_index, d, area, C, A, B, ring_coords):
+    """The robust sliver rule: cap ``d_i`` at ``SLIVER_RATIO sqrt(area_i)`` and refit the plane of every
+    capped face through the vertices of its 1-ring. ``C, A, B`` are updated in place.
+
+    ``ring_coords(ridx, sliver)`` gives the parameter coordinates of the ring vertices ``ridx`` (S, K)
+    in each sliver's own frame, a mask of those that can be used (or True), and the slivers' centres.
+    Returns the new ``d`` and the number of slivers.
+    """
+    cap = SLIVER_RATIO * np.sqrt(area)
+    sliver = d > cap
+    n_slivers = int(sliver.sum())
+    if n_slivers:
+        d = np.where(sliver, cap, d)
+        ring = _vertex_ring_points(mesh, face_index[sliver])
+        rv = ring >= 0
+        ridx = np.where(rv, ring, ring[:, :1])
+        pts, usable, centres = ring_coords(ridx, sliver)
+        C[sliver], A[sliver], B[sliver] = _fit_planes(pts, mesh.vertices[ridx], rv & usable, centres)
+    return d, n_slivers

@@ -10,7 +10,7 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse import linalg as splinalg
 
-__all__ = ["mean_value_weights", "cotangent_weights", "solve_free"]
+__all__ = ["mean_value_weights", "cotangent_weights", "corner_angles", "corner_cotangents", "solve_free"]
 
 _TINY = 1e-300
 
@@ -25,6 +25,24 @@ def _corners(vertices: np.ndarray, tris: np.ndarray):
     dot = np.einsum("tkc,tkc->tk", e_next, e_prev)
     cross = np.linalg.norm(np.cross(e_next, e_prev), axis=2)
     return l_next, l_prev, dot, cross
+
+
+def corner_angles(vertices: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """The angle at each corner of each triangle, shape (T, 3), in radians.
+
+    Examples
+    --------
+    >>> corner_angles(np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0]]), np.array([[0, 1, 2]])).round(6).tolist()
+    [[1.570796, 0.785398, 0.785398]]
+    """
+    _, _, dot, cross = _corners(vertices, tris)
+    return np.arctan2(cross, dot)
+
+
+def corner_cotangents(vertices: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """cot of the angle at each corner of each triangle, shape (T, 3) (huge, not infinite, for a flat corner)."""
+    _, _, dot, cross = _corners(vertices, tris)
+    return dot / np.maximum(cross, _TINY)
 
 
 def mean_value_weights(vertices: np.ndarray, tris: np.ndarray) -> sparse.csr_matrix:
@@ -66,9 +84,7 @@ def cotangent_weights(vertices: np.ndarray, tris: np.ndarray, floor: float = 1e-
     (0.0004, 0.5)
     """
     n = len(vertices)
-    l_next, l_prev, dot, cross = _corners(vertices, tris)
-    cot = dot / np.maximum(cross, _TINY)                 # cot of the angle at corner k
-    cot = np.clip(cot, -1e8, 1e8)
+    cot = np.clip(corner_cotangents(vertices, tris), -1e8, 1e8)
     # the angle at corner k faces the edge (k+1, k+2)
     a = np.roll(tris, -1, axis=1).ravel()
     b = np.roll(tris, -2, axis=1).ravel()

@@ -24,7 +24,7 @@ from scipy import sparse
 from scipy.sparse import linalg as splinalg
 
 from .errors import ParametrizationError
-from .laplacian import cotangent_weights, mean_value_weights, solve_free
+from .laplacian import corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
 from .mesh import Mesh
 from .topology import topology
 
@@ -97,13 +97,7 @@ def distortion(mesh_xyz: np.ndarray, s: np.ndarray, tris: np.ndarray) -> dict:
     ratio = (a2 / a2.sum()) / np.maximum(a3 / a3.sum(), 1e-300)
     w = a3 / a3.sum()
 
-    def angles(x):
-        p = x[tris]
-        e1 = np.roll(p, -1, axis=1) - p
-        e2 = np.roll(p, 1, axis=1) - p
-        return np.arctan2(np.linalg.norm(np.cross(e1, e2), axis=2), np.einsum("tkc,tkc->tk", e1, e2))
-
-    dang = np.degrees(np.abs(angles(s) - angles(mesh_xyz)))
+    dang = np.degrees(np.abs(corner_angles(s, tris) - corner_angles(mesh_xyz, tris)))
     lr = np.log(np.maximum(ratio, 1e-300))
     return {
         "area_ratio_min": float(ratio.min()), "area_ratio_max": float(ratio.max()),
@@ -200,10 +194,7 @@ class _AreaBalance:
         self.tris, self.beta = tris, beta
         a3 = _areas(x, tris)
         self.a = a3 / a3.sum()
-        p = x[tris]
-        e1 = np.roll(p, -1, axis=1) - p
-        e2 = np.roll(p, 1, axis=1) - p
-        self.cot = np.einsum("tkc,tkc->tk", e1, e2) / np.maximum(np.linalg.norm(np.cross(e1, e2), axis=2), 1e-300)
+        self.cot = corner_cotangents(x, tris)
         rows = tris.T.ravel()       # scatter of per-corner vectors to vertices
         self.scatter = sparse.csr_matrix((np.ones(len(rows)), (rows, np.arange(len(rows)))), shape=(n, len(rows)))
 

@@ -17,8 +17,9 @@ import numpy as np
 
 from . import sphere_kernels
 from .errors import ParametrizationError
-from .face_maps import SLIVER_RATIO, SLIVER_RULES, _fit_planes, _vertex_ring_points, enclosing_circle_radius
+from .face_maps import SLIVER_RULES, _fit_planes, enclosing_circle_radius, robust_sliver_planes
 from .mesh import Mesh
+from .surface import _unit, reference_log_weight, truncation_radius
 from .octahedral import check_size, grid_directions, square_jacobian, square_to_sphere, area_ratio
 
 __all__ = ["SphereSurface", "fit_sphere_surface"]
@@ -58,7 +59,6 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
     keep &= height > 1e-9
     g, ok = _gnomonic(sp, normal, height)
     keep &= np.all(ok | ~valid, axis=1)
-    origin = origin - (height - np.einsum("fc,fc->f", normal, origin))[:, None] * normal
     e1 = g[:, 1] - g[:, 0]
     e1 = e1 - np.einsum("fc,fc->f", e1, normal)[:, None] * normal
     e1len = np.linalg.norm(e1, axis=1)
@@ -85,20 +85,13 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
     C, A, B = _fit_planes(ab, xyz, valid, np.zeros((len(d), 2)))
     n_slivers = 0
     if sliver_rule == "robust":
-        cap = SLIVER_RATIO * np.sqrt(area)
-        sliver = d > cap
-        n_slivers = int(sliver.sum())
-        if n_slivers:
-            d = np.where(sliver, cap, d)
-            ring = _vertex_ring_points(mesh, face_index[sliver])
-            rv = ring >= 0
-            ridx = np.where(rv, ring, ring[:, :1])
-            rg, rok = _gnomonic(s[ridx], normal[sliver], height[sliver])
-            rv &= rok
+        def ring_coords(ridx, sliver):   # ring vertices in each sliver's frame, by gnomonic projection
+            rg, usable = _gnomonic(s[ridx], normal[sliver], height[sliver])
             rel = rg - origin[sliver][:, None]
             rab = np.stack([np.einsum("fkc,fc->fk", rel, e1[sliver]), np.einsum("fkc,fc->fk", rel, e2[sliver])], -1)
-            Cs, As, Bs = _fit_planes(rab, mesh.vertices[ridx], rv, np.zeros((n_slivers, 2)))
-            C[sliver], A[sliver], B[sliver] = Cs, As, Bs
+            return rab, usable, np.zeros((int(sliver.sum()), 2))
+
+        d, n_slivers = robust_sliver_planes(mesh, face_index, d, area, C, A, B, ring_coords)
     centre = origin / np.linalg.norm(origin, axis=1, keepdims=True)
     return dict(centre=centre, normal=normal, height=height, origin=origin, e1=e1, e2=e2, C=C, A=A, B=B, d=d,
                 face_index=face_index, n_slivers=n_slivers, n_degenerate=int((~keep).sum()))
@@ -128,9 +121,7 @@ class SphereSurface:
     @property
     def log_g_ref(self) -> float:
         """log of the least Gaussian a point inside a face receives from that face."""
-        from .surface import TRUNCATION_RHO
-
-        return -TRUNCATION_RHO ** 2 / (2.0 * self.s ** 2)
+        return reference_log_weight(self.s)
 
     def evaluate_directions(self, q, *, exact: bool = False):
         """Points and derivatives along a tangent frame ``(t1, t2)`` (with ``t1 x t2 = q``) at unit
@@ -204,16 +195,9 @@ class SphereSurface:
                              metadata=meta)
 
 
-def _unit(v: np.ndarray) -> np.ndarray:
-    n = np.linalg.norm(v, axis=-1, keepdims=True)
-    return np.divide(v, n, out=np.zeros_like(v), where=n > 0)
-
-
 def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, s: float, tol: float, sliver_rule: str,
                        orientation: int = 1) -> SphereSurface:
     """Fit the surface to a mesh whose vertices have unit vectors ``coords`` (called by ``fit_surface``)."""
-    from .surface import TRUNCATION_RHO
-
     if sliver_rule not in SLIVER_RULES:
         raise ValueError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
     fm = _sphere_face_maps(mesh, coords, sliver_rule)
@@ -221,10 +205,7 @@ def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, s: float, tol: float, sli
         warnings.warn(f"fit_surface: {fm['n_degenerate']} faces of zero area on the sphere were left out",
                       stacklevel=3)
     sigma = s * fm["d"]
-    if tol > 0:
-        radius = sigma * math.sqrt(2.0 * math.log(1.0 / tol) + TRUNCATION_RHO ** 2 / s ** 2)
-    else:
-        radius = np.full_like(sigma, 4.0)
+    radius = truncation_radius(sigma, s, tol) if tol > 0 else np.full_like(sigma, 4.0)
     faces = tuple(np.ascontiguousarray(a, np.float64) for a in (
         fm["centre"], 0.5 / sigma ** 2, radius, fm["normal"], fm["height"], fm["origin"], fm["e1"], fm["e2"],
         fm["C"], fm["A"], fm["B"]))

@@ -69,7 +69,7 @@ class Surface:
         """log of the least Gaussian a point inside a face receives from that face (-inf for local weights)."""
         if self.weights != "gaussian":
             return -math.inf
-        return -TRUNCATION_RHO ** 2 / (2.0 * self.s ** 2)
+        return reference_log_weight(self.s)
 
     @property
     def g_ref(self) -> float:
@@ -211,6 +211,16 @@ class Surface:
         return GeometryImage(P.astype(np.float32), mask, domain=self.domain, normals=nrm, metadata=meta)
 
 
+def reference_log_weight(s: float) -> float:
+    """log of the least Gaussian weight a point inside a face gets from it: ``-(4/3)^2 / 2 s^2``."""
+    return -TRUNCATION_RHO ** 2 / (2.0 * s ** 2)
+
+
+def truncation_radius(sigma: np.ndarray, s: float, tol: float) -> np.ndarray:
+    """Distance beyond which a face's weight is below ``tol`` times the least weight of a point's own face."""
+    return sigma * math.sqrt(2.0 * math.log(1.0 / tol) + TRUNCATION_RHO ** 2 / s ** 2)
+
+
 def _unit(v: np.ndarray) -> np.ndarray:
     n = np.linalg.norm(v, axis=-1, keepdims=True)
     return np.divide(v, n, out=np.zeros_like(v), where=n > 0)
@@ -286,7 +296,7 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         sigma = s * fm.d
         param_arr = 0.5 / sigma ** 2
         if tol > 0:
-            radius = sigma * math.sqrt(2.0 * math.log(1.0 / tol) + TRUNCATION_RHO ** 2 / s ** 2)
+            radius = truncation_radius(sigma, s, tol)
         else:
             radius = np.full_like(sigma, np.inf)
     else:
