@@ -5,8 +5,11 @@ Slow but simple; they compute exactly the sums the numba kernels compute.
 from __future__ import annotations
 
 import numpy as np
+from scipy import sparse
 
-__all__ = ["sample_grid_numpy", "evaluate_exact_numpy"]
+from .laplacian import corner_cotangents
+
+__all__ = ["sample_grid_numpy", "evaluate_exact_numpy", "AreaBalanceNumpy"]
 
 
 def sample_grid_numpy(u, v, centres, sigma, radius, C, A, B):
@@ -43,3 +46,49 @@ def evaluate_exact_numpy(pts, centres, sigma, C, A, B):
     w /= w.sum(axis=1, keepdims=True)
     return (np.einsum("kf,fc->kc", w, C) + np.einsum("kf,kf,fc->kc", w, du, A)
             + np.einsum("kf,kf,fc->kc", w, dv, B))
+
+
+class AreaBalanceNumpy:
+    """Energy ``sum_t a_t [log(r_t)^2 + beta (D_t / A_t - 2)]`` of points on the sphere and its gradient
+    (numpy; the kernels are in :mod:`geoimg.balance_kernels`).
+
+    ``a_t`` are the mesh's triangle areas (normalized to sum 1), ``A_t`` the sphere's chord-triangle areas
+    (signed: projected on the triangle's mean direction) scaled to sum 1, ``r_t = A_t / a_t`` and ``D_t``
+    the Dirichlet energy of the triangle's affine map (cotangent formula with the mesh's angles).
+    """
+
+    def __init__(self, x, tris, n, beta):
+        self.tris, self.beta = tris, beta
+        p = x[tris]
+        a3 = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+        self.a = a3 / a3.sum()
+        self.cot = corner_cotangents(x, tris)
+        rows = tris.T.ravel()       # scatter of per-corner vectors to vertices
+        self.scatter = sparse.csr_matrix((np.ones(len(rows)), (rows, np.arange(len(rows)))), shape=(n, len(rows)))
+
+    def energy(self, s):
+        p = s[self.tris]
+        u = p.sum(axis=1)
+        u /= np.linalg.norm(u, axis=1, keepdims=True)
+        area = 0.5 * np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), u)
+        if not (area > 0).all():
+            return np.inf, None
+        lam = 1.0 / area.sum()
+        opp = np.roll(p, -1, axis=1) - np.roll(p, 1, axis=1)          # edge facing corner k
+        dirichlet = 0.5 * lam * (self.cot * (opp ** 2).sum(axis=2)).sum(axis=1)
+        ay = lam * area
+        lr = np.log(ay / self.a)
+        e = self.a @ lr ** 2 + self.beta * (self.a @ (dirichlet / ay - 2.0))
+        return float(e), (p, u, ay, lam, lr, dirichlet)
+
+    def gradient(self, state):
+        p, u, ay, lam, lr, dirichlet = state
+        f_d = (self.beta * self.a / ay * lam)[:, None]
+        f_a = ((2.0 * self.a * lr / ay - self.beta * self.a * dirichlet / ay ** 2) * lam)[:, None]
+        parts = []
+        for k in range(3):
+            k1, k2 = (k + 1) % 3, (k + 2) % 3
+            g = 0.5 * np.cross(u, p[:, k2] - p[:, k1]) * f_a
+            g += f_d * (self.cot[:, k2, None] * (p[:, k] - p[:, k1]) + self.cot[:, k1, None] * (p[:, k] - p[:, k2]))
+            parts.append(g)
+        return self.scatter @ np.concatenate(parts)

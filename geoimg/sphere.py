@@ -21,16 +21,16 @@ from __future__ import annotations
 
 import numpy as np
 from scipy import sparse
-from scipy.sparse import linalg as splinalg
 
+from .balance_kernels import balance_energy, balance_gradient
 from .errors import ParametrizationError
-from .laplacian import corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
+from .laplacian import factor_symmetric, corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
 from .mesh import Mesh
 from .topology import topology
 
 __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 
-DEFAULT_STEPS = 100
+DEFAULT_STEPS = 200
 DEFAULT_BETA = 0.3
 
 
@@ -146,7 +146,7 @@ def _conformal_plane(x: np.ndarray, tris: np.ndarray, lap: sparse.csc_matrix, f0
     pin = idx[np.argmax(np.linalg.norm(x[idx] - a, axis=1))]
     free = idx[idx != pin]
     z = np.zeros((len(x), 2))
-    z[free] = splinalg.splu(lap[free][:, free].tocsc()).solve(rhs[free])
+    z[free] = factor_symmetric(lap[free][:, free]).solve(rhs[free])
     return z
 
 
@@ -182,61 +182,19 @@ def _plane_to_sphere(z: np.ndarray, vertex_area: np.ndarray, used: np.ndarray, t
     return s
 
 
-class _AreaBalance:
-    """Energy ``sum_t a_t [log(r_t)^2 + beta (D_t / A_t - 2)]`` of points on the sphere and its gradient.
-
-    ``a_t`` are the mesh's triangle areas (normalized to sum 1), ``A_t`` the sphere's chord-triangle areas
-    (signed: projected on the triangle's mean direction) scaled to sum 1, ``r_t = A_t / a_t`` and ``D_t``
-    the Dirichlet energy of the triangle's affine map (cotangent formula with the mesh's angles).
-    """
-
-    def __init__(self, x, tris, n, beta):
-        self.tris, self.beta = tris, beta
-        a3 = _areas(x, tris)
-        self.a = a3 / a3.sum()
-        self.cot = corner_cotangents(x, tris)
-        rows = tris.T.ravel()       # scatter of per-corner vectors to vertices
-        self.scatter = sparse.csr_matrix((np.ones(len(rows)), (rows, np.arange(len(rows)))), shape=(n, len(rows)))
-
-    def energy(self, s):
-        p = s[self.tris]
-        u = p.sum(axis=1)
-        u /= np.linalg.norm(u, axis=1, keepdims=True)
-        area = 0.5 * np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), u)
-        if not (area > 0).all():
-            return np.inf, None
-        lam = 1.0 / area.sum()
-        opp = np.roll(p, -1, axis=1) - np.roll(p, 1, axis=1)          # edge facing corner k
-        dirichlet = 0.5 * lam * (self.cot * (opp ** 2).sum(axis=2)).sum(axis=1)
-        ay = lam * area
-        lr = np.log(ay / self.a)
-        e = self.a @ lr ** 2 + self.beta * (self.a @ (dirichlet / ay - 2.0))
-        return float(e), (p, u, ay, lam, lr, dirichlet)
-
-    def gradient(self, state):
-        p, u, ay, lam, lr, dirichlet = state
-        f_d = (self.beta * self.a / ay * lam)[:, None]
-        f_a = ((2.0 * self.a * lr / ay - self.beta * self.a * dirichlet / ay ** 2) * lam)[:, None]
-        parts = []
-        for k in range(3):
-            k1, k2 = (k + 1) % 3, (k + 2) % 3
-            g = 0.5 * np.cross(u, p[:, k2] - p[:, k1]) * f_a
-            g += f_d * (self.cot[:, k2, None] * (p[:, k] - p[:, k1]) + self.cot[:, k1, None] * (p[:, k] - p[:, k2]))
-            parts.append(g)
-        return self.scatter @ np.concatenate(parts)
-
-
 def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
     """Descend the area-balancing energy from ``s``; every accepted step keeps all triangles positive."""
-    bal = _AreaBalance(x, tris, len(x), beta)
-    e, state = bal.energy(s)
+    a3 = _areas(x, tris)
+    a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
+    tris = np.ascontiguousarray(tris, np.int64)
+    e, state = balance_energy(s, tris, a, cot, beta)
     if not np.isfinite(e):
         return s, 0, e
     mass = vertex_area / vertex_area.sum()
-    precond = splinalg.splu((lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used))).tocsc())
+    precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
     alpha, done = 1.0, 0
     for step in range(steps):
-        g = bal.gradient(state)
+        g = balance_gradient(s, tris, a, cot, beta, state)
         g -= (g * s).sum(axis=1, keepdims=True) * s
         d = -precond.solve(g)
         d -= (d * s).sum(axis=1, keepdims=True) * s
@@ -245,7 +203,7 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
         while alpha > 1e-10:
             trial = s + alpha * d
             trial /= np.linalg.norm(trial, axis=1, keepdims=True)
-            e_new, st = bal.energy(trial)
+            e_new, st = balance_energy(trial, tris, a, cot, beta)
             if e_new < e:
                 break
             alpha *= 0.5
@@ -269,7 +227,7 @@ def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAU
     ----------
     mesh : Mesh
         Closed, one component, genus 0; polygons are split into fans for the map.
-    steps : int, default 100
+    steps : int, default 200
         Area-balancing steps (0: the centred, nearly conformal map).
     beta : float, default 0.3
         Weight of angle (conformal) distortion against area distortion while balancing.

@@ -2,9 +2,11 @@
 
 A face i has a weight centre ``c_i`` (unit vector), a plane ``n_i . g = h_i`` through its vertices on
 the sphere, a frame ``(o_i, e1_i, e2_i)`` in that plane and the affine map ``P_i = C_i + A_i a + B_i b``
-of the frame coordinates. A direction ``q`` reaches the plane by the gnomonic projection
-``g = q h_i / (n_i . q)``, so the map of a face is its own plane's, extended over the sphere, and faces
-across the octahedron's creases need no special case. Weights are ``exp(-|q - c_i|^2 / 2 sigma_i^2)``.
+of the frame coordinates. A direction ``q`` reaches the plane by orthogonal projection,
+``a = (q - o_i) . e1_i``, ``b = (q - o_i) . e2_i``: the map of a face is its own plane's, extended over
+the whole sphere as an affine function of ``q``, bounded everywhere (a central projection would blow up
+for faces turned 90 degrees away, which carry weight on coarse meshes), and faces across the
+octahedron's creases need no special case. Weights are ``exp(-|q - c_i|^2 / 2 sigma_i^2)``.
 
 For each point the kernel returns P and its derivatives along two tangent directions ``t1, t2``.
 Faces are skipped outside ``|q - c_i| <= R_i`` (3-D cells); a point whose largest weight exponent is
@@ -20,7 +22,6 @@ from numba import njit, prange
 __all__ = ["build_cells_3d", "evaluate_sphere", "TRUNCATED", "EXACT"]
 
 TRUNCATED, EXACT = 0, 1
-MIN_FACING = 0.05   # gnomonic projection: below this fraction of h, n.q is blended (C1) into a constant
 
 
 def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96):
@@ -89,36 +90,20 @@ def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, normal, heig
         w = math.exp(-d2 * inv2s[f] - m)
         w1 = -2.0 * inv2s[f] * dq1 * w
         w2 = -2.0 * inv2s[f] * dq2 * w
-        x = normal[f, 0] * q[0] + normal[f, 1] * q[1] + normal[f, 2] * q[2]
-        eps = MIN_FACING * height[f]
-        if x >= eps:            # phi(x) = x: the plain gnomonic projection
-            nq = x
-            slope = 1.0
-        elif x > 0.0:           # C1 blend to a constant for faces turned away (far, tiny weights)
-            nq = 0.5 * eps + 0.5 * x * x / eps
-            slope = x / eps
-        else:
-            nq = 0.5 * eps
-            slope = 0.0
-        ts = height[f] / nq
-        n1 = (normal[f, 0] * t1[0] + normal[f, 1] * t1[1] + normal[f, 2] * t1[2]) * slope
-        n2 = (normal[f, 0] * t2[0] + normal[f, 1] * t2[1] + normal[f, 2] * t2[2]) * slope
         a = 0.0
         b = 0.0
         a1 = 0.0
         b1 = 0.0
         a2 = 0.0
         b2 = 0.0
-        for c in range(3):
-            g = ts * q[c] - origin[f, c]
+        for c in range(3):      # orthogonal projection onto the face's plane, in its frame: affine in q
+            g = q[c] - origin[f, c]
             a += g * e1[f, c]
             b += g * e2[f, c]
-            dg1 = ts * (t1[c] - q[c] * n1 / nq)
-            dg2 = ts * (t2[c] - q[c] * n2 / nq)
-            a1 += dg1 * e1[f, c]
-            b1 += dg1 * e2[f, c]
-            a2 += dg2 * e1[f, c]
-            b2 += dg2 * e2[f, c]
+            a1 += t1[c] * e1[f, c]
+            b1 += t1[c] * e2[f, c]
+            a2 += t2[c] * e1[f, c]
+            b2 += t2[c] * e2[f, c]
         for c in range(3):
             p = C[f, c] + A[f, c] * a + B[f, c] * b
             acc[1 + c] += w * p

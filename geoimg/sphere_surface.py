@@ -27,12 +27,9 @@ __all__ = ["SphereSurface", "fit_sphere_surface"]
 MAX_AUTO_RESOLUTION = 2049
 
 
-def _gnomonic(points: np.ndarray, normal: np.ndarray, height: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Project directions (F, K, 3) onto the planes ``n . g = h`` of their faces; ok where n . p > 0."""
-    nq = np.einsum("fkc,fc->fk", points, normal)
-    ok = nq > 1e-12
-    t = np.where(ok, height[:, None] / np.where(ok, nq, 1.0), 0.0)
-    return points * t[..., None], ok
+def _project(points: np.ndarray, normal: np.ndarray, height: np.ndarray) -> np.ndarray:
+    """Orthogonal projection of points (F, K, 3) onto the planes ``n . g = h`` of their faces."""
+    return points - (np.einsum("fkc,fc->fk", points, normal) - height[:, None])[..., None] * normal[:, None]
 
 
 def _tangent_frame(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -57,8 +54,7 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
     normal = normal / np.where(keep, nlen, 1.0)[:, None]
     height = np.einsum("fc,fc->f", normal, origin)
     keep &= height > 1e-9
-    g, ok = _gnomonic(sp, normal, height)
-    keep &= np.all(ok | ~valid, axis=1)
+    g = _project(sp, normal, height)
     e1 = g[:, 1] - g[:, 0]
     e1 = e1 - np.einsum("fc,fc->f", e1, normal)[:, None] * normal
     e1len = np.linalg.norm(e1, axis=1)
@@ -85,8 +81,9 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
     C, A, B = _fit_planes(ab, xyz, valid, np.zeros((len(d), 2)))
     n_slivers = 0
     if sliver_rule == "robust":
-        def ring_coords(ridx, sliver):   # ring vertices in each sliver's frame, by gnomonic projection
-            rg, usable = _gnomonic(s[ridx], normal[sliver], height[sliver])
+        def ring_coords(ridx, sliver):   # ring vertices in each sliver's frame
+            rg = _project(s[ridx], normal[sliver], height[sliver])
+            usable = np.einsum("fkc,fc->fk", s[ridx], normal[sliver]) > 0
             rel = rg - origin[sliver][:, None]
             rab = np.stack([np.einsum("fkc,fc->fk", rel, e1[sliver]), np.einsum("fkc,fc->fk", rel, e2[sliver])], -1)
             return rab, usable, np.zeros((int(sliver.sum()), 2))

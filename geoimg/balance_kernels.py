@@ -1,0 +1,105 @@
+"""numba kernels of the area-balancing energy of a spherical map (see :mod:`geoimg.sphere`).
+
+``E = sum_t a_t [log(A_t / a_t)^2 + beta (D_t / A_t - 2)]`` over triangles ``t``: ``a_t`` the mesh's
+triangle areas (summing to 1), ``A_t`` the chord triangles' areas on the sphere projected on their mean
+direction, scaled to sum 1, and ``D_t`` the Dirichlet energy of the triangle's affine map (cotangent
+formula with the mesh's corner cotangents ``cot``). The plain numpy version is
+:class:`geoimg.reference.AreaBalanceNumpy`; both give the same numbers.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+__all__ = ["balance_energy", "balance_gradient"]
+
+
+@njit(cache=True, inline="always")
+def _corner(s, tris, t, k):
+    v = tris[t, k]
+    return s[v, 0], s[v, 1], s[v, 2]
+
+
+@njit(parallel=True, cache=True)
+def _areas(s, tris, out):
+    """Projected chord areas into ``out``; returns the number of triangles that are not positive."""
+    bad = 0
+    for t in prange(tris.shape[0]):
+        x0, y0, z0 = _corner(s, tris, t, 0)
+        x1, y1, z1 = _corner(s, tris, t, 1)
+        x2, y2, z2 = _corner(s, tris, t, 2)
+        ux, uy, uz = x0 + x1 + x2, y0 + y1 + y2, z0 + z1 + z2
+        ln = math.sqrt(ux * ux + uy * uy + uz * uz)
+        ax, ay, az = x1 - x0, y1 - y0, z1 - z0
+        bx, by, bz = x2 - x0, y2 - y0, z2 - z0
+        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+        area = 0.5 * (cx * ux + cy * uy + cz * uz) / ln if ln > 0.0 else 0.0
+        out[t] = area
+        if not area > 0.0:
+            bad += 1
+    return bad
+
+
+@njit(parallel=True, cache=True)
+def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
+    e = 0.0
+    for t in prange(tris.shape[0]):
+        dsum = 0.0
+        for k in range(3):
+            k1, k2 = (k + 1) % 3, (k + 2) % 3
+            l2 = 0.0
+            for c in range(3):
+                dv = s[tris[t, k1], c] - s[tris[t, k2], c]
+                l2 += dv * dv
+            dsum += cot[t, k] * l2
+        d = 0.5 * lam * dsum
+        dirichlet[t] = d
+        ay = lam * area[t]
+        lr = math.log(ay / a[t])
+        e += a[t] * lr * lr + beta * a[t] * (d / ay - 2.0)
+    return e
+
+
+def balance_energy(s, tris, a, cot, beta):
+    """Energy of unit vectors ``s`` (n, 3); ``(inf, None)`` if a triangle is not positive, else
+    ``(E, state)`` with the state :func:`balance_gradient` needs."""
+    area = np.empty(len(tris))
+    if _areas(s, tris, area):
+        return np.inf, None
+    lam = 1.0 / area.sum()
+    dirichlet = np.empty(len(tris))
+    e = _terms(s, tris, a, cot, area, lam, float(beta), dirichlet)
+    return float(e), (area, lam, dirichlet)
+
+
+@njit(cache=True)
+def _gradient(s, tris, a, cot, area, lam, beta, dirichlet, g):
+    for t in range(tris.shape[0]):
+        ay = lam * area[t]
+        lr = math.log(ay / a[t])
+        f_d = beta * a[t] / ay * lam
+        f_a = (2.0 * a[t] * lr / ay - beta * a[t] * dirichlet[t] / ay ** 2) * lam
+        u = np.zeros(3)
+        for k in range(3):
+            for c in range(3):
+                u[c] += s[tris[t, k], c]
+        u /= math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
+        for k in range(3):
+            vk, v1, v2 = tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
+            c1, c2 = cot[t, (k + 1) % 3], cot[t, (k + 2) % 3]
+            ex = s[v2, 0] - s[v1, 0]
+            ey = s[v2, 1] - s[v1, 1]
+            ez = s[v2, 2] - s[v1, 2]
+            cr = (u[1] * ez - u[2] * ey, u[2] * ex - u[0] * ez, u[0] * ey - u[1] * ex)
+            for c in range(3):
+                g[vk, c] += 0.5 * cr[c] * f_a + f_d * (c2 * (s[vk, c] - s[v1, c]) + c1 * (s[vk, c] - s[v2, c]))
+
+
+def balance_gradient(s, tris, a, cot, beta, state):
+    """Gradient (n, 3) of the energy at ``s`` (the normalization of the areas held fixed)."""
+    area, lam, dirichlet = state
+    g = np.zeros_like(s)
+    _gradient(s, tris, a, cot, area, lam, float(beta), dirichlet, g)
+    return g
