@@ -1,8 +1,17 @@
-"""filters: image operations on float arrays (H, W, C), knowing nothing of meshes.
+"""filters: image operations on float arrays (H, W) or (H, W, C), knowing nothing of meshes.
 
-The smoothing, inverse-filtering, masking, FFT and blending operations land with the filters issue;
-this package holds only the boundary padding they will share.
+Every operation meets the image's edges through one mechanism, the boundary rule ``mode``
+(:mod:`filters.padding`): ``reflect``, ``linear``, ``wrap`` or ``octahedral``. Spatial filters pad
+by it; Fourier operations transform the periodic extension it defines.
 """
-from .padding import pad, PAD_MODES
+from .padding import pad, periodic_extension, PAD_MODES, PERIODIC_MODES
+from .masks import feather, apply_masked
+from .smoothing import mean_filter, gaussian_filter, bilateral_filter, guided_filter
+from .fourier import fourier_filter, lowpass, highpass, bandpass
+from .inverse import inverse_filter, unsharp_mask
+from .blend import blend, composite, paste, resize
+from .curvature import grid_curvature
 
-__all__ = ["pad", "PAD_MODES"]
+__all__ = ["pad", "periodic_extension", "PAD_MODES", "PERIODIC_MODES", "feather", "apply_masked", "mean_filter",
+           "gaussian_filter", "bilateral_filter", "guided_filter", "fourier_filter", "lowpass", "highpass",
+           "bandpass", "inverse_filter", "unsharp_mask", "blend", "composite", "paste", "resize", "grid_curvature"]
