@@ -4,7 +4,7 @@ regularized) and unsharp masking.
 The blur is a separable kernel (the mean filter's box by default, or a Gaussian) exactly as the
 spatial filters of :mod:`filters.smoothing` apply it; its transfer function on the periodic extension
 is ``H(fy) H(fx)`` with ``H(f) = sum_j k_j cos(2 pi f j)`` (real: the kernels are symmetric). The
-inverse gain is regularized, by Wiener (``conj(H) / (|H|^2 + nsr)``) or by clamping ``|1/H|`` at
+inverse gain is regularized, by Wiener (``H / (H^2 + nsr (1 - H^2))``: exactly 1 at ``H = 1``) or by clamping ``|1/H|`` at
 ``max_gain``; the result's real part is kept.
 """
 from __future__ import annotations
@@ -64,7 +64,8 @@ def inverse_filter(image, blur: str = "mean", size: int = 3, sigma: float = 1.0,
     mode : {'reflect', 'wrap', 'octahedral'}
         The periodic extension (the same rule the blur was applied with).
     method : {'wiener', 'clamp'}
-        ``wiener``: gain ``H / (H^2 + nsr)``; ``clamp``: ``1 / H`` with its magnitude capped at
+        ``wiener``: gain ``H / (H^2 + nsr (1 - H^2))`` (the regularization fades where the blur
+        passes all, ``H = 1``, so the mean position is not scaled); ``clamp``: ``1 / H`` with its magnitude capped at
         ``max_gain`` (the sign of ``H`` kept). ``nsr`` is the noise-to-signal power ratio: larger
         values sharpen less and amplify noise and float32 rounding less.
 
@@ -87,7 +88,7 @@ def inverse_filter(image, blur: str = "mean", size: int = 3, sigma: float = 1.0,
 
         def gain(fy, fx):
             hh = h(fy, fx)
-            return hh / (hh * hh + nsr)
+            return hh / (hh * hh + nsr * (1.0 - hh * hh))
     else:
         positive(max_gain, "max_gain")
 

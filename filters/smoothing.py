@@ -12,7 +12,7 @@ import math
 import cv2
 import numpy as np
 
-from ._checks import as_image, positive
+from ._checks import as_image, as_weights, positive
 from .masks import apply_masked, feather as feather_mask
 from .padding import pad
 
@@ -29,7 +29,7 @@ def filter_padded(image, radius: int, mode: str, fn, *, mask=None, feather: floa
     out = out.astype(a.dtype, copy=False)
     if mask is None:
         return out
-    return apply_masked(a, out, feather_mask(mask, feather, mode))
+    return apply_masked(a, out, feather_mask(as_weights(mask, (h, w)), feather, mode))
 
 
 def mean_filter(image, size: int = 3, mode: str = "reflect", *, iterations: int = 1, mask=None,
@@ -127,8 +127,9 @@ def guided_filter(image, radius: int = 4, eps: float = 1e-4, mode: str = "reflec
     if g.shape[:2] != a.shape[:2]:
         raise ValueError(f"guide: expected shape {a.shape[:2]} (H, W), got {g.shape[:2]}")
     _three_or_one(g, "guided filter's guide")
-    gp = np.ascontiguousarray(pad(g, radius, mode).astype(np.float32))
-    out = filter_padded(a.astype(np.float32), radius, mode,
+    reach = 2 * radius          # two rounds of box means: coefficients, then their means
+    gp = np.ascontiguousarray(pad(g, reach, mode).astype(np.float32))
+    out = filter_padded(a.astype(np.float32), reach, mode,
                         lambda p: cv2.ximgproc.guidedFilter(gp, p, int(radius), float(eps)),
                         mask=mask, feather=feather)
     return out.astype(a.dtype)
