@@ -1,4 +1,4 @@
-"""The ``geoimg`` command line: ``image``, ``mesh``, ``info`` and ``demo``."""
+"""The ``geoimg`` command line: ``image``, ``mesh``, ``filter``, ``curvature``, ``info`` and ``demo``."""
 from __future__ import annotations
 
 import argparse
@@ -131,6 +131,100 @@ def cmd_demo(args) -> int:
     return 0
 
 
+# filter operations: option -> (filters function, argument types, metavar, help); applied in the order given
+FILTER_OPS = {
+    "mean": ("mean_filter", (int,), "SIZE", "mean (box) filter of SIZE x SIZE pixels (odd), as in the paper"),
+    "gaussian": ("gaussian_filter", (float,), "SIGMA", "Gaussian smoothing, SIGMA pixels"),
+    "bilateral": ("bilateral_filter", (float, float), ("SIGMA", "RANGE"),
+                  "edge-preserving bilateral filter: SIGMA pixels, RANGE in coordinate units"),
+    "guided": ("guided_filter", (int, float), ("RADIUS", "EPS"), "edge-preserving guided filter"),
+    "sharpen": ("inverse_filter", (int,), "SIZE", "inverse filter undoing a SIZE x SIZE mean filter (Wiener, --nsr)"),
+    "unsharp": ("unsharp_mask", (float, float), ("SIGMA", "AMOUNT"), "unsharp masking"),
+    "lowpass": ("lowpass", (float,), "CUTOFF", "Fourier low-pass, CUTOFF cycles per pixel (0.5 = Nyquist)"),
+    "bandpass": ("bandpass", (float, float), ("LOW", "HIGH"), "Fourier band-pass (the detail between two cutoffs)"),
+}
+
+
+class _Op(argparse.Action):
+    """Collects filter options in the order they are given."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        kinds = FILTER_OPS[self.dest][1]
+        values = values if isinstance(values, list) else [values]
+        try:
+            parsed = [k(v) for k, v in zip(kinds, values)]
+        except ValueError:
+            parser.error(f"{option_string}: expected {' '.join(k.__name__ for k in kinds)}, got {' '.join(values)}")
+        ops = list(getattr(namespace, "ops", None) or [])
+        ops.append((self.dest, parsed))
+        namespace.ops = ops
+
+
+def cmd_filter(args) -> int:
+    import filters
+    from .image import GeometryImage
+    from .regions import image_region, load_mask, uv_region
+
+    if not getattr(args, "ops", None):
+        raise ValueError("no operation given: add e.g. --mean 5 or --sharpen 3 (see geoimg filter --help)")
+    image = load_image(args.image)
+    given = [m for m in (args.mask, args.region, args.uv_region) if m is not None]
+    if len(given) > 1:
+        raise ValueError("give one of --mask, --region, --uv-region")
+    mask = None
+    if args.mask is not None:
+        mask = load_mask(args.mask, image.shape)
+    elif args.region is not None:
+        mask = image_region(image, args.region[:3], args.region[3])
+    elif args.uv_region is not None:
+        mask = uv_region(image.shape, args.uv_region[:2], args.uv_region[2])
+    if mask is not None and not np.any(mask > 0):
+        raise ValueError("the mask selects no pixel")
+    out = image
+    for name, values in args.ops:
+        op = getattr(filters, FILTER_OPS[name][0])
+        kwargs = {}
+        if args.mode:
+            kwargs["mode"] = args.mode
+        if name == "sharpen":
+            kwargs["nsr"] = args.nsr
+            values = ["mean"] + values
+        if mask is not None:
+            kwargs.update(mask=mask, feather=args.feather)
+        out = out.apply(op, *values, **kwargs)
+    out.metadata["source"] = Path(args.image).name
+    written = [out.save(args.output, overwrite=args.force)]
+    if args.preview:
+        written.append(out.preview(args.preview, overwrite=args.force))
+    if args.mesh:
+        written.append(save_mesh(out.to_mesh(), args.mesh, overwrite=args.force))
+    if not args.quiet:
+        change = np.abs(out.pixels.astype(np.float64) - image.pixels)[image.valid]
+        print(f"applied {'; '.join(out.metadata['filters'][-len(args.ops):])}")
+        print(f"  largest change {change.max():.4g}, mean {change.mean():.4g} (coordinate units)")
+        for f in written:
+            print(f"  wrote {f}")
+    return 0
+
+
+def cmd_curvature(args) -> int:
+    from .curvature import image_curvature
+    from .image_io import save_colormap, save_scalar
+
+    image = load_image(args.image)
+    K, H = image_curvature(image)
+    stem = Path(args.output)
+    written = []
+    for name, values in (("gaussian", K), ("mean", H)):
+        written.append(save_scalar(values, stem.with_name(f"{stem.name}_{name}.exr"), name, overwrite=args.force))
+        written.append(save_colormap(values, stem.with_name(f"{stem.name}_{name}.png"), image.valid,
+                                     overwrite=args.force))
+    if not args.quiet:
+        for f in written:
+            print(f"wrote {f}")
+    return 0
+
+
 def _positive(kind):
     def check(text):
         value = kind(text)
@@ -166,6 +260,34 @@ def build_parser() -> argparse.ArgumentParser:
     me.add_argument("-o", "--output", required=True, help="output mesh (.obj/.ply/.off keep quads)")
     me.add_argument("--force", action="store_true", help="overwrite an existing file")
     me.set_defaults(func=cmd_mesh)
+
+    fi = sub.add_parser("filter", help="smooth, sharpen or Fourier-filter a geometry image", parents=[common],
+                        description="Operations run in the order given; a mask restricts every one of them.")
+    fi.add_argument("image", help="input .exr")
+    fi.add_argument("-o", "--output", required=True, help="output .exr")
+    for name, (_, kinds, metavar, text) in FILTER_OPS.items():
+        fi.add_argument(f"--{name}", dest=name, action=_Op, nargs=len(kinds) if len(kinds) > 1 else None,
+                        metavar=metavar, help=text)
+    fi.add_argument("--nsr", type=_positive(float), default=1e-3, help="Wiener noise-to-signal ratio of --sharpen")
+    fi.add_argument("--mode", choices=("reflect", "linear", "wrap", "octahedral"), default=None,
+                    help="boundary rule (default: octahedral for spherical images, reflect for planar ones)")
+    fi.add_argument("--mask", default=None, help="image file (same size): where to filter, 0..1")
+    fi.add_argument("--region", type=float, nargs=4, metavar=("X", "Y", "Z", "R"), default=None,
+                    help="filter within distance R of the point (X, Y, Z) of the surface")
+    fi.add_argument("--uv-region", type=float, nargs=3, metavar=("U", "V", "R"), default=None,
+                    help="filter within the disk of radius R around (U, V) of the image, in [0, 1]")
+    fi.add_argument("--feather", type=float, default=4.0, help="mask transition width in pixels (default 4)")
+    fi.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")
+    fi.add_argument("--mesh", default=None, help="also write the quad mesh")
+    fi.add_argument("--force", action="store_true", help="overwrite existing files")
+    fi.set_defaults(func=cmd_filter, ops=None)
+
+    cu = sub.add_parser("curvature", help="Gaussian and mean curvature maps of a geometry image", parents=[common])
+    cu.add_argument("image", help="input .exr")
+    cu.add_argument("-o", "--output", required=True,
+                    help="output stem: writes STEM_gaussian.exr/.png and STEM_mean.exr/.png")
+    cu.add_argument("--force", action="store_true", help="overwrite existing files")
+    cu.set_defaults(func=cmd_curvature)
 
     info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common])
     info.add_argument("file")

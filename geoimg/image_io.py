@@ -15,7 +15,7 @@ from .atomic import atomic_path
 from .errors import ImageFileError
 from .image import GeometryImage
 
-__all__ = ["save_image", "load_image", "save_preview"]
+__all__ = ["save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors"]
 
 
 def _oiio():
@@ -143,4 +143,48 @@ def save_preview(image: GeometryImage, path, *, overwrite: bool = False) -> Path
     q[~valid] = 0
     with atomic_path(path, overwrite) as tmp:
         _write(tmp, q, ["R", "G", "B"], _oiio().UINT16)
+    return path
+
+
+def save_scalar(values: np.ndarray, path, name: str = "Y", *, overwrite: bool = False) -> Path:
+    """Write an (H, W) float map (a curvature, a mask) to a one-channel float32 OpenEXR."""
+    path = Path(path)
+    if path.suffix.lower() != ".exr":
+        raise ImageFileError(f"{path}: scalar maps are written as OpenEXR; use a .exr name")
+    a = np.asarray(values, np.float32)
+    if a.ndim != 2:
+        raise ValueError(f"values: expected shape (H, W), got {a.shape}")
+    with atomic_path(path, overwrite) as tmp:
+        _write(tmp, a[..., None], [name], _oiio().FLOAT)
+    return path
+
+
+def diverging_colors(values: np.ndarray, valid: np.ndarray | None = None) -> np.ndarray:
+    """8-bit RGB (H, W, 3) of a signed map: blue (negative), white (0), red (positive), scaled so the
+    99th percentile of |value| over valid pixels is full colour; invalid pixels black.
+
+    Examples
+    --------
+    >>> diverging_colors(np.array([[-1.0, 0.0, 1.0]]))[0].tolist()
+    [[59, 76, 192], [255, 255, 255], [180, 4, 38]]
+    """
+    v = np.asarray(values, np.float64)
+    valid = np.ones(v.shape, bool) if valid is None else np.asarray(valid, bool)
+    scale = np.percentile(np.abs(v[valid]), 99) if valid.any() else 1.0
+    t = np.clip(v / max(scale, 1e-300), -1.0, 1.0)[..., None]
+    white, blue, red = np.array([255.0, 255, 255]), np.array([59.0, 76, 192]), np.array([180.0, 4, 38])
+    rgb = np.where(t < 0, white + (-t) * (blue - white), white + t * (red - white))
+    rgb = np.round(rgb).astype(np.uint8)
+    rgb[~valid] = 0
+    return rgb
+
+
+def save_colormap(values: np.ndarray, path, valid: np.ndarray | None = None, *, overwrite: bool = False) -> Path:
+    """Write a signed (H, W) map as an 8-bit PNG with :func:`diverging_colors`."""
+    path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise ImageFileError(f"{path}: colour maps are PNG; use a .png name")
+    rgb = diverging_colors(values, valid)
+    with atomic_path(path, overwrite) as tmp:
+        _write(tmp, rgb, ["R", "G", "B"], _oiio().UINT8)
     return path

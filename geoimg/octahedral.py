@@ -135,3 +135,23 @@ def weld_index(n: int) -> np.ndarray:
         side[:] = np.minimum(side, side[rev])
     idx[0, 0] = idx[0, -1] = idx[-1, 0] = idx[-1, -1] = 0
     return idx
+
+
+def average_glued(pixels: np.ndarray) -> np.ndarray:
+    """Each group of glued pixels of an ``n x n (x C)`` octahedral image replaced by its mean, so glued
+    pixels hold identical values (a filter keeps them equal only up to rounding).
+
+    Examples
+    --------
+    >>> a = np.zeros((3, 3)); a[0, 0] = 4.0          # the four corners are one point
+    >>> float(average_glued(a)[2, 2])
+    1.0
+    """
+    a = np.asarray(pixels)
+    n = a.shape[0]
+    weld = weld_index(n).ravel()
+    flat = a.reshape(n * n, -1).astype(np.float64)
+    counts = np.bincount(weld, minlength=n * n)
+    sums = np.stack([np.bincount(weld, flat[:, c], minlength=n * n) for c in range(flat.shape[1])], axis=1)
+    mean = sums[weld] / counts[weld][:, None]
+    return mean.reshape(a.shape).astype(a.dtype)

@@ -114,6 +114,7 @@ class SphereSurface:
     orientation: int = 1
     domain: str = "octahedral"
     extent: tuple = (1.0, 1.0)
+    s_face: np.ndarray = field(repr=False, default=None)   # per-face s when it varies (s is its minimum)
 
     @property
     def log_g_ref(self) -> float:
@@ -188,24 +189,29 @@ class SphereSurface:
                 "sliver_rule": self.sliver_rule, "resolution": int(n), "extent": [1.0, 1.0], "source": "",
                 "orientation": int(self.orientation), "exact_pixels": int((st == sphere_kernels.EXACT).sum()),
                 "hole_pixels": 0}
+        if self.s_face is not None:
+            meta["s_max"] = float(self.s_face.max())
         return GeometryImage(P.reshape(n, n, 3).astype(np.float32), None, domain="octahedral", normals=nrm,
                              metadata=meta)
 
 
-def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, s: float, tol: float, sliver_rule: str,
+def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, s, tol: float, sliver_rule: str,
                        orientation: int = 1) -> SphereSurface:
-    """Fit the surface to a mesh whose vertices have unit vectors ``coords`` (called by ``fit_surface``)."""
+    """Fit the surface to a mesh whose vertices have unit vectors ``coords`` (called by ``fit_surface``);
+    ``s`` is a number or one value per mesh face (truncation then uses the smallest)."""
     if sliver_rule not in SLIVER_RULES:
         raise ValueError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
     fm = _sphere_face_maps(mesh, coords, sliver_rule)
     if fm["n_degenerate"]:
         warnings.warn(f"fit_surface: {fm['n_degenerate']} faces of zero area on the sphere were left out",
                       stacklevel=3)
-    sigma = s * fm["d"]
+    s_face = None if np.ndim(s) == 0 else np.asarray(s, np.float64)[fm["face_index"]]
+    s = float(np.min(s))
+    sigma = (s if s_face is None else s_face) * fm["d"]
     radius = truncation_radius(sigma, s, tol) if tol > 0 else np.full_like(sigma, 4.0)
     faces = tuple(np.ascontiguousarray(a, np.float64) for a in (
         fm["centre"], 0.5 / sigma ** 2, radius, fm["normal"], fm["height"], fm["origin"], fm["e1"], fm["e2"],
         fm["C"], fm["A"], fm["B"]))
     cells = sphere_kernels.build_cells_3d(fm["centre"], np.minimum(radius, 4.0))
-    return SphereSurface(float(s), float(tol), sliver_rule, fm["d"], fm["face_index"], fm["n_slivers"],
-                         fm["n_degenerate"], faces, cells, orientation=int(orientation))
+    return SphereSurface(s, float(tol), sliver_rule, fm["d"], fm["face_index"], fm["n_slivers"],
+                         fm["n_degenerate"], faces, cells, orientation=int(orientation), s_face=s_face)

@@ -63,6 +63,7 @@ class Surface:
     _radius: np.ndarray = field(repr=False, default=None)
     _param: np.ndarray = field(repr=False, default=None)
     _cells: tuple = field(repr=False, default=None)
+    s_face: np.ndarray = field(repr=False, default=None)   # per-face s when it varies (s is then its minimum)
 
     @property
     def log_g_ref(self) -> float:
@@ -78,8 +79,8 @@ class Surface:
 
     @property
     def sigma(self) -> np.ndarray:
-        """sigma_i = s d_i of every face (Gaussian weights)."""
-        return self.s * self.faces.d
+        """sigma_i = s_i d_i of every face (Gaussian weights)."""
+        return (self.s if self.s_face is None else self.s_face) * self.faces.d
 
     # ---------------------------------------------------------------- evaluation
     def _points(self, uv, exact):
@@ -205,6 +206,8 @@ class Surface:
             "extent": [float(e) for e in self.extent], "source": "", "orientation": int(self.orientation),
             "exact_pixels": int(n_exact), "hole_pixels": int(holes.sum()),
         }
+        if self.s_face is not None:
+            meta["s_max"] = float(self.s_face.max())
         if holes.any():
             warnings.warn(f"locally supported weights (n={self.n}) leave {int(holes.sum())} pixels uncovered "
                           "(holes); they are masked. Raise n to close them.", stacklevel=2)
@@ -226,6 +229,22 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return np.divide(v, n, out=np.zeros_like(v), where=n > 0)
 
 
+def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None]:
+    """``(s, None)`` for a number; ``(min s, per-face s)`` for an array (truncation and its certificate use
+    the minimum, which is conservative)."""
+    if isinstance(s, (int, float, np.number)) and not isinstance(s, bool):
+        if not (np.isfinite(s) and s > 0):
+            raise ValueError(f"s: expected a positive finite number, got {s!r}")
+        return float(s), None
+    arr = np.asarray(s) if not isinstance(s, (str, bytes, bool)) else np.asarray([])
+    if arr.dtype == object or not np.issubdtype(arr.dtype, np.number) or arr.shape != (n_faces,):
+        raise ValueError(f"s: expected a positive number or {n_faces} per-face values, got {s!r:.80}")
+    arr = arr.astype(np.float64)
+    if not (np.isfinite(arr).all() and (arr > 0).all()):
+        raise ValueError("s: per-face values must be positive and finite")
+    return float(arr.min()), arr
+
+
 def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: str = "gaussian", n: int = 10,
                 tol: float = 1e-10, sliver_rule: str = "robust") -> Surface:
     """Fit the weighted-mean surface of a parametrized mesh.
@@ -235,8 +254,10 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
     mesh : Mesh
     param : Parametrization
         Per-vertex (u, v) of the mesh (see :func:`geoimg.parametrize`).
-    s : float, default 1.0
-        Smoothness: sigma_i = s d_i (Gaussian weights).
+    s : float or array_like of shape (mesh.n_faces,), default 1.0
+        Smoothness: sigma_i = s d_i (Gaussian weights). Per-face values give a surface smoothed more in
+        some places than in others, its normals still exact (paper 4.5; see
+        :func:`geoimg.regions.smoothness_field`).
     weights : {"gaussian", "local"}
         Rational Gaussian (infinitely smooth) or locally supported ``1 - 3R^2 + 2R^3`` (C1, faster, may
         leave holes, which are reported and masked).
@@ -274,8 +295,7 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         raise ValueError(f"param: has {param.coords.shape[0]} points but the mesh has {mesh.n_vertices} vertices")
     if weights not in WEIGHTS:
         raise ValueError(f"weights: expected one of {WEIGHTS}, got {weights!r}")
-    if isinstance(s, bool) or not isinstance(s, (int, float, np.number)) or not (np.isfinite(s) and s > 0):
-        raise ValueError(f"s: expected a positive finite number, got {s!r}")
+    s, s_face = _smoothness(s, mesh.n_faces)
     if not (isinstance(tol, (int, float, np.number)) and 0 <= tol < 1):
         raise ValueError(f"tol: expected a number in [0, 1), got {tol!r}")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
@@ -285,15 +305,15 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
             raise ValueError("weights: the octahedral (spherical) domain supports only 'gaussian' weights")
         from .sphere_surface import fit_sphere_surface
 
-        return fit_sphere_surface(mesh, param.coords, float(s), float(tol), sliver_rule,
+        return fit_sphere_surface(mesh, param.coords, s if s_face is None else s_face, float(tol), sliver_rule,
                                   int(param.info.get("orientation", 1)))
     fm = face_maps(mesh, param.coords, sliver_rule=sliver_rule)
     if fm.n_degenerate:
         warnings.warn(f"fit_surface: {fm.n_degenerate} faces of zero area in the parameter domain were left out",
                       stacklevel=2)
-    s = float(s)
+    s_kept = None if s_face is None else s_face[fm.face_index]
     if weights == "gaussian":
-        sigma = s * fm.d
+        sigma = (s if s_kept is None else s_kept) * fm.d
         param_arr = 0.5 / sigma ** 2
         if tol > 0:
             radius = truncation_radius(sigma, s, tol)
@@ -308,4 +328,5 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
     cells = kernels.build_cells(fm.centres, np.where(np.isfinite(radius), radius, 0.0))
     polys = param.coords[np.where(mesh.faces >= 0, mesh.faces, mesh.faces[:, :1])][fm.face_index]
     return Surface(fm, param.extent, s, weights, int(n), float(tol), sliver_rule,
-                   int(param.info.get("orientation", 1)), param.domain, polys, mesh.face_sizes[fm.face_index], radius, param_arr, cells)
+                   int(param.info.get("orientation", 1)), param.domain, polys, mesh.face_sizes[fm.face_index], radius, param_arr, cells,
+                   s_kept)

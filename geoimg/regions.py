@@ -1,0 +1,131 @@
+"""Regions: where to smooth. Image masks from a file, a disk in parameter space or a ball in 3-D, and
+per-face smoothness fields for the surface itself (paper 4.5).
+
+A region is a weight in [0, 1]: 1 inside, a smooth falloff over ``feather`` (same units as ``radius``)
+outside, 0 beyond. Masks of octahedral images are made symmetric on the glued boundary.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .errors import ImageFileError
+from .image import GeometryImage
+from .mesh import Mesh
+
+__all__ = ["ball_weights", "image_region", "uv_region", "load_mask", "smoothness_field", "symmetric_mask"]
+
+
+def _positive(value, name, allow_zero=False):
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or not np.isfinite(value) \
+            or value < 0 or (value == 0 and not allow_zero):
+        raise ValueError(f"{name}: expected a {'non-negative' if allow_zero else 'positive'} number, got {value!r}")
+    return float(value)
+
+
+def ball_weights(points, centre, radius: float, feather: float = 0.0) -> np.ndarray:
+    """Weights of points (..., D) for the ball ``|p - centre| <= radius``, falling off smoothly
+    (smoothstep) over ``feather`` beyond it.
+
+    Examples
+    --------
+    >>> ball_weights(np.array([[0.0], [1.5], [2.0], [3.0]]), [0.0], 1.0, 2.0).tolist()
+    [1.0, 0.84375, 0.5, 0.0]
+    """
+    p = np.asarray(points, dtype=np.float64)
+    c = np.asarray(centre, dtype=np.float64)
+    if c.shape != p.shape[-1:] or not np.isfinite(c).all():
+        raise ValueError(f"centre: expected {p.shape[-1]} finite coordinates, got {centre!r}")
+    radius, feather = _positive(radius, "radius", allow_zero=True), _positive(feather, "feather", allow_zero=True)
+    d = np.linalg.norm(p - c, axis=-1) - radius
+    if feather == 0:
+        return (d <= 0).astype(np.float64)
+    t = np.clip(1.0 - d / feather, 0.0, 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
+def symmetric_mask(weights: np.ndarray) -> np.ndarray:
+    """Largest weight of each group of glued pixels of an octahedral image, given to all of them."""
+    from .octahedral import weld_index
+
+    w = np.asarray(weights, dtype=np.float64)
+    weld = weld_index(w.shape[0]).ravel()
+    best = np.zeros(w.size)
+    np.maximum.at(best, weld, w.ravel())
+    return best[weld].reshape(w.shape)
+
+
+def image_region(image: GeometryImage, centre, radius: float, feather: float = 0.0) -> np.ndarray:
+    """Weights (H, W) of the pixels whose surface point lies in the ball around ``centre`` (3-D, the
+    mesh's units): smooth, for example, the region around a point of the mesh.
+
+    Examples
+    --------
+    >>> x, y = np.meshgrid(np.arange(5.0), np.arange(3.0))
+    >>> img = GeometryImage(np.stack([x, y, 0 * x], axis=-1))
+    >>> image_region(img, [0, 0, 0], 1.0).astype(int).tolist()
+    [[1, 1, 0, 0, 0], [1, 0, 0, 0, 0], [0, 0, 0, 0, 0]]
+    """
+    w = ball_weights(image.pixels, centre, radius, feather) * image.valid
+    return symmetric_mask(w) if image.domain == "octahedral" else w
+
+
+def uv_region(shape, centre, radius: float, feather: float = 0.0) -> np.ndarray:
+    """Weights (H, W) of a disk in the image's [0, 1]^2 coordinates (u along columns, v along rows).
+
+    Examples
+    --------
+    >>> uv_region((3, 3), (0.5, 0.5), 0.1).astype(int).tolist()
+    [[0, 0, 0], [0, 1, 0], [0, 0, 0]]
+    """
+    h, w = shape
+    uu, vv = np.meshgrid(np.linspace(0, 1, w), np.linspace(0, 1, h))
+    return ball_weights(np.stack([uu, vv], axis=-1), centre, radius, feather)
+
+
+def load_mask(path, shape) -> np.ndarray:
+    """Weights (H, W) in [0, 1] from an image file (PNG, EXR, ...: the first channel, scaled by its
+    type's range; 8-bit 255 is 1). The file must have the geometry image's size."""
+    import OpenImageIO as oiio
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"mask: no image file at {path}")
+    inp = oiio.ImageInput.open(str(path))
+    if inp is None:
+        raise ImageFileError(f"mask: {path} cannot be read as an image ({oiio.geterror()})")
+    try:
+        spec = inp.spec()
+        data = inp.read_image(oiio.FLOAT)   # integer formats come normalized to [0, 1]
+    finally:
+        inp.close()
+    if data is None:
+        raise ImageFileError(f"mask: {path}: pixel data could not be read")
+    if (spec.height, spec.width) != tuple(shape):
+        raise ValueError(f"mask: {path} is {spec.width} x {spec.height} pixels; the geometry image is "
+                         f"{shape[1]} x {shape[0]}")
+    w = np.asarray(data, np.float64).reshape(spec.height, spec.width, spec.nchannels)[..., 0]
+    if not np.isfinite(w).all() or w.min() < 0 or w.max() > 1:
+        raise ValueError(f"mask: {path}: values must lie in [0, 1]")
+    return w
+
+
+def smoothness_field(mesh: Mesh, centre, radius: float, inside: float, outside: float = 1.0,
+                     feather: float = 0.0) -> np.ndarray:
+    """Per-face ``s`` for :func:`geoimg.fit_surface`: ``inside`` for faces whose centroid lies in the
+    ball around ``centre`` (3-D), ``outside`` elsewhere, blended over ``feather``.
+
+    Examples
+    --------
+    >>> m = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [5, 0, 0]], [[0, 1, 2], [1, 4, 2]])
+    >>> smoothness_field(m, [0, 0, 0], 1.0, inside=3.0).tolist()
+    [3.0, 1.0]
+    """
+    inside, outside = _positive(inside, "inside"), _positive(outside, "outside")
+    f, k = mesh.faces, mesh.face_sizes
+    valid = f >= 0
+    xyz = mesh.vertices[np.where(valid, f, f[:, :1])]
+    centroid = (xyz * valid[..., None]).sum(axis=1) / k[:, None]
+    w = ball_weights(centroid, centre, radius, feather)
+    return outside + (inside - outside) * w

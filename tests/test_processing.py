@@ -1,0 +1,182 @@
+"""Geometry images through the filters: domain rules, masks and regions, curvature, varying s, CLI."""
+import warnings
+
+import numpy as np
+import pytest
+
+import filters
+import geoimg
+from geoimg.cli import main
+from geoimg.curvature import image_curvature, surface_curvature
+from geoimg.octahedral import weld_index
+from geoimg.regions import image_region, load_mask, smoothness_field, uv_region
+from geoimg.topology import topology
+
+from helpers import shared_file
+
+
+def load(rel):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return geoimg.load_mesh(shared_file(rel))
+
+
+@pytest.fixture(scope="module")
+def spot():
+    mesh = load("meshes/closed_genus0/spot_low_resolution.obj")
+    param = geoimg.parametrize(mesh, "sphere")
+    surf = geoimg.fit_surface(mesh, param, s=1)
+    return mesh, param, surf, surf.sample(65)
+
+
+def test_apply_uses_the_domain_rule_and_keeps_glued_pixels_identical(spot):
+    *_, img = spot
+    out = img.apply(filters.gaussian_filter, 2.0)
+    flat = out.pixels.reshape(-1, 3)
+    assert np.array_equal(flat, flat[weld_index(65).ravel()])
+    assert out.normals is None and out.domain == "octahedral" and img.normals is not None
+    assert out.metadata["filters"] == ["gaussian_filter(2.0, mode=octahedral)"]
+    assert np.array_equal(out.pixels, geoimg.octahedral.average_glued(filters.gaussian_filter(img.pixels, 2.0, "octahedral")))
+    topo = topology(out.to_mesh())
+    assert topo.closed and topo.genus == 0
+
+
+def test_apply_masks_any_operation_and_leaves_far_pixels_bit_identical(spot, mountain_surface):
+    *_, img = spot
+    centre = img.pixels[20, 30]
+    region = image_region(img, centre, 0.15)
+    assert region.sum() > 10
+    for op, args in ((filters.lowpass, (0.05,)), (filters.mean_filter, (5,))):   # without / with a mask argument
+        out = img.apply(op, *args, mask=region, feather=3)
+        far = filters.feather(region, 3, "octahedral") == 0
+        assert np.array_equal(out.pixels[far], img.pixels[far])
+        assert np.abs(out.pixels[region == 1] - img.pixels[region == 1]).max() > 1e-4
+    planar = mountain_surface.sample(33)
+    with pytest.raises(ValueError, match="octahedral"):
+        img.apply(filters.blend, planar, 0.5)
+    blended = planar.apply(filters.blend, planar.apply(filters.mean_filter, 3), 0.5)
+    assert blended.mask is not None and np.array_equal(blended.mask, planar.mask)
+
+
+def test_octahedral_masks_are_made_symmetric(spot):
+    *_, img = spot
+    one_side = np.zeros((65, 65))
+    one_side[0, 10] = 1.0                 # glued to (0, 54)
+    out = img.apply(filters.mean_filter, 3, mask=one_side, feather=0)
+    assert not np.array_equal(out.pixels[0, 54], img.pixels[0, 54])
+
+
+def test_uv_region_and_mask_files(tmp_path):
+    import OpenImageIO as oiio
+
+    w = uv_region((21, 31), (0.5, 0.5), 0.2, 0.1)
+    assert w[10, 15] == 1 and w[0, 0] == 0 and 0 < w[10, 22] < 1
+    png = tmp_path / "m.png"
+    data = (np.arange(31)[None, :].repeat(21, 0) >= 15).astype(np.uint8) * 255
+    out = oiio.ImageOutput.create(str(png))
+    out.open(str(png), oiio.ImageSpec(31, 21, 1, oiio.UINT8))
+    out.write_image(data[..., None])
+    out.close()
+    m = load_mask(png, (21, 31))
+    assert m.dtype == np.float64 and set(np.unique(m)) == {0.0, 1.0} and m[0, 15] == 1
+    with pytest.raises(ValueError, match="31 x 21 pixels; the geometry image is 30 x 21"):
+        load_mask(png, (21, 30))
+    with pytest.raises(FileNotFoundError, match="mask"):
+        load_mask(tmp_path / "none.png", (21, 31))
+    with pytest.raises(ValueError, match="centre"):
+        uv_region((5, 5), (0.5,), 0.1)
+
+
+# --- surface-domain partial smoothing (paper 4.5) ---------------------------------------------------
+
+def test_varying_s_smooths_a_region_and_keeps_normals_exact(mountain, mountain_surface):
+    param = geoimg.parametrize(mountain, "heightfield", axis="y")
+    centre = mountain.vertices[np.argmax(mountain.vertices[:, 1])]          # around the summit
+    diag = mountain.bounding_box_diagonal()
+    s_face = smoothness_field(mountain, centre, 0.1 * diag, inside=6.0, outside=2.0, feather=0.1 * diag)
+    assert s_face.shape == (mountain.n_faces,) and s_face.min() == 2 and s_face.max() == 6
+    varied = geoimg.fit_surface(mountain, param, s=s_face)
+    assert varied.s == 2.0
+    u, v = varied.grid(65)
+    uu, vv = np.meshgrid(u, v)
+    uv = np.stack([uu.ravel(), vv.ravel()], 1)
+    change = np.linalg.norm(varied.evaluate(uv) - mountain_surface.evaluate(uv), axis=1)
+    near = image_region(geoimg.GeometryImage(mountain_surface.evaluate(uv).reshape(65, 65, 3).astype(np.float32)),
+                        centre, 0.1 * diag).ravel() > 0
+    far = image_region(geoimg.GeometryImage(mountain_surface.evaluate(uv).reshape(65, 65, 3).astype(np.float32)),
+                       centre, 0.45 * diag).ravel() == 0
+    assert near.sum() > 20 and far.sum() > 100
+    assert np.median(change[near]) > 100 * np.median(change[far])
+    # exact normals: analytic derivatives agree with finite differences of the varied surface
+    pts = uv[near][:5]
+    pu, pv = varied.derivatives(pts)
+    h = 1e-6
+    fd_u = (varied.evaluate(pts + [h, 0]) - varied.evaluate(pts - [h, 0])) / (2 * h)
+    fd_v = (varied.evaluate(pts + [0, h]) - varied.evaluate(pts - [0, h])) / (2 * h)
+    assert np.abs(pu - fd_u).max() < 1e-5 * np.abs(pu).max() and np.abs(pv - fd_v).max() < 1e-5 * np.abs(pv).max()
+    # truncation stays certified: the truncated sum equals the exact one
+    assert np.abs(varied.evaluate(uv[::7]) - varied.evaluate(uv[::7], exact=True)).max() < 1e-9 * diag
+
+
+def test_varying_s_on_the_sphere(spot):
+    mesh, param, surf, img = spot
+    s_face = np.where(np.arange(mesh.n_faces) % 2 == 0, 1.0, 1.5)
+    varied = geoimg.fit_surface(mesh, param, s=s_face)
+    assert varied.s == 1.0 and varied.sample(9).metadata["s_max"] == 1.5
+    q = geoimg.octahedral.grid_directions(17).reshape(-1, 3)
+    assert np.abs(varied.evaluate_directions(q)[0] - varied.evaluate_directions(q, exact=True)[0]).max() < 1e-9
+
+
+@pytest.mark.parametrize("s, message", [
+    (np.ones(3), "per-face values"), (-np.ones(4), "positive"), ("1", "per-face values"), (np.nan, "positive finite")])
+def test_bad_smoothness_is_refused(s, message):
+    m = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], [[0, 1, 2], [0, 2, 3], [1, 4, 2], [0, 1, 3]])
+    with pytest.raises(ValueError, match=message):
+        geoimg.fit_surface(m, geoimg.Parametrization(m.vertices[:, :2] / 2, (1, 1)), s=s)
+
+
+# --- curvature --------------------------------------------------------------------------------------
+
+def test_surface_curvature_of_a_sphere_mesh():
+    mesh = load("meshes/closed_genus0/sphere.obj")
+    surf = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), s=1)
+    K, H = surface_curvature(surf, 33)
+    r = np.linalg.norm(mesh.vertices, axis=1).mean()
+    assert np.median(K) == pytest.approx(1 / r ** 2, rel=0.03) and np.median(H) == pytest.approx(-1 / r, rel=0.03)
+    assert np.mean(np.abs(K * r * r - 1) < 0.15) > 0.98
+    # the grid's curvature reads the octahedron's creases; the surface's has no such lines
+    Kg, _ = image_curvature(surf.sample(33))
+    assert np.abs(Kg - 1 / r ** 2).max() > 2 * np.abs(K - 1 / r ** 2).max()
+
+
+def test_grid_and_surface_curvature_agree_on_terrain(mountain_surface):
+    K, H = surface_curvature(mountain_surface, 129)
+    Kg, Hg = image_curvature(mountain_surface.sample(129))
+    inner = (slice(3, -3), slice(3, -3))
+    assert np.corrcoef(H[inner].ravel(), Hg[inner].ravel())[0, 1] > 0.95
+    assert np.corrcoef(K[inner].ravel(), Kg[inner].ravel())[0, 1] > 0.9
+
+
+# --- command line -----------------------------------------------------------------------------------
+
+def test_cli_filter_and_curvature(tmp_path, spot, capsys):
+    *_, img = spot
+    src = img.save(tmp_path / "spot.exr")
+    rc = main(["filter", str(src), "-o", str(tmp_path / "f.exr"), "--mean", "5", "--sharpen", "3",
+               "--region", *map(str, img.pixels[32, 32]), "0.2", "--mesh", str(tmp_path / "f.obj")])
+    assert rc == 0
+    out = geoimg.load_image(tmp_path / "f.exr")
+    assert out.metadata["filters"][0].startswith("mean_filter(5") and out.metadata["filters"][1].startswith("inverse_filter")
+    topo = topology(geoimg.load_mesh(tmp_path / "f.obj"))
+    assert topo.closed and topo.genus == 0
+    assert main(["curvature", str(src), "-o", str(tmp_path / "c")]) == 0
+    assert (tmp_path / "c_gaussian.exr").is_file() and (tmp_path / "c_mean.png").is_file()
+    capsys.readouterr()
+    assert main(["filter", str(src), "-o", str(tmp_path / "g.exr")]) == 2
+    assert "no operation given" in capsys.readouterr().err
+    assert main(["filter", str(src), "-o", str(tmp_path / "g.exr"), "--mean", "4"]) == 2
+    assert "odd size" in capsys.readouterr().err
+    assert main(["filter", str(src), "-o", str(tmp_path / "g.exr"), "--mean", "3", "--region", "9", "9", "9", "0.1"]) == 2
+    assert "selects no pixel" in capsys.readouterr().err
+    assert main(["filter", str(src), "-o", str(tmp_path / "f.exr"), "--mean", "3"]) == 2    # exists, no --force
+    assert not (tmp_path / "g.exr").exists()
