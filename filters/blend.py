@@ -5,7 +5,7 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
-from scipy import ndimage
+from scipy import sparse
 
 from ._checks import as_image, as_weights, positive
 from .masks import apply_masked, feather as feather_mask
@@ -13,7 +13,7 @@ from .padding import pad
 
 __all__ = ["blend", "composite", "paste", "resize"]
 
-_RESIZE_PAD = 16  # cubic-spline prefilter: its boundary effect decays as 0.27^k, about 1e-9 after 16 pixels
+_RESIZE_PAD = 4   # the cubic (Keys) kernel reads 2 pixels each side
 
 
 def _same_shape(a: np.ndarray, b: np.ndarray, names=("a", "b")) -> None:
@@ -80,9 +80,22 @@ def paste(target, source, mask, feather: float = 4.0, mode: str = "reflect", *, 
     return apply_masked(t, (s + offset).astype(t.dtype), w), offset
 
 
+def _cubic_matrix(x: np.ndarray, n: int) -> sparse.csr_matrix:
+    """Sparse (len(x), n) matrix of Keys' cubic convolution (a = -1/2: exact for quadratics) at ``x``."""
+    base = np.floor(x).astype(np.int64)
+    t = x - base
+    w = np.stack([((-0.5 * t + 1.0) * t - 0.5) * t,
+                  (1.5 * t - 2.5) * t * t + 1.0,
+                  ((-1.5 * t + 2.0) * t + 0.5) * t,
+                  (0.5 * t - 0.5) * t * t], axis=1)
+    cols = np.clip(base[:, None] + np.arange(-1, 3), 0, n - 1)
+    rows = np.repeat(np.arange(len(x)), 4)
+    return sparse.csr_matrix((w.ravel(), (rows, cols.ravel())), shape=(len(x), n))
+
+
 def resize(image, shape, mode: str = "linear") -> np.ndarray:
     """Resample to ``shape`` (H', W') on the same domain, corners to corners (vertex sampling), by
-    cubic splines over the image extended with ``mode``: ``linear`` keeps a planar image's linear
+    separable cubic convolution (Keys, exact for quadratics) over the image extended with ``mode``: ``linear`` keeps a planar image's linear
     functions (its X, Y) exact up to the border, ``octahedral`` keeps an octahedral one seamless.
 
     Examples
@@ -100,11 +113,10 @@ def resize(image, shape, mode: str = "linear") -> np.ndarray:
         raise ValueError(f"shape: an octahedral image needs an odd square size, got {tuple(shape)}")
     r = _RESIZE_PAD
     padded = pad(a, r, mode).astype(np.float64)
-    rows = np.linspace(0, h - 1, shape[0]) + r
-    cols = np.linspace(0, w - 1, shape[1]) + r
-    rr, cc = np.meshgrid(rows, cols, indexing="ij")
-    chans = padded[..., None] if padded.ndim == 2 else padded
-    out = np.stack([ndimage.map_coordinates(chans[..., c], [rr, cc], order=3, mode="nearest")
-                    for c in range(chans.shape[2])], axis=-1)
-    out = out[..., 0] if a.ndim == 2 else out
+    ry = _cubic_matrix(np.linspace(0, h - 1, shape[0]) + r, padded.shape[0])
+    rx = _cubic_matrix(np.linspace(0, w - 1, shape[1]) + r, padded.shape[1])
+    rest = padded.shape[2:]
+    out = ry @ padded.reshape(padded.shape[0], -1)                          # rows
+    out = out.reshape((shape[0], padded.shape[1]) + rest).swapaxes(0, 1)
+    out = (rx @ out.reshape(padded.shape[1], -1)).reshape((shape[1], shape[0]) + rest).swapaxes(0, 1)
     return out.astype(a.dtype, copy=False)

@@ -37,7 +37,13 @@ def feather(mask, width: float = 0.0, mode: str = "reflect") -> np.ndarray:
     core = pad(w, r, mode) >= 0.5
     if not core.any():
         return w
-    d = ndimage.distance_transform_edt(~core)[r:-r, r:-r]
+    # distances matter only within r of the core: transform the core's bounding box grown by r
+    rows, cols = np.flatnonzero(core.any(axis=1)), np.flatnonzero(core.any(axis=0))
+    r0, r1 = max(rows[0] - r, 0), min(rows[-1] + r + 1, core.shape[0])
+    c0, c1 = max(cols[0] - r, 0), min(cols[-1] + r + 1, core.shape[1])
+    far = np.full(core.shape, np.inf)
+    far[r0:r1, c0:c1] = ndimage.distance_transform_edt(~core[r0:r1, c0:c1])
+    d = far[r:-r, r:-r]
     t = np.clip(1.0 - d / width, 0.0, 1.0)
     return np.maximum(w, t * t * (3.0 - 2.0 * t))
 

@@ -99,11 +99,30 @@ def pad(image, width: int, mode: str = "reflect") -> np.ndarray:
     a = as_image(image)
     if isinstance(width, bool) or not isinstance(width, (int, np.integer)) or width < 0:
         raise ValueError(f"width: expected a non-negative integer, got {width!r}")
-    h, w = a.shape[:2]
-    rows, cols = np.arange(-width, h + width), np.arange(-width, w + width)
     if mode == "linear":
         return _linear_pad(a, width)
-    return _take(a, rows, cols, mode)
+    if mode == "octahedral":
+        return _octahedral_pad(a, width)
+    spec = [(width, width), (width, width)] + [(0, 0)] * (a.ndim - 2)
+    return np.pad(a, spec, mode="reflect" if mode == "reflect" else "wrap")
+
+
+def _octahedral_pad(a: np.ndarray, width: int) -> np.ndarray:
+    """The image in the middle, and only the four border strips gathered through the fold."""
+    m = _check_octahedral(a.shape)
+    n = m + 1
+    out = np.empty((n + 2 * width, n + 2 * width) + a.shape[2:], a.dtype)
+    out[width:width + n, width:width + n] = a
+    if width == 0:
+        return out
+    full = np.arange(-width, n + width)
+    mid = np.arange(n)
+    for rows, cols, where in ((np.arange(-width, 0), full, (slice(0, width), slice(None))),
+                              (np.arange(n, n + width), full, (slice(n + width, None), slice(None))),
+                              (mid, np.arange(-width, 0), (slice(width, width + n), slice(0, width))),
+                              (mid, np.arange(n, n + width), (slice(width, width + n), slice(n + width, None)))):
+        out[where] = _take(a, rows, cols, "octahedral")
+    return out
 
 
 def _linear_pad(a: np.ndarray, width: int) -> np.ndarray:
@@ -143,8 +162,13 @@ def periodic_extension(image, mode: str = "reflect") -> np.ndarray:
     h, w = a.shape[:2]
     if mode == "wrap":
         return a.copy()
-    if mode == "octahedral":
+    if mode == "octahedral":   # blocks: the image, its two half-turns about side midpoints, and a shift
         m = _check_octahedral(a.shape)
-        return _take(a, np.arange(2 * m), np.arange(2 * m), mode)
+        ext = np.empty((2 * m, 2 * m) + a.shape[2:], a.dtype)
+        ext[:m + 1, :m + 1] = a
+        ext[m + 1:, :m + 1] = a[m - 1:0:-1, ::-1]
+        ext[:m + 1, m + 1:] = a[::-1, m - 1:0:-1]
+        ext[m + 1:, m + 1:] = a[1:m, 1:m]
+        return ext
     ph, pw = max(2 * (h - 1), 1), max(2 * (w - 1), 1)
     return _take(a, np.arange(ph), np.arange(pw), mode)
