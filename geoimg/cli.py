@@ -37,7 +37,8 @@ def _mesh_to_image(args, progress):
     progress(f"loading {args.mesh}")
     mesh = load_mesh(args.mesh)
     progress(f"{mesh.n_vertices} vertices, {mesh.n_faces} faces; parametrizing ({args.method})")
-    param = parametrize(mesh, args.method, axis=args.axis, progress=progress)
+    param = parametrize(mesh, args.method, axis=args.axis, boundary=getattr(args, "boundary", "square"),
+                        progress=progress)
     progress(f"parametrized by {param.method}; fitting the surface (s={args.s}, {args.weights} weights)")
     surface = fit_surface(mesh, param, args.s, weights=args.weights, n=args.n, tol=args.tol,
                           sliver_rule=args.sliver_rule)
@@ -247,6 +248,8 @@ def build_parser() -> argparse.ArgumentParser:
     im.add_argument("--s", type=_positive(float), default=1.0, help="smoothness s (sigma_i = s d_i), default 1")
     im.add_argument("--method", choices=PARAMETRIZATION_METHODS, default="auto", help="parametrization")
     im.add_argument("--axis", choices=("x", "y", "z"), default=None, help="up axis of a height field")
+    im.add_argument("--boundary", choices=("square", "keep"), default="square",
+                    help="disk meshes: boundary on the unit square (default) or kept (a convex planar outline)")
     im.add_argument("--weights", choices=WEIGHTS, default="gaussian")
     im.add_argument("--n", type=int, default=10, help="face centres per local weight (--weights local)")
     im.add_argument("--tol", type=float, default=1e-10, help="truncation tolerance; 0 = exact sum")

@@ -57,3 +57,18 @@ def test_quiet_prints_nothing(tmp_path, capsys):
     assert main(["mesh", str(tmp_path / "q.exr"), "-o", str(tmp_path / "q.ply"), "-q"]) == 0
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err == ""
+
+
+def test_boundary_option_for_disk_meshes(tmp_path, capsys):
+    v = [[0, 0, 0], [2, 0, 0], [3, 1, 0], [2, 2, 0], [0, 2, 0], [1.2, 1, 0]]     # a convex pentagon fan
+    pentagon = geoimg.save_mesh(geoimg.Mesh(v, [[0, 1, 5], [1, 2, 5], [2, 3, 5], [3, 4, 5], [4, 0, 5]]),
+                                tmp_path / "p.obj")
+    for flag, shape in (("keep", (22, 33)), ("square", (33, 33))):
+        out = tmp_path / f"{flag}.exr"
+        assert main(["image", str(pentagon), "-o", str(out), "--method", "disk", "--boundary", flag,
+                     "--res", "33", "-q"]) == 0
+        assert geoimg.load_image(out).shape == shape     # kept: the pentagon's 3 x 2 proportions
+    capsys.readouterr()
+    ell = shared_file("meshes/polygonal/L.off")
+    assert main(["image", str(ell), "-o", str(tmp_path / "l.exr"), "--method", "disk", "--boundary", "keep"]) == 2
+    assert "reflex" in capsys.readouterr().err
