@@ -210,7 +210,8 @@ def cmd_filter(args) -> int:
 
 def cmd_curvature(args) -> int:
     from .curvature import image_curvature
-    from .image_io import save_colormap, save_scalar
+    from .image import grid_normals
+    from .image_io import save_colormap, save_normal_map, save_scalar
 
     image = load_image(args.image)
     K, H = image_curvature(image)
@@ -220,6 +221,10 @@ def cmd_curvature(args) -> int:
         written.append(save_scalar(values, stem.with_name(f"{stem.name}_{name}.exr"), name, overwrite=args.force))
         written.append(save_colormap(values, stem.with_name(f"{stem.name}_{name}.png"), image.valid,
                                      overwrite=args.force))
+    normals = image.normals if image.normals is not None else grid_normals(image.pixels,
+                                                                          int(image.metadata.get("orientation", 1)))
+    written.append(save_normal_map(normals, stem.with_name(f"{stem.name}_normals.png"), image.valid,
+                                   overwrite=args.force))
     if not args.quiet:
         for f in written:
             print(f"wrote {f}")
@@ -285,10 +290,11 @@ def build_parser() -> argparse.ArgumentParser:
     fi.add_argument("--force", action="store_true", help="overwrite existing files")
     fi.set_defaults(func=cmd_filter, ops=None)
 
-    cu = sub.add_parser("curvature", help="Gaussian and mean curvature maps of a geometry image", parents=[common])
+    cu = sub.add_parser("curvature", help="Gaussian and mean curvature maps and a normal map of a geometry image",
+                        parents=[common])
     cu.add_argument("image", help="input .exr")
     cu.add_argument("-o", "--output", required=True,
-                    help="output stem: writes STEM_gaussian.exr/.png and STEM_mean.exr/.png")
+                    help="output stem: writes STEM_gaussian.exr/.png, STEM_mean.exr/.png, STEM_normals.png")
     cu.add_argument("--force", action="store_true", help="overwrite existing files")
     cu.set_defaults(func=cmd_curvature)
 

@@ -15,7 +15,8 @@ from .atomic import atomic_path
 from .errors import ImageFileError
 from .image import GeometryImage
 
-__all__ = ["save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors"]
+__all__ = ["save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
+           "save_normal_map"]
 
 
 def _oiio():
@@ -185,6 +186,20 @@ def save_colormap(values: np.ndarray, path, valid: np.ndarray | None = None, *, 
     if path.suffix.lower() != ".png":
         raise ImageFileError(f"{path}: colour maps are PNG; use a .png name")
     rgb = diverging_colors(values, valid)
+    with atomic_path(path, overwrite) as tmp:
+        _write(tmp, rgb, ["R", "G", "B"], _oiio().UINT8)
+    return path
+
+
+def save_normal_map(normals: np.ndarray, path, valid: np.ndarray | None = None, *, overwrite: bool = False) -> Path:
+    """Write unit normals (H, W, 3) as an 8-bit PNG normal map, ``(n + 1) / 2`` per channel; invalid black."""
+    path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise ImageFileError(f"{path}: normal maps are PNG; use a .png name")
+    n = np.asarray(normals, np.float64)
+    rgb = np.round(np.clip(n * 0.5 + 0.5, 0, 1) * 255).astype(np.uint8)
+    if valid is not None:
+        rgb[~np.asarray(valid, bool)] = 0
     with atomic_path(path, overwrite) as tmp:
         _write(tmp, rgb, ["R", "G", "B"], _oiio().UINT8)
     return path

@@ -171,6 +171,14 @@ def test_cli_filter_and_curvature(tmp_path, spot, capsys):
     assert topo.closed and topo.genus == 0
     assert main(["curvature", str(src), "-o", str(tmp_path / "c")]) == 0
     assert (tmp_path / "c_gaussian.exr").is_file() and (tmp_path / "c_mean.png").is_file()
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(str(tmp_path / "c_mean.exr"))
+    H_file = np.asarray(inp.read_image(oiio.FLOAT)).reshape(65, 65)
+    inp.close()
+    assert np.array_equal(H_file, image_curvature(img)[1].astype(np.float32))
+    nmap = oiio.ImageInput.open(str(tmp_path / "c_normals.png"))
+    assert nmap.spec().nchannels == 3 and nmap.spec().width == 65
+    nmap.close()
     capsys.readouterr()
     assert main(["filter", str(src), "-o", str(tmp_path / "g.exr")]) == 2
     assert "no operation given" in capsys.readouterr().err
