@@ -27,6 +27,15 @@ def check_writable(path, overwrite: bool) -> Path:
     return path
 
 
+def _default_mode(path: Path) -> int:
+    """The replaced file's mode, else what a newly created file gets under the process's umask."""
+    if path.exists():
+        return path.stat().st_mode & 0o7777
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 @contextlib.contextmanager
 def atomic_path(path, overwrite: bool = False):
     """Yield a temporary path in the target's folder; rename it onto ``path`` on success.
@@ -48,6 +57,7 @@ def atomic_path(path, overwrite: bool = False):
     tmp = Path(tmp)
     try:
         yield tmp
+        os.chmod(tmp, _default_mode(path))      # mkstemp makes it private; give it a normal file's mode
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)

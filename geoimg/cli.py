@@ -1,4 +1,5 @@
-"""The ``geoimg`` command line: ``image``, ``mesh``, ``filter``, ``curvature``, ``info`` and ``demo``."""
+"""The ``geoimg`` command line: ``image``, ``mesh``, ``filter``, ``curvature``, ``render``, ``morph``, ``info``
+and ``demo``."""
 from __future__ import annotations
 
 import argparse
@@ -31,6 +32,28 @@ class Progress:
     def __call__(self, message: str) -> None:
         if self.on:
             print(f"[{time.perf_counter() - self.t0:6.1f}s] {message}", file=self.stream, flush=True)
+
+
+class ProgressBar:
+    """``[#####.....] 12/30 what`` on stderr, redrawn in place, on a terminal unless quiet."""
+
+    def __init__(self, what: str, quiet: bool = False, stream=None, width: int = 30):
+        self.stream = stream or sys.stderr
+        self.on = not quiet and self.stream.isatty()
+        self.what, self.width = what, width
+
+    def __call__(self, done: int, total: int) -> None:
+        if not self.on:
+            return
+        fill = int(self.width * done / max(total, 1))
+        end = "\n" if done >= total else ""
+        print(f"\r[{'#' * fill}{'.' * (self.width - fill)}] {done}/{total} {self.what}", end=end,
+              file=self.stream, flush=True)
+
+
+def _load_shape(path):
+    """A mesh file or a geometry image (.exr)."""
+    return load_image(path) if Path(path).suffix.lower() == ".exr" else load_mesh(path)
 
 
 def _mesh_to_image(args, progress):
@@ -231,6 +254,71 @@ def cmd_curvature(args) -> int:
     return 0
 
 
+def cmd_render(args) -> int:
+    from .render import Renderer, save_png
+
+    shape = _load_shape(args.file)
+    r = Renderer(args.width, args.height)
+    try:
+        rgb = r.render(shape, r.camera_for(shape, azimuth=args.azimuth, elevation=args.elevation, up=args.up))
+    finally:
+        r.release()
+    out = save_png(rgb, args.output, overwrite=args.force)
+    if not args.quiet:
+        print(f"wrote {out}: {args.width} x {args.height}")
+    return 0
+
+
+def cmd_morph(args) -> int:
+    from .animation import save_frames, save_glb
+    from .morph import morph
+    from .render import Renderer, save_animation
+
+    progress = Progress(args.quiet)
+    if not (args.output or args.gif or args.mp4 or args.frames_dir):
+        raise ValueError("nothing to write: give -o OUT.glb, --gif, --mp4 or --frames-dir")
+    shapes = []
+    for f in args.shapes:
+        progress(f"loading {f}")
+        shapes.append(_load_shape(f))
+    m = morph(*shapes, frames=args.frames, easing=args.easing, align=args.align, rotate=not args.no_rotate,
+              resolution=args.res, resample=True, progress=progress)
+    written = []
+    if args.output:
+        written.append(save_glb(m, args.output, fps=args.fps, overwrite=args.force))
+    if args.frames_dir:
+        written.append(Path(args.frames_dir))
+        save_frames(m, args.frames_dir, args.frame_format, overwrite=args.force,
+                    progress=ProgressBar(f"{args.frame_format} frames", args.quiet))
+    for path in (args.gif, args.mp4):
+        if not path:
+            continue
+        r = Renderer(args.width, args.height)
+        try:
+            cam = r.camera_for(*m.keys, azimuth=args.azimuth, elevation=args.elevation, up=args.up)
+            bar = ProgressBar(f"pictures for {Path(path).name}", args.quiet)
+            pictures = []
+            for i, frame in enumerate(m.frames()):
+                pictures.append(r.render(frame, cam))
+                bar(i + 1, len(m))
+        finally:
+            r.release()
+        written.append(save_animation(pictures, path, fps=args.fps, overwrite=args.force))
+    if not args.quiet:
+        print(f"morph of {len(m.keys)} shapes, {len(m)} frames ({args.easing})")
+        for entry in m.report[1:]:
+            parts = [f"shape {entry['shape']}: {entry['parametrization']}"]
+            if "scale" in entry:
+                parts.append(f"scaled by {entry['scale']:.4g}, moved by {np.round(entry['translation'], 6).tolist()}")
+            if "rotation_deg" in entry:
+                parts.append(f"sphere turned {entry['rotation_deg']:.1f} deg (RMS {entry['rms_before']:.3g} -> "
+                             f"{entry['rms_after']:.3g} of the radius)")
+            print("  " + "; ".join(parts))
+        for f in written:
+            print(f"  wrote {f}")
+    return 0
+
+
 def _positive(kind):
     def check(text):
         value = kind(text)
@@ -297,6 +385,38 @@ def build_parser() -> argparse.ArgumentParser:
                     help="output stem: writes STEM_gaussian.exr/.png, STEM_mean.exr/.png, STEM_normals.png")
     cu.add_argument("--force", action="store_true", help="overwrite existing files")
     cu.set_defaults(func=cmd_curvature)
+
+    view = argparse.ArgumentParser(add_help=False)
+    view.add_argument("--width", type=int, default=800)
+    view.add_argument("--height", type=int, default=600)
+    view.add_argument("--azimuth", type=float, default=30.0, help="degrees about the up axis (default 30)")
+    view.add_argument("--elevation", type=float, default=20.0, help="degrees above the horizon (default 20)")
+    view.add_argument("--up", choices=("x", "y", "z"), default="y", help="the shape's up axis (default y)")
+
+    re_ = sub.add_parser("render", help="shade a mesh or geometry image to PNG (headless)", parents=[common, view])
+    re_.add_argument("file", help="mesh or .exr geometry image")
+    re_.add_argument("-o", "--output", required=True, help="output .png")
+    re_.add_argument("--force", action="store_true", help="overwrite an existing file")
+    re_.set_defaults(func=cmd_render)
+
+    mo = sub.add_parser("morph", help="morph between shapes: glTF with morph targets, GIF/MP4, frame files",
+                        parents=[common, view])
+    mo.add_argument("shapes", nargs="+", help="two or more meshes or .exr geometry images, in order")
+    mo.add_argument("-o", "--output", default=None, help="output .glb (morph targets + weights animation)")
+    mo.add_argument("--frames", type=int, default=30, help="frames in all (default 30)")
+    mo.add_argument("--fps", type=_positive(float), default=24.0)
+    mo.add_argument("--easing", default="smoothstep",
+                    choices=("linear", "smoothstep", "ease-in-out", "ease-in", "ease-out"))
+    mo.add_argument("--align", choices=("similarity", "centre", "none"), default="similarity",
+                    help="bring shapes 2.. onto shape 1: centre (and scale: similarity)")
+    mo.add_argument("--no-rotate", action="store_true", help="spherical images: keep the spheres as they are")
+    mo.add_argument("--res", type=_positive(int), default=129, help="pixels per side for meshes (default 129)")
+    mo.add_argument("--gif", default=None, help="also render an animated GIF")
+    mo.add_argument("--mp4", default=None, help="also render an MP4 (needs imageio-ffmpeg)")
+    mo.add_argument("--frames-dir", default=None, help="also write every frame to this folder")
+    mo.add_argument("--frame-format", choices=("obj", "ply", "off", "exr"), default="obj")
+    mo.add_argument("--force", action="store_true", help="overwrite existing files")
+    mo.set_defaults(func=cmd_morph)
 
     info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common])
     info.add_argument("file")

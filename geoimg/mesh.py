@@ -186,6 +186,22 @@ class Mesh:
         order = np.argsort(o, kind="stable")
         return t[order], o[order]
 
+    def vertex_normals(self) -> np.ndarray:
+        """Area-weighted unit vertex normals from the faces' orientation (zero for unused vertices).
+
+        Examples
+        --------
+        >>> Mesh(np.eye(4, 3) * [1, 1, 0], [[3, 0, 1]]).vertex_normals()[0].tolist()
+        [0.0, 0.0, 1.0]
+        """
+        tris, _ = self.triangulate()
+        v = self.vertices
+        fn = np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]])
+        n = np.stack([sum(np.bincount(tris[:, k], fn[:, c], minlength=len(v)) for k in range(3)) for c in range(3)],
+                     axis=1)
+        length = np.linalg.norm(n, axis=1, keepdims=True)
+        return np.divide(n, length, out=np.zeros_like(n), where=length > 0)
+
     def referenced_vertices(self) -> np.ndarray:
         """Boolean (N,) mask of the vertices used by at least one face."""
         used = np.zeros(self.n_vertices, bool)

@@ -135,3 +135,16 @@ def test_failed_write_leaves_nothing(tmp_path, monkeypatch, mixed):
     with pytest.raises(OSError, match="disk full"):
         save_mesh(mixed, tmp_path / "m.obj")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_written_files_get_a_normal_mode(tmp_path, mixed):
+    import os
+    mask = os.umask(0o022)
+    try:
+        p = save_mesh(mixed, tmp_path / "m.obj")
+        assert p.stat().st_mode & 0o777 == 0o644
+        os.chmod(p, 0o600)
+        save_mesh(mixed, p, overwrite=True)                    # a replaced file keeps its mode
+        assert p.stat().st_mode & 0o777 == 0o600
+    finally:
+        os.umask(mask)

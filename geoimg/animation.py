@@ -1,0 +1,147 @@
+"""Morph animation files: glTF 2.0 binary with morph targets (pygltflib), and per-frame mesh or EXR sequences.
+
+The GLB holds one mesh: key 0's quad mesh, split into triangles, as the base, a morph target per further
+key (position and normal displacements) and an animation of the target weights sampled at every frame
+(linear between frames), so any glTF viewer plays the eased morph. A morph with a timing mask cannot be
+written as weights of whole keys; it gets one target per frame and a step animation instead.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pygltflib as gl
+
+from .atomic import atomic_path
+from .image import GeometryImage
+from .mesh_io import save_mesh
+from .morph import Morph
+
+__all__ = ["save_glb", "save_frames", "FRAME_FORMATS"]
+
+FRAME_FORMATS = ("obj", "ply", "off", "exr")
+
+
+def _triangles(mesh) -> np.ndarray:
+    tris, _ = mesh.triangulate()
+    return np.ascontiguousarray(tris, np.uint32)
+
+
+def _vertex_normals(image, valid) -> tuple[np.ndarray, object]:
+    """The quad mesh of an image over the pixels valid in every key, with normals from the grid (the
+    same rule for every key, so normal displacements are consistent)."""
+    mask = None if valid is None else valid
+    mesh = GeometryImage(image.pixels, mask, domain=image.domain, metadata=image.metadata).to_mesh()
+    normals = mesh.normals if mesh.normals is not None else mesh.vertex_normals()
+    return np.asarray(normals, np.float32), mesh
+
+
+class _Buffer:
+    """Accessors appended to one binary buffer."""
+
+    def __init__(self, gltf: gl.GLTF2):
+        self.gltf, self.blob = gltf, bytearray()
+
+    def add(self, array: np.ndarray, kind: str, component: int, target=None, minmax=False) -> int:
+        data = np.ascontiguousarray(array).tobytes()
+        while len(self.blob) % 4:
+            self.blob.append(0)
+        view = gl.BufferView(buffer=0, byteOffset=len(self.blob), byteLength=len(data), target=target)
+        self.blob.extend(data)
+        self.gltf.bufferViews.append(view)
+        acc = gl.Accessor(bufferView=len(self.gltf.bufferViews) - 1, componentType=component,
+                          count=int(array.shape[0]), type=kind)
+        if minmax:
+            flat = array.reshape(array.shape[0], -1)
+            acc.min, acc.max = flat.min(axis=0).tolist(), flat.max(axis=0).tolist()
+        self.gltf.accessors.append(acc)
+        return len(self.gltf.accessors) - 1
+
+
+def _weights(morph: Morph) -> tuple[np.ndarray, list]:
+    """Target weights (frames, targets) and the images whose displacements are the targets."""
+    if morph.weights is None:
+        w = np.zeros((len(morph), len(morph.keys) - 1), np.float32)
+        for i, t in enumerate(morph.times):
+            k, u = morph.segment(float(t))
+            e = morph.local_time(u)
+            if k > 0:
+                w[i, k - 1] = 1.0 - e
+            w[i, k] = e
+        return w, morph.keys[1:]
+    frames = list(morph.frames())
+    return np.eye(len(frames), dtype=np.float32), frames
+
+
+def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, progress=None) -> Path:
+    """Write the morph as a binary glTF 2.0 file with morph targets and a weights animation.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geoimg import GeometryImage
+    >>> from geoimg.morph import morph
+    >>> a = GeometryImage(np.zeros((3, 3, 3), np.float32))
+    >>> m = morph(a, GeometryImage(np.ones((3, 3, 3), np.float32)), frames=4, align="none")
+    >>> p = save_glb(m, pathlib.Path(tempfile.mkdtemp()) / "m.glb")
+    >>> g = gl.GLTF2().load(str(p))
+    >>> len(g.meshes[0].primitives[0].targets), g.accessors[g.animations[0].samplers[0].input].count
+    (1, 4)
+    """
+    path = Path(path)
+    if path.suffix.lower() != ".glb":
+        raise ValueError(f"{path}: expected a .glb name")
+    if not (fps > 0):
+        raise ValueError(f"fps: expected a positive number, got {fps!r}")
+    weights, target_images = _weights(morph)
+    valid = None
+    if any(k.mask is not None for k in morph.keys):
+        valid = np.logical_and.reduce([k.valid for k in morph.keys])
+    base_normals, base = _vertex_normals(morph.keys[0], valid)
+    base_pos = np.asarray(base.vertices, np.float32)
+    gltf = gl.GLTF2(asset=gl.Asset(generator="geoimg"), scene=0, scenes=[gl.Scene(nodes=[0])])
+    buf = _Buffer(gltf)
+    pos = buf.add(base_pos, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER, minmax=True)
+    nrm = buf.add(base_normals, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER)
+    idx = buf.add(_triangles(base).reshape(-1), gl.SCALAR, gl.UNSIGNED_INT, gl.ELEMENT_ARRAY_BUFFER)
+    targets = []
+    for j, img in enumerate(target_images):
+        n, m = _vertex_normals(img, valid)
+        dp = np.asarray(m.vertices, np.float32) - base_pos
+        targets.append(gl.Attributes(POSITION=buf.add(dp, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER, minmax=True),
+                                     NORMAL=buf.add(n - base_normals, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER)))
+        if progress:
+            progress(f"glTF target {j + 1} of {len(target_images)}")
+    prim = gl.Primitive(attributes=gl.Attributes(POSITION=pos, NORMAL=nrm), indices=idx, targets=targets)
+    gltf.meshes.append(gl.Mesh(primitives=[prim], weights=[0.0] * len(targets), name="geoimg morph"))
+    gltf.nodes.append(gl.Node(mesh=0, name="morph"))
+    times = (np.arange(len(morph), dtype=np.float32) / np.float32(fps))
+    t_acc = buf.add(times, gl.SCALAR, gl.FLOAT, minmax=True)
+    w_acc = buf.add(weights.reshape(-1), gl.SCALAR, gl.FLOAT)
+    interp = gl.ANIM_LINEAR if morph.weights is None else gl.ANIM_STEP
+    gltf.animations.append(gl.Animation(name="morph", samplers=[gl.AnimationSampler(input=t_acc, output=w_acc,
+                                                                                     interpolation=interp)],
+                                        channels=[gl.AnimationChannel(sampler=0, target=gl.AnimationChannelTarget(
+                                            node=0, path="weights"))]))
+    gltf.buffers.append(gl.Buffer(byteLength=len(buf.blob)))
+    gltf.set_binary_blob(bytes(buf.blob))
+    with atomic_path(path, overwrite) as tmp:
+        gltf.save_binary(str(tmp))
+    return path
+
+
+def save_frames(morph: Morph, folder, fmt: str = "obj", *, overwrite: bool = False, progress=None) -> list[Path]:
+    """Write every frame to ``folder/frame_0000.<fmt>``: a quad mesh (obj, ply, off) or the geometry
+    image (exr). Returns the paths."""
+    if fmt not in FRAME_FORMATS:
+        raise ValueError(f"fmt: expected one of {FRAME_FORMATS}, got {fmt!r}")
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for i, frame in enumerate(morph.frames()):
+        p = folder / f"frame_{i:04d}.{fmt}"
+        paths.append(frame.save(p, overwrite=overwrite) if fmt == "exr" else save_mesh(frame.to_mesh(), p,
+                                                                                     overwrite=overwrite))
+        if progress:
+            progress(i + 1, len(morph))
+    return paths

@@ -1,0 +1,288 @@
+"""Morphing: a morph between shapes is a blend of their geometry images (paper Fig. 5).
+
+:func:`morph` takes two or more key shapes (geometry images, or meshes it turns into geometry images),
+brings them into one frame (centre, scale and, for spherical images, the rotation of the sphere that best
+matches the first shape) and returns a :class:`Morph` whose frames are blends of consecutive keys, with an
+easing curve and optionally a per-pixel timing mask (one region leads, the rest follows).
+"""
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import ndimage, optimize
+from scipy.spatial.transform import Rotation
+
+import filters
+from .image import GeometryImage
+from .mesh import Mesh
+
+__all__ = ["morph", "Morph", "EASINGS", "ALIGNMENTS"]
+
+EASINGS = {
+    "linear": lambda t: t,
+    "smoothstep": lambda t: t * t * (3.0 - 2.0 * t),
+    "ease-in-out": lambda t: 0.5 - 0.5 * np.cos(np.pi * t),
+    "ease-in": lambda t: t * t,
+    "ease-out": lambda t: 1.0 - (1.0 - t) ** 2,
+}
+ALIGNMENTS = ("similarity", "centre", "none")
+DEFAULT_RESOLUTION = 129
+_PAD = 16
+
+
+def _ease(easing):
+    if callable(easing):
+        return easing
+    if easing not in EASINGS:
+        raise ValueError(f"easing: expected one of {tuple(EASINGS)} or a function of t in [0, 1], got {easing!r}")
+    return EASINGS[easing]
+
+
+def _as_images(shapes, resolution, progress):
+    """Geometry images of the shapes; meshes with the same faces as the previous mesh reuse its
+    parametrization, so their images correspond vertex for vertex."""
+    from .parametrization import parametrize
+    from .surface import fit_surface
+
+    images, used_param, last = [], [], None
+    for k, shape in enumerate(shapes):
+        if isinstance(shape, GeometryImage):
+            images.append(shape)
+            used_param.append("given image")
+            continue
+        if not isinstance(shape, Mesh):
+            raise TypeError(f"shapes[{k}]: expected a geoimg.Mesh or GeometryImage, got {type(shape).__name__}")
+        if last is not None and last[0].n_vertices == shape.n_vertices and np.array_equal(last[0].faces, shape.faces):
+            param = last[1]
+            used_param.append(f"shared with shape {last[2]} (same faces)")
+        else:
+            param = parametrize(shape)
+            used_param.append(param.method)
+        if progress:
+            progress(f"shape {k}: {used_param[-1]} parametrization, sampling {resolution} pixels")
+        images.append(fit_surface(shape, param).sample(resolution))
+        last = (shape, param, k)
+    return images, used_param
+
+
+def _centre_and_radius(img: GeometryImage):
+    p = img.pixels[img.valid].astype(np.float64)
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    centre = 0.5 * (lo + hi)
+    return centre, float(np.sqrt(((p - centre) ** 2).sum(axis=1).mean()))
+
+
+def _octahedral_sampler(pixels: np.ndarray):
+    """A function giving the cubic-spline interpolation of an octahedral image at unit directions (..., 3)."""
+    from .octahedral import sphere_to_square
+
+    n = pixels.shape[0]
+    padded = filters.pad(np.asarray(pixels, np.float64), _PAD, "octahedral")
+    coeffs = [ndimage.spline_filter(padded[..., c], order=3, mode="nearest") for c in range(padded.shape[2])]
+
+    def sample(q):
+        uv = sphere_to_square(q) * (n - 1) + _PAD
+        coords = [uv[..., 1], uv[..., 0]]
+        return np.stack([ndimage.map_coordinates(c, coords, order=3, mode="nearest", prefilter=False)
+                         for c in coeffs], axis=-1)
+
+    return sample
+
+
+def _best_rotation(reference: GeometryImage, moving: np.ndarray) -> tuple[Rotation, float, float]:
+    """Rotation R of the sphere minimizing the mean squared distance between ``reference(q)`` and
+    ``moving(R q)`` on a coarse grid: the 24 rotations of the cube as starts, then Nelder-Mead."""
+    from .octahedral import grid_directions
+
+    n = 33
+    q = grid_directions(n).reshape(-1, 3)
+    ref = _octahedral_sampler(reference.pixels)(q)
+    mov = _octahedral_sampler(moving)
+
+    def cost(rotvec):
+        return float(((mov(Rotation.from_rotvec(rotvec).apply(q)) - ref) ** 2).sum(axis=1).mean())
+
+    starts = Rotation.create_group("O")
+    scores = [cost(r.as_rotvec()) for r in starts]
+    identity = cost(np.zeros(3))
+    best = starts[int(np.argmin(scores))].as_rotvec()
+    res = optimize.minimize(cost, best, method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-10, "maxiter": 400})
+    rot = Rotation.from_rotvec(res.x) if res.fun < identity else Rotation.identity()
+    return rot, identity, min(res.fun, identity)
+
+
+def _align(images, align: str, rotate: bool, progress):
+    """Move keys 1.. into key 0's frame; returns the new images and what was done to each."""
+    from .octahedral import grid_directions
+
+    c0, r0 = _centre_and_radius(images[0])
+    out, report = [images[0]], [{"shape": 0, "reference": True}]
+    for k, img in enumerate(images[1:], start=1):
+        entry = {"shape": k}
+        p = img.pixels.astype(np.float64)
+        if align != "none":
+            c, r = _centre_and_radius(img)
+            scale = r0 / r if align == "similarity" and r > 0 else 1.0
+            p = (p - c) * scale + c0
+            entry.update(translation=(c0 - c).tolist(), scale=float(scale))
+        if rotate and img.domain == "octahedral":
+            rot, before, after = _best_rotation(images[0], p)
+            angle = float(np.degrees(rot.magnitude()))
+            if angle > 0:
+                n = p.shape[0]
+                p = _octahedral_sampler(p)(rot.apply(grid_directions(n).reshape(-1, 3))).reshape(p.shape)
+                p = _average_glued(p)
+            entry.update(rotation_deg=angle, rotation_axis=(rot.as_rotvec() / max(rot.magnitude(), 1e-300)).tolist(),
+                         rms_before=math.sqrt(before) / r0, rms_after=math.sqrt(after) / r0)
+            if progress:
+                progress(f"shape {k}: sphere turned by {angle:.1f} degrees (RMS to shape 0: "
+                         f"{entry['rms_before']:.3f} -> {entry['rms_after']:.3f} of its radius)")
+        meta = dict(img.metadata, morph_alignment=entry)
+        out.append(GeometryImage(p.astype(img.pixels.dtype), img.mask, domain=img.domain, metadata=meta))
+        report.append(entry)
+    return out, report
+
+
+def _average_glued(p):
+    from .octahedral import average_glued
+
+    return average_glued(p)
+
+
+@dataclass(frozen=True, eq=False)
+class Morph:
+    """A morph through key geometry images (aligned, same domain and size).
+
+    ``times`` are the frames' positions along the keys, from 0 (key 0) to ``len(keys) - 1`` (last key);
+    :meth:`frame` blends the two keys around a time. ``weights``/``lag``: per-pixel timing (pixels of
+    weight 1 run ``lag`` ahead of those of weight 0 within each segment).
+    """
+
+    keys: list
+    times: np.ndarray
+    easing: object = field(repr=False)
+    weights: np.ndarray | None = field(repr=False, default=None)
+    lag: float = 0.0
+    report: list = field(default_factory=list)
+
+    def __len__(self) -> int:
+        return len(self.times)
+
+    def segment(self, t: float) -> tuple[int, float]:
+        """Key index ``k`` and the time ``u`` in [0, 1] between keys ``k`` and ``k + 1``."""
+        if not (isinstance(t, numbers.Real) and 0 <= t <= len(self.keys) - 1):
+            raise ValueError(f"t: expected a time in [0, {len(self.keys) - 1}], got {t!r}")
+        k = min(int(math.floor(t)), len(self.keys) - 2)
+        return k, float(t - k)
+
+    def local_time(self, u: float):
+        """Eased blend weight at segment time ``u``: a number, or an (H, W) map with a timing mask."""
+        if self.weights is None:
+            return float(self.easing(u))
+        local = np.clip((u - self.lag * (1.0 - self.weights)) / (1.0 - self.lag), 0.0, 1.0)
+        return np.clip(self.easing(local), 0.0, 1.0)
+
+    def frame(self, t: float) -> GeometryImage:
+        """The blended geometry image at time ``t``."""
+        k, u = self.segment(t)
+        a, b = self.keys[k], self.keys[k + 1]
+        w = self.local_time(u)
+        if isinstance(w, float) and w in (0.0, 1.0):
+            px = (a if w == 0.0 else b).pixels
+        else:
+            px = filters.blend(a.pixels, b.pixels, w)
+        mask = None
+        if a.mask is not None or b.mask is not None:
+            mask = a.valid & b.valid
+        meta = {"domain": a.domain, "morph_time": float(t), "orientation": a.metadata.get("orientation", 1),
+                "extent": a.metadata.get("extent", [1.0, 1.0])}
+        return GeometryImage(px, mask, domain=a.domain, metadata=meta)
+
+    def frames(self):
+        """The frames, in order (a generator)."""
+        for t in self.times:
+            yield self.frame(float(t))
+
+
+def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float = 0.5, align: str = "similarity",
+          rotate: bool = True, resolution: int = DEFAULT_RESOLUTION, resample: bool = False,
+          progress=None) -> Morph:
+    """Morph through two or more shapes.
+
+    Parameters
+    ----------
+    *shapes : GeometryImage or Mesh
+        Key shapes, in order. Meshes are parametrized (``auto``) and sampled at ``resolution``; a mesh
+        with the same faces as the mesh before it reuses that parametrization (vertex correspondence).
+    frames : int, default 30
+        Frames in all, the first showing the first key and the last the last key.
+    easing : str or callable
+        ``linear``, ``smoothstep`` (default), ``ease-in-out``, ``ease-in``, ``ease-out``, or ``f(t)``.
+    mask : array_like (H, W), optional
+        Per-region timing: pixels of weight 1 start at once and finish ``lag`` early; weight 0 start
+        ``lag`` late. Frame 0 and the last frame are the keys whatever the mask.
+    align : {'similarity', 'centre', 'none'}
+        Move keys 1.. onto key 0: bounding-box centres (``centre``), and scale to key 0's RMS radius
+        (``similarity``).
+    rotate : bool, default True
+        For spherical (octahedral) images, turn each key's sphere by the rotation that best matches key
+        0 (24 cube rotations tried, then refined); reported in ``Morph.report``.
+    resample : bool, default False
+        Resize keys of another size to key 0's size (else such keys are refused).
+
+    Returns
+    -------
+    Morph
+
+    Raises
+    ------
+    ValueError
+        Fewer than two shapes, a domain mismatch, a size mismatch without ``resample``, bad settings.
+
+    Examples
+    --------
+    >>> a = GeometryImage(np.zeros((3, 3, 3), np.float32))
+    >>> b = GeometryImage(np.ones((3, 3, 3), np.float32))
+    >>> m = morph(a, b, frames=3, easing="linear", align="none")
+    >>> [float(f.pixels[0, 0, 0]) for f in m.frames()]
+    [0.0, 0.5, 1.0]
+    """
+    if len(shapes) < 2:
+        raise ValueError(f"shapes: a morph needs at least two shapes, got {len(shapes)}")
+    if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
+        raise ValueError(f"frames: expected an integer >= 2, got {frames!r}")
+    ease = _ease(easing)
+    if align not in ALIGNMENTS:
+        raise ValueError(f"align: expected one of {ALIGNMENTS}, got {align!r}")
+    if not (isinstance(lag, numbers.Real) and 0 <= lag < 1):
+        raise ValueError(f"lag: expected a number in [0, 1), got {lag!r}")
+    images, how = _as_images(shapes, resolution, progress)
+    domains = {img.domain for img in images}
+    if len(domains) > 1:
+        kinds = ", ".join(f"shape {k}: {img.domain}" for k, img in enumerate(images))
+        raise ValueError(f"shapes: cannot morph between domains ({kinds}); geometry images must share a "
+                         "parametrization domain (planar with planar, spherical with spherical)")
+    for k, img in enumerate(images[1:], start=1):
+        if img.shape != images[0].shape:
+            if not resample:
+                raise ValueError(f"shapes: shape {k} is {img.shape[1]} x {img.shape[0]} pixels, shape 0 is "
+                                 f"{images[0].shape[1]} x {images[0].shape[0]}; pass resample=True to resize it")
+            mode = "octahedral" if img.domain == "octahedral" else "linear"
+            px = filters.resize(img.pixels, images[0].shape, mode)
+            valid = None if img.mask is None else filters.resize(img.mask.astype(np.float64), images[0].shape) > 0.5
+            images[k] = GeometryImage(px, valid, domain=img.domain, metadata=img.metadata)
+    weights = None
+    if mask is not None:
+        from filters._checks import as_weights
+        weights = as_weights(mask, images[0].shape)
+        if images[0].domain == "octahedral":
+            from .regions import symmetric_mask
+            weights = symmetric_mask(weights)
+    keys, report = _align(images, align, rotate, progress)
+    for entry, h in zip(report, how):
+        entry["parametrization"] = h
+    times = np.linspace(0.0, len(keys) - 1, int(frames))
+    return Morph(keys, times, ease, weights, float(lag) if weights is not None else 0.0, report)

@@ -1,0 +1,249 @@
+"""Headless pictures: meshes and geometry images shaded to PNG with a fixed camera, morphs to GIF or MP4.
+
+OpenGL through moderngl on an EGL context (Mesa's llvmpipe on the CPU; no display needed). Triangles are
+shaded with two directional lights on both sides (a mesh's orientation does not matter) and 4x
+multisampling. A morph keeps one camera for all its frames, fitted to the union of its keys' bounds.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .atomic import atomic_path
+from .errors import GeoimgError
+from .image import GeometryImage
+from .mesh import Mesh
+
+__all__ = ["Renderer", "Camera", "render", "save_png", "save_animation", "RenderError", "UP_AXES"]
+
+UP_AXES = ("x", "y", "z")
+
+_VERTEX = """
+#version 330
+uniform mat4 mvp;
+in vec3 in_pos;
+in vec3 in_nrm;
+out vec3 v_nrm;
+void main() {
+    v_nrm = in_nrm;
+    gl_Position = mvp * vec4(in_pos, 1.0);
+}
+"""
+_FRAGMENT = """
+#version 330
+uniform vec3 key_dir;
+uniform vec3 fill_dir;
+uniform vec3 albedo;
+in vec3 v_nrm;
+out vec4 color;
+void main() {
+    vec3 n = normalize(v_nrm);
+    float light = 0.22 + 0.62 * abs(dot(n, key_dir)) + 0.22 * abs(dot(n, fill_dir));
+    color = vec4(albedo * light, 1.0);
+}
+"""
+
+
+class RenderError(GeoimgError):
+    """No OpenGL context could be made, or the scene cannot be drawn."""
+
+
+@dataclass(frozen=True)
+class Camera:
+    """A perspective camera looking at ``target`` from ``eye``; light directions follow it."""
+
+    eye: np.ndarray
+    target: np.ndarray
+    up: np.ndarray
+    fov_deg: float = 30.0
+    near: float = 0.01
+    far: float = 100.0
+
+    @classmethod
+    def fit(cls, lo, hi, *, azimuth: float = 30.0, elevation: float = 20.0, up: str = "y", aspect: float = 4 / 3):
+        """Frame the box ``lo..hi`` from ``azimuth``, ``elevation`` (degrees) about the ``up`` axis."""
+        if up not in UP_AXES:
+            raise ValueError(f"up: expected one of {UP_AXES}, got {up!r}")
+        lo, hi = np.asarray(lo, np.float64), np.asarray(hi, np.float64)
+        centre = 0.5 * (lo + hi)
+        radius = max(0.5 * float(np.linalg.norm(hi - lo)), 1e-9)
+        u = UP_AXES.index(up)
+        a, b = (u + 1) % 3, (u + 2) % 3            # a right-handed frame (a, b, up)
+        az, el = math.radians(azimuth), math.radians(elevation)
+        d = np.zeros(3)
+        d[b] = math.cos(el) * math.cos(az)
+        d[a] = math.cos(el) * math.sin(az)
+        d[u] = math.sin(el)
+        fov = 30.0
+        dist = radius / math.tan(math.radians(fov) / 2) / min(1.0, aspect)
+        upv = np.zeros(3)
+        upv[u] = 1.0
+        return cls(centre + d * dist, centre, upv, fov, dist * 0.05, dist * 3.0)
+
+    def matrices(self, aspect: float) -> np.ndarray:
+        """The view-projection matrix (4 x 4, row-major) for an image of this aspect (width / height)."""
+        f = self.target - self.eye
+        f /= np.linalg.norm(f)
+        side = np.cross(f, self.up)
+        if np.linalg.norm(side) < 1e-9:              # looking straight along up
+            side = np.cross(f, np.roll(self.up, 1))
+        side /= np.linalg.norm(side)
+        upv = np.cross(side, f)
+        view = np.eye(4)
+        view[0, :3], view[1, :3], view[2, :3] = side, upv, -f
+        view[:3, 3] = -view[:3, :3] @ self.eye
+        t = 1.0 / math.tan(math.radians(self.fov_deg) / 2)
+        proj = np.zeros((4, 4))
+        proj[0, 0], proj[1, 1] = t / aspect, t
+        proj[2, 2] = (self.far + self.near) / (self.near - self.far)
+        proj[2, 3] = 2 * self.far * self.near / (self.near - self.far)
+        proj[3, 2] = -1.0
+        return proj @ view
+
+    def lights(self) -> tuple[np.ndarray, np.ndarray]:
+        """Key light from the upper left of the viewer, fill from the right (unit vectors)."""
+        f = self.target - self.eye
+        f /= np.linalg.norm(f)
+        side = np.cross(f, self.up)
+        side /= max(np.linalg.norm(side), 1e-12)
+        upv = np.cross(side, f)
+        key = -f + 0.6 * upv - 0.5 * side
+        fill = -f + 0.8 * side - 0.2 * upv
+        return key / np.linalg.norm(key), fill / np.linalg.norm(fill)
+
+
+def _geometry(obj) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Vertices, triangles and per-vertex normals of a mesh or a geometry image (its quad mesh)."""
+    mesh = obj.to_mesh() if isinstance(obj, GeometryImage) else obj
+    if not isinstance(mesh, Mesh):
+        raise TypeError(f"expected a geoimg.Mesh or GeometryImage, got {type(obj).__name__}")
+    tris, _ = mesh.triangulate()
+    v = np.asarray(mesh.vertices, np.float64)
+    n = np.asarray(mesh.normals if mesh.normals is not None else mesh.vertex_normals(), np.float64)
+    return v, np.ascontiguousarray(tris, np.uint32), n
+
+
+class Renderer:
+    """An offscreen OpenGL renderer of fixed size; reuse it for many frames.
+
+    Raises
+    ------
+    RenderError
+        When no EGL/OpenGL 3.3 context can be made (the message says what to install).
+    """
+
+    def __init__(self, width: int = 800, height: int = 600, *, samples: int = 4,
+                 background=(1.0, 1.0, 1.0), albedo=(0.78, 0.74, 0.68)):
+        for name, value in (("width", width), ("height", height)):
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 8 <= value <= 8192:
+                raise ValueError(f"{name}: expected an integer from 8 to 8192, got {value!r}")
+        try:
+            import moderngl
+
+            self.ctx = moderngl.create_standalone_context(backend="egl")
+        except Exception as e:   # noqa: BLE001 - any failure to get a context means the same to the user
+            raise RenderError("no headless OpenGL context: geoimg renders through EGL with Mesa "
+                              "(Debian/Ubuntu: apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri); "
+                              f"the error was: {e}") from None
+        self.size, self.background, self.albedo = (int(width), int(height)), tuple(background), tuple(albedo)
+        self.prog = self.ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
+        self.samples = samples if samples <= self.ctx.max_samples else 0
+        self.fbo = self.ctx.framebuffer(color_attachments=[self.ctx.renderbuffer(self.size, samples=self.samples)],
+                                        depth_attachment=self.ctx.depth_renderbuffer(self.size, samples=self.samples))
+        self.resolved = self.ctx.framebuffer(color_attachments=[self.ctx.renderbuffer(self.size)])
+
+    def camera_for(self, *objects, azimuth: float = 30.0, elevation: float = 20.0, up: str = "y") -> Camera:
+        """A camera framing all the objects (meshes or geometry images) together."""
+        pts = [(_geometry(o)[0]) for o in objects]
+        lo = np.min([p.min(axis=0) for p in pts], axis=0)
+        hi = np.max([p.max(axis=0) for p in pts], axis=0)
+        return Camera.fit(lo, hi, azimuth=azimuth, elevation=elevation, up=up, aspect=self.size[0] / self.size[1])
+
+    def render(self, obj, camera: Camera | None = None) -> np.ndarray:
+        """An (H, W, 3) uint8 picture of the object."""
+        v, tris, n = _geometry(obj)
+        if camera is None:
+            camera = Camera.fit(v.min(axis=0), v.max(axis=0), aspect=self.size[0] / self.size[1])
+        data = np.hstack([v, n]).astype("f4")
+        vbo = self.ctx.buffer(data.tobytes())
+        ibo = self.ctx.buffer(tris.tobytes())
+        vao = self.ctx.vertex_array(self.prog, [(vbo, "3f 3f", "in_pos", "in_nrm")], ibo)
+        try:
+            self.prog["mvp"].write(camera.matrices(self.size[0] / self.size[1]).T.astype("f4").tobytes())
+            key, fill = camera.lights()
+            self.prog["key_dir"].value = tuple(key)
+            self.prog["fill_dir"].value = tuple(fill)
+            self.prog["albedo"].value = self.albedo
+            self.fbo.use()
+            self.ctx.enable(self.ctx.DEPTH_TEST)
+            self.fbo.clear(*self.background, 1.0)
+            vao.render()
+            self.ctx.copy_framebuffer(self.resolved, self.fbo)
+            raw = self.resolved.read(components=3, alignment=1)
+        finally:
+            vao.release()
+            vbo.release()
+            ibo.release()
+        img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)
+        return img[::-1].copy()                          # OpenGL's rows run bottom up
+
+    def release(self) -> None:
+        self.ctx.release()
+
+
+def render(obj, width: int = 800, height: int = 600, *, azimuth: float = 30.0, elevation: float = 20.0,
+           up: str = "y") -> np.ndarray:
+    """Shade a mesh or geometry image to an (H, W, 3) uint8 picture, camera fitted to it.
+
+    Examples
+    --------
+    >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> render(m, 64, 48).shape
+    (48, 64, 3)
+    """
+    r = Renderer(width, height)
+    try:
+        return r.render(obj, r.camera_for(obj, azimuth=azimuth, elevation=elevation, up=up))
+    finally:
+        r.release()
+
+
+def save_png(rgb: np.ndarray, path, *, overwrite: bool = False) -> Path:
+    """Write an (H, W, 3) uint8 picture as PNG (atomically)."""
+    import imageio.v3 as iio
+
+    path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise ValueError(f"{path}: expected a .png name")
+    with atomic_path(path, overwrite) as tmp:
+        iio.imwrite(tmp, np.asarray(rgb, np.uint8), extension=".png")
+    return path
+
+
+def save_animation(frames, path, *, fps: float = 24.0, overwrite: bool = False) -> Path:
+    """Write pictures (each (H, W, 3) uint8) as an animated GIF (looping) or an H.264 MP4 (needs the
+    ``imageio-ffmpeg`` package: ``pip install geoimg[video]``)."""
+    import imageio.v3 as iio
+
+    path = Path(path)
+    ext = path.suffix.lower()
+    frames = [np.asarray(f, np.uint8) for f in frames]
+    if not frames:
+        raise ValueError("frames: nothing to write")
+    if ext == ".gif":
+        with atomic_path(path, overwrite) as tmp:
+            iio.imwrite(tmp, np.stack(frames), extension=".gif", duration=1000.0 / fps, loop=0)
+    elif ext == ".mp4":
+        try:
+            import imageio_ffmpeg  # noqa: F401
+        except ImportError:
+            raise RenderError("MP4 needs the imageio-ffmpeg package: pip install imageio-ffmpeg "
+                              "(or pip install 'geoimg[video]'); GIF needs nothing more") from None
+        with atomic_path(path, overwrite) as tmp:
+            iio.imwrite(tmp, np.stack(frames), extension=".mp4", fps=fps, codec="libx264", macro_block_size=8)
+    else:
+        raise ValueError(f"{path}: expected a .gif or .mp4 name")
+    return path
