@@ -23,7 +23,8 @@ def _same_shape(a: np.ndarray, b: np.ndarray, names=("a", "b")) -> None:
 
 
 def blend(a, b, t=0.5) -> np.ndarray:
-    """``(1 - t) a + t b``, with ``t`` a number or per-pixel weights (H, W) in [0, 1].
+    """``(1 - t) a + t b``, with ``t`` a number or per-pixel weights (H, W) in [0, 1]; exactly ``a`` at
+    ``t = 0`` or where ``a == b``, exactly ``b`` at ``t = 1``.
 
     Examples
     --------
@@ -40,7 +41,9 @@ def blend(a, b, t=0.5) -> np.ndarray:
         w = as_weights(t, a.shape[:2], "t")
         w = w[..., None] if a.ndim == 3 else w
     dtype = np.result_type(a.dtype, b.dtype)
-    return ((1.0 - w) * a + w * b).astype(dtype, copy=False)
+    out = a + w * (b.astype(np.float64) - a)          # a where a == b, whatever t: a morph of a shape with itself
+    out = np.where(np.asarray(w) == 1.0, b, out)      # and b itself at t = 1
+    return out.astype(dtype, copy=False)
 
 
 def composite(base, overlay, mask, feather: float = 0.0, mode: str = "reflect") -> np.ndarray:

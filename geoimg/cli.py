@@ -310,9 +310,11 @@ def cmd_morph(args) -> int:
             parts = [f"shape {entry['shape']}: {entry['parametrization']}"]
             if "scale" in entry:
                 parts.append(f"scaled by {entry['scale']:.4g}, moved by {np.round(entry['translation'], 6).tolist()}")
-            if "rotation_deg" in entry:
+            if "rms_before" in entry:
                 parts.append(f"sphere turned {entry['rotation_deg']:.1f} deg (RMS {entry['rms_before']:.3g} -> "
                              f"{entry['rms_after']:.3g} of the radius)")
+            elif "rotation_from" in entry:
+                parts.append(f"sphere turned as shape {entry['rotation_from']}'s ({entry['rotation_deg']:.1f} deg)")
             print("  " + "; ".join(parts))
         for f in written:
             print(f"  wrote {f}")

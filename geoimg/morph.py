@@ -114,30 +114,38 @@ def _best_rotation(reference: GeometryImage, moving: np.ndarray) -> tuple[Rotati
     return rot, identity, min(res.fun, identity)
 
 
-def _align(images, align: str, rotate: bool, progress):
-    """Move keys 1.. into key 0's frame; returns the new images and what was done to each."""
+def _align(images, align: str, rotate: bool, shared, progress):
+    """Move keys 1.. into key 0's frame; returns the new images and what was done to each. A key whose
+    parametrization is shared with the key before it (``shared[k]``) gets that key's rotation, not a
+    search of its own: its correspondence is the vertices'."""
     from .octahedral import grid_directions
 
     c0, r0 = _centre_and_radius(images[0])
     out, report = [images[0]], [{"shape": 0, "reference": True}]
+    previous = Rotation.identity()
     for k, img in enumerate(images[1:], start=1):
         entry = {"shape": k}
         p = img.pixels.astype(np.float64)
         if align != "none":
             c, r = _centre_and_radius(img)
             scale = r0 / r if align == "similarity" and r > 0 else 1.0
-            p = (p - c) * scale + c0
+            p = p + (c0 - c) if scale == 1.0 else (p - c) * scale + c0     # a shape already in place stays exact
             entry.update(translation=(c0 - c).tolist(), scale=float(scale))
         if rotate and img.domain == "octahedral":
-            rot, before, after = _best_rotation(images[0], p)
+            if shared[k]:
+                rot = previous
+                entry.update(rotation_from=k - 1)
+            else:
+                rot, before, after = _best_rotation(images[0], p)
+                entry.update(rms_before=math.sqrt(before) / r0, rms_after=math.sqrt(after) / r0)
             angle = float(np.degrees(rot.magnitude()))
             if angle > 0:
                 n = p.shape[0]
                 p = _octahedral_sampler(p)(rot.apply(grid_directions(n).reshape(-1, 3))).reshape(p.shape)
                 p = _average_glued(p)
-            entry.update(rotation_deg=angle, rotation_axis=(rot.as_rotvec() / max(rot.magnitude(), 1e-300)).tolist(),
-                         rms_before=math.sqrt(before) / r0, rms_after=math.sqrt(after) / r0)
-            if progress:
+            entry.update(rotation_deg=angle, rotation_axis=(rot.as_rotvec() / max(rot.magnitude(), 1e-300)).tolist())
+            previous = rot
+            if progress and "rms_before" in entry:
                 progress(f"shape {k}: sphere turned by {angle:.1f} degrees (RMS to shape 0: "
                          f"{entry['rms_before']:.3f} -> {entry['rms_after']:.3f} of its radius)")
         meta = dict(img.metadata, morph_alignment=entry)
@@ -229,7 +237,8 @@ def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float 
         (``similarity``).
     rotate : bool, default True
         For spherical (octahedral) images, turn each key's sphere by the rotation that best matches key
-        0 (24 cube rotations tried, then refined); reported in ``Morph.report``.
+        0 (24 cube rotations tried, then refined); reported in ``Morph.report``. A mesh that shares the
+        previous mesh's parametrization takes that mesh's rotation (its correspondence is the vertices').
     resample : bool, default False
         Resize keys of another size to key 0's size (else such keys are refused).
 
@@ -281,7 +290,7 @@ def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float 
         if images[0].domain == "octahedral":
             from .regions import symmetric_mask
             weights = symmetric_mask(weights)
-    keys, report = _align(images, align, rotate, progress)
+    keys, report = _align(images, align, bool(rotate), [h.startswith("shared") for h in how], progress)
     for entry, h in zip(report, how):
         entry["parametrization"] = h
     times = np.linspace(0.0, len(keys) - 1, int(frames))

@@ -1,0 +1,218 @@
+"""Morphs, glTF morph targets, frame sequences, the renderer and the morph/render commands."""
+import warnings
+
+import numpy as np
+import pygltflib as gl
+import pytest
+from scipy.spatial.transform import Rotation
+
+import geoimg
+from geoimg.animation import save_frames, save_glb
+from geoimg.cli import main
+from geoimg.metrics import surface_distance
+from geoimg.morph import _octahedral_sampler, morph
+from geoimg.octahedral import average_glued, grid_directions
+
+from helpers import SAMPLES, shared_file
+
+
+def load(rel):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return geoimg.load_mesh(shared_file(rel))
+
+
+@pytest.fixture(scope="module")
+def spots():
+    a = load("meshes/closed_genus0/spot_low_resolution.obj")
+    img = geoimg.fit_surface(a, geoimg.parametrize(a, "sphere"), s=1).sample(33)
+    b = load("meshes/closed_genus0/bunny.obj")
+    img_b = geoimg.fit_surface(b, geoimg.parametrize(b, "sphere"), s=1).sample(33)
+    return img, img_b
+
+
+@pytest.fixture(scope="module")
+def terrain(mountain_surface):
+    return mountain_surface.sample(33)
+
+
+def test_ends_reproduce_the_keys_and_blends_are_affine(spots):
+    a, b = spots
+    m = morph(a, b, frames=7, easing="linear", align="none", rotate=False)
+    frames = list(m.frames())
+    assert len(frames) == 7 and np.array_equal(frames[0].pixels, a.pixels) and np.array_equal(frames[-1].pixels, b.pixels)
+    p = [f.pixels.astype(np.float64) for f in frames]
+    steps = [p[i + 1] - p[i] for i in range(6)]
+    assert max(np.abs(s - steps[0]).max() for s in steps) < 1e-5     # equal steps: affine in t
+    eased = morph(a, b, frames=7, easing="smoothstep", align="none", rotate=False)
+    mid = eased.frame(0.5).pixels
+    assert np.allclose(mid, 0.5 * (a.pixels.astype(np.float64) + b.pixels), atol=1e-6)
+    assert np.abs(eased.frame(0.25).pixels - m.frame(0.25).pixels).max() > 1e-3   # easing changes the pace
+
+
+def test_a_morph_of_a_shape_with_itself_is_constant(spots, terrain):
+    a, _ = spots
+    for img in (a, terrain):
+        m = morph(img, img, frames=5)
+        assert all(np.array_equal(f.pixels, img.pixels) for f in m.frames())
+        assert m.report[1]["scale"] == 1.0 and m.report[1]["translation"] == [0.0, 0.0, 0.0]
+    assert morph(a, a, frames=2).report[1]["rotation_deg"] == 0.0
+
+
+def test_alignment_undoes_a_move_a_scale_and_a_turn_of_the_sphere(spots):
+    a, _ = spots
+    moved = geoimg.GeometryImage((a.pixels * 2.5 + [3.0, -1.0, 0.5]).astype(np.float32), domain="octahedral")
+    m = morph(a, moved, frames=2, rotate=False)
+    assert m.report[1]["scale"] == pytest.approx(0.4, rel=1e-6)
+    assert np.abs(m.keys[1].pixels - a.pixels).max() < 1e-5
+    turn = Rotation.from_rotvec([0.3, -0.5, 0.2])
+    q = grid_directions(33).reshape(-1, 3)
+    turned = average_glued(_octahedral_sampler(a.pixels)(turn.apply(q)).reshape(33, 33, 3)).astype(np.float32)
+    m = morph(a, geoimg.GeometryImage(turned, domain="octahedral"), frames=2, align="none")
+    rep = m.report[1]
+    assert rep["rms_after"] < 0.2 * rep["rms_before"]
+    found = Rotation.from_rotvec(np.radians(rep["rotation_deg"]) * np.array(rep["rotation_axis"]))
+    assert np.degrees((found * turn).magnitude()) < 3.0          # it found the inverse turn
+
+
+def test_per_region_timing(terrain):
+    b = geoimg.GeometryImage((terrain.pixels + [0, 5, 0]).astype(np.float32), terrain.mask, metadata=terrain.metadata)
+    lead = np.zeros(terrain.shape)
+    lead[:, :10] = 1.0
+    m = morph(terrain, b, frames=5, easing="linear", mask=lead, lag=0.5, align="none")
+    frames = list(m.frames())
+    assert np.array_equal(frames[0].pixels, terrain.pixels) and np.array_equal(frames[-1].pixels, b.pixels)
+    half = m.frame(0.5).pixels[..., 1] - terrain.pixels[..., 1]
+    assert half[:, :10].mean() == pytest.approx(5.0, rel=1e-5) and half[:, -10:].mean() == pytest.approx(0.0, abs=1e-5)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda a, t: morph(a), "at least two shapes"),
+    (lambda a, t: morph(a, t), "cannot morph between domains"),
+    (lambda a, t: morph(t, geoimg.GeometryImage(np.zeros((17, 17, 3), np.float32))), "pass resample=True"),
+    (lambda a, t: morph(a, a, frames=1), "frames"),
+    (lambda a, t: morph(a, a, easing="bounce"), "easing"),
+    (lambda a, t: morph(a, a, align="affine"), "align"),
+    (lambda a, t: morph(a, a, mask=np.ones((3, 3))), "mask: expected shape"),
+    (lambda a, t: morph(a, a, mask=np.ones((33, 33)), lag=1.0), "lag"),
+    (lambda a, t: morph(a, "b.obj"), "geoimg.Mesh or GeometryImage"),
+    (lambda a, t: morph(a, a, frames=3).frame(1.5), "t: expected a time"),
+])
+def test_mismatches_and_bad_settings_are_refused(spots, terrain, call, message):
+    with pytest.raises((ValueError, TypeError), match=message):
+        call(spots[0], terrain)
+
+
+def test_resample_brings_keys_to_one_size(terrain, mountain_surface):
+    big = mountain_surface.sample(65)
+    m = morph(terrain, big, frames=3, resample=True, align="none")
+    assert m.keys[1].shape == (33, 33)
+    assert np.abs(m.keys[1].pixels - terrain.pixels).max() < 0.01 * np.ptp(terrain.pixels)
+
+
+def test_shared_faces_share_the_parametrization_and_match_vertex_interpolation():
+    man, woman = load("meshes/closed_genus0/human_man.obj"), load("meshes/closed_genus0/human_woman.obj")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")          # the human map folds some triangles (reported elsewhere)
+        m = morph(man, woman, frames=3, easing="linear", align="none", resolution=65)
+    assert m.report[1]["parametrization"].startswith("shared with shape 0") and m.report[1]["rotation_deg"] == 0.0
+    # the surface is linear in the vertices for a fixed parametrization, so a blend of the two images is
+    # the image of the blended mesh: the mid frame is as close to the per-vertex mid mesh as the keys are
+    truth = geoimg.Mesh(0.5 * (man.vertices + woman.vertices), man.faces)
+    key_err = [surface_distance(man, m.frame(0.0).to_mesh(), n=5000)["rms"],
+               surface_distance(woman, m.frame(1.0).to_mesh(), n=5000)["rms"]]
+    mid_err = surface_distance(truth, m.frame(0.5).to_mesh(), n=5000)["rms"]
+    assert mid_err < 1.1 * max(key_err)
+
+
+# --- files ------------------------------------------------------------------------------------------
+
+def _read_accessor(g, index):
+    acc = g.accessors[index]
+    view = g.bufferViews[acc.bufferView]
+    blob = g.binary_blob()
+    dtype = {gl.FLOAT: np.float32, gl.UNSIGNED_INT: np.uint32}[acc.componentType]
+    width = {gl.SCALAR: 1, gl.VEC3: 3}[acc.type]
+    data = np.frombuffer(blob[view.byteOffset:view.byteOffset + view.byteLength], dtype)
+    return data.reshape(acc.count, width) if width > 1 else data
+
+
+@pytest.mark.parametrize("timing", [False, True])
+def test_glb_reads_back_with_its_targets_and_frames(spots, tmp_path, timing):
+    a, b = spots
+    lead = np.zeros(a.shape)
+    lead[:, :12] = 1.0
+    m = morph(a, b, a, frames=9, easing="ease-in-out", mask=lead if timing else None)
+    path = save_glb(m, tmp_path / "m.glb")
+    g = gl.GLTF2().load(str(path))
+    prim = g.meshes[0].primitives[0]
+    n_targets = 9 if timing else 2
+    assert len(prim.targets) == n_targets and len(g.animations) == 1
+    sampler = g.animations[0].samplers[0]
+    assert sampler.interpolation == ("STEP" if timing else "LINEAR")
+    times, weights = _read_accessor(g, sampler.input), _read_accessor(g, sampler.output).reshape(9, n_targets)
+    assert len(times) == 9 and times[-1] == pytest.approx(8 / 24)
+    base = _read_accessor(g, prim.attributes.POSITION)
+    deltas = [_read_accessor(g, t["POSITION"] if isinstance(t, dict) else t.POSITION) for t in prim.targets]
+    for i, frame in enumerate(m.frames()):     # base + weights . targets is every frame's quad mesh
+        pos = base + sum(w * d for w, d in zip(weights[i], deltas))
+        assert np.abs(pos - frame.to_mesh().vertices).max() < 1e-5
+    idx = _read_accessor(g, prim.indices)
+    assert idx.max() == len(base) - 1 and len(idx) % 3 == 0
+
+
+def test_frame_sequences(terrain, tmp_path):
+    b = geoimg.GeometryImage((terrain.pixels * 1.1).astype(np.float32), terrain.mask, metadata=terrain.metadata)
+    m = morph(terrain, b, frames=4, align="none")
+    objs = save_frames(m, tmp_path / "obj", "obj")
+    exrs = save_frames(m, tmp_path / "exr", "exr")
+    assert [p.name for p in objs] == [f"frame_{i:04d}.obj" for i in range(4)]
+    assert np.array_equal(geoimg.load_image(exrs[2]).pixels, m.frame(float(m.times[2])).pixels)
+    assert geoimg.load_mesh(objs[3]).n_vertices == m.frame(1.0).to_mesh().n_vertices
+    with pytest.raises(ValueError, match="fmt"):
+        save_frames(m, tmp_path / "x", "stl")
+
+
+# --- pictures ---------------------------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def renderer():
+    from geoimg.render import Renderer, RenderError
+    try:
+        r = Renderer(96, 72)
+    except RenderError as e:
+        pytest.skip(f"no headless OpenGL here: {e}")
+    yield r
+    r.release()
+
+
+def test_renderer_draws_the_shape_from_the_camera(renderer, spots):
+    a, _ = spots
+    front = renderer.render(a, renderer.camera_for(a, azimuth=0))
+    side = renderer.render(a, renderer.camera_for(a, azimuth=90))
+    shape = (front != 255).any(axis=2)
+    assert front.shape == (72, 96, 3) and 0.05 < shape.mean() < 0.9
+    assert not shape[0].any() and not shape[-1].any()              # framed: the edges are background
+    assert np.abs(front.astype(int) - side).mean() > 5              # another view, another picture
+    grey = front[shape].astype(int)
+    assert grey.std() > 5                                           # shaded, not flat
+
+
+def test_render_and_morph_commands(tmp_path, capsys, renderer):
+    png = tmp_path / "m.png"
+    assert main(["render", str(SAMPLES / "mountain.obj"), "-o", str(png), "--width", "80", "--height", "60"]) == 0
+    import imageio.v3 as iio
+    assert iio.imread(png).shape == (60, 80, 3)
+    a, b = (str(shared_file(f"meshes/closed_genus0/{n}")) for n in ("spot_low_resolution.obj", "bumpy.off"))
+    out = tmp_path / "m.glb"
+    assert main(["morph", a, b, "--frames", "4", "--res", "33", "-o", str(out), "--gif", str(tmp_path / "m.gif"),
+                 "--width", "64", "--height", "48", "--frames-dir", str(tmp_path / "f")]) == 0
+    assert len(gl.GLTF2().load(str(out)).meshes[0].primitives[0].targets) == 1
+    assert iio.imread(tmp_path / "m.gif").shape == (4, 48, 64, 3)
+    assert len(list((tmp_path / "f").glob("frame_*.obj"))) == 4
+    text = capsys.readouterr().out
+    assert "sphere turned" in text and "wrote" in text
+    assert main(["morph", a, b]) == 2
+    assert "nothing to write" in capsys.readouterr().err
+    assert main(["morph", a, str(SAMPLES / "mountain.obj"), "-o", str(tmp_path / "x.glb")]) == 2
+    assert "cannot morph between domains" in capsys.readouterr().err
