@@ -5,7 +5,7 @@ import numpy as np
 
 from .mesh import Mesh
 
-__all__ = ["grid_mesh"]
+__all__ = ["grid_mesh", "load_dem"]
 
 
 def grid_mesh(heights, spacing=(1.0, 1.0)) -> Mesh:
@@ -43,3 +43,29 @@ def grid_mesh(heights, spacing=(1.0, 1.0)) -> Mesh:
     # (row, col) -> (x, -y): going a->d->c is counter-clockwise seen from +z
     faces = np.concatenate([np.stack([a, d, c], 1), np.stack([a, c, b], 1)])
     return Mesh(vertices, faces)
+
+
+def load_dem(path) -> np.ndarray:
+    """Elevations (H, W) float64 of a single-band raster (GeoTIFF, EXR, ...) through OpenImageIO, or of
+    the first array in an ``.npz``. Georeferencing is not read: give :func:`grid_mesh` the cell size."""
+    from pathlib import Path
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no elevation file at {path}")
+    if path.suffix.lower() == ".npz":
+        with np.load(path) as data:
+            return np.asarray(data[data.files[0]], np.float64)
+    import OpenImageIO as oiio
+
+    from .errors import ImageFileError
+
+    inp = oiio.ImageInput.open(str(path))
+    if inp is None:
+        raise ImageFileError(f"{path}: cannot be read as a raster ({oiio.geterror()})")
+    try:
+        spec = inp.spec()
+        data = inp.read_image(oiio.FLOAT)
+    finally:
+        inp.close()
+    return np.asarray(data, np.float64).reshape(spec.height, spec.width, spec.nchannels)[..., 0]
