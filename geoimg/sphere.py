@@ -26,6 +26,7 @@ from .balance_kernels import balance_energy, balance_gradient
 from .errors import ParametrizationError
 from .laplacian import factor_symmetric, corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
 from .mesh import Mesh
+from .progressive import progressive_sphere
 from .topology import topology
 
 __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
@@ -182,41 +183,133 @@ def _plane_to_sphere(z: np.ndarray, vertex_area: np.ndarray, used: np.ndarray, t
     return s
 
 
+def _local_sizes(s: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    """Each vertex's shortest chord edge on the sphere (inf for vertices on no edge)."""
+    length = np.linalg.norm(s[edges[:, 0]] - s[edges[:, 1]], axis=1)
+    h = np.full(len(s), np.inf)
+    np.minimum.at(h, edges[:, 0], length)
+    np.minimum.at(h, edges[:, 1], length)
+    return h
+
+
 def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
-    """Descend the area-balancing energy from ``s``; every accepted step keeps all triangles positive."""
+    """Descend the area-balancing energy from ``s``; every accepted step keeps all triangles positive.
+
+    Steps follow the Laplacian-smoothed gradient (limbs move as a whole). When that finds no step that
+    keeps every triangle positive (a region squeezed to 1e-15 of the sphere blocks any global move), a
+    step along the gradient scaled per vertex by its local size is taken instead, so tiny regions grow
+    by a fraction of themselves while the rest moves normally.
+    """
     a3 = _areas(x, tris)
     a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
     tris = np.ascontiguousarray(tris, np.int64)
     e, state = balance_energy(s, tris, a, cot, beta)
     if not np.isfinite(e):
         return s, 0, e
+    edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
     mass = vertex_area / vertex_area.sum()
     precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
-    alpha, done = 1.0, 0
-    for step in range(steps):
-        g = balance_gradient(s, tris, a, cot, beta, state)
-        g -= (g * s).sum(axis=1, keepdims=True) * s
-        d = -precond.solve(g)
-        d -= (d * s).sum(axis=1, keepdims=True) * s
-        d[~used] = 0.0
-        d /= max(np.abs(d).max(), 1e-300)
+
+    def tangent(v):
+        v = v - (v * s).sum(axis=1, keepdims=True) * s
+        v[~used] = 0.0
+        return v
+
+    def search(d, alpha):
         while alpha > 1e-10:
             trial = s + alpha * d
             trial /= np.linalg.norm(trial, axis=1, keepdims=True)
             e_new, st = balance_energy(trial, tris, a, cot, beta)
             if e_new < e:
-                break
+                return trial, e_new, st, alpha
             alpha *= 0.5
-        else:
-            break
-        converged = e - e_new < 1e-6 * e
+        return None
+
+    alpha, done = 1.0, 0
+    for step in range(steps):
+        g = tangent(balance_gradient(s, tris, a, cot, beta, state))
+        d = tangent(-precond.solve(g))
+        d /= max(np.abs(d).max(), 1e-300)
+        found = search(d, alpha)
+        local = found is None
+        if local:
+            h = _local_sizes(s, edges)
+            d = -g * np.where(np.isfinite(h), h, 0.0)[:, None] ** 2
+            reach = np.linalg.norm(d, axis=1) / np.where(np.isfinite(h), h, 1.0)
+            d /= max(2.0 * reach.max(), 1e-300)            # no vertex moves more than half its shortest edge
+            found = search(d, 1.0)
+            if found is None:
+                break
+        trial, e_new, st, alpha = found
+        converged = not local and e - e_new < 1e-6 * e
         s, e, state, done = trial, e_new, st, step + 1
-        alpha = min(2.0 * alpha, 1.0)
+        alpha = 1.0 if local else min(2.0 * alpha, 1.0)
         if progress is not None and step % 10 == 0:
             progress(f"area balancing step {step}: energy {e:.4f}")
         if converged:
             break
     return s, done, e
+
+
+def _vertex_areas(x, tris):
+    a3 = _areas(x, tris)
+    return np.bincount(tris.ravel(), np.repeat(a3 / 3.0, 3), minlength=len(x))
+
+
+def _tutte_sphere(z: np.ndarray, used: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """A planar Tutte embedding on the sphere, its pinned triangle's corners at height 0.9: the removed
+    face becomes a small cap round the north pole, so every face's chord triangle keeps the orientation
+    it has in the plane (no centring: a Moebius map could blow the cap up past a hemisphere)."""
+    h = 0.9
+    s = np.zeros((len(z), 3))
+    s[:, 2] = 1.0
+    idx = np.flatnonzero(used)
+    s[idx] = _inverse_stereographic(z[idx] / np.sqrt((1 - h) / (1 + h)))
+    if np.sum(chord_orientation(s, tris) > 0) < len(tris) / 2:
+        s = s * [-1.0, 1.0, 1.0]
+    return s
+
+
+def _direct_start(x, tris, used, vertex_area, lap):
+    """The conformal map, or the mean-value (Tutte) embedding where that folds; (s, name, removed face)."""
+    f0 = _pick_removed_face(x, tris)
+    s = _plane_to_sphere(_conformal_plane(x, tris, lap, f0, used), vertex_area, used, tris)
+    if np.any(chord_orientation(s, tris) <= 0):
+        z = _tutte_plane(x, tris, f0, used)
+        # two ways onto the sphere: centred (spreads a crowded layout) or with the removed face a small cap
+        # (keeps every big face's orientation); the one folding fewer triangles is taken
+        ways = [_plane_to_sphere(z, vertex_area, used, tris), _tutte_sphere(z, used, tris)]
+        folds = [int(np.sum(chord_orientation(w, tris) <= 0)) for w in ways]
+        return ways[int(np.argmin(folds))], "mean-value", f0
+    return s, "conformal", f0
+
+
+def _coarse_map(x, beta):
+    """Map a coarse mesh (vertices ``alive`` of ``x``, triangles ``coarse``) directly, then balance it."""
+    def run(alive, coarse):
+        idx = np.flatnonzero(alive)
+        remap = np.full(len(x), -1)
+        remap[idx] = np.arange(len(idx))
+        t, xs = remap[coarse], x[idx]
+        used = np.ones(len(idx), bool)
+        va = _vertex_areas(xs, t)
+        lap = _laplacian(cotangent_weights(xs, t))
+        sc, _, _ = _direct_start(xs, t, used, va, lap)
+        sc, _, _ = _balance(sc, xs, t, lap, va, used, float(beta), DEFAULT_STEPS, None)
+        s = np.zeros((len(x), 3))
+        s[:, 2] = 1.0
+        s[idx] = sc
+        return s
+    return run
+
+
+def _relax(x, beta, steps: int = 30):
+    """Area-balance the map of an intermediate mesh (the vertices ``alive``, triangles ``tris``)."""
+    def run(s, alive, tris):
+        lap = _laplacian(cotangent_weights(x, tris))
+        out, _, _ = _balance(s, x, tris, lap, _vertex_areas(x, tris), alive, float(beta), steps, None)
+        return out
+    return run
 
 
 def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAULT_BETA,
@@ -266,22 +359,25 @@ def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAU
     x = mesh.vertices
     tris, _ = mesh.triangulate()
     used = mesh.referenced_vertices()
-    a3 = _areas(x, tris)
-    vertex_area = np.bincount(tris.ravel(), np.repeat(a3 / 3.0, 3), minlength=len(x))
+    vertex_area = _vertex_areas(x, tris)
     lap = _laplacian(cotangent_weights(x, tris))
-    f0 = _pick_removed_face(x, tris)
-    s = _plane_to_sphere(_conformal_plane(x, tris, lap, f0, used), vertex_area, used, tris)
-    start = "conformal"
-    if np.any(chord_orientation(s, tris) <= 0):
-        s = _plane_to_sphere(_tutte_plane(x, tris, f0, used), vertex_area, used, tris)
-        start = "mean-value"
+    s, start, f0 = _direct_start(x, tris, used, vertex_area, lap)
+    info = {}
+    folds = int(np.sum(chord_orientation(s, tris) <= 0))
+    if folds:
+        if progress is not None:
+            progress(f"the direct maps fold {folds} triangles: mapping coarse to fine")
+        sp, extra = progressive_sphere(x, tris, used, _coarse_map(x, beta), _relax(x, beta), progress=progress)
+        info.update(extra, direct_folds=folds)
+        if np.sum(chord_orientation(sp, tris) <= 0) < folds:      # keep whichever folds fewer triangles
+            s, start = sp, "progressive"
     idx = np.flatnonzero(used)
     conformal = distortion(x, s, tris)   # of the starting map
     s, done, _ = _balance(s, x, tris, lap, vertex_area, used, float(beta), int(steps), progress)
     s[idx] = _align(s[idx], x[idx], vertex_area[idx])
     det = chord_orientation(s, tris)
-    info = {"flipped_triangles": int(np.sum(det <= 0)), "balance_steps": done, "removed_face": f0, "start": start,
-            "conformal_area_ratio_min": conformal["area_ratio_min"],
-            "conformal_area_ratio_max": conformal["area_ratio_max"]}
+    info.update({"flipped_triangles": int(np.sum(det <= 0)), "balance_steps": done, "removed_face": f0,
+                 "start": start, "conformal_area_ratio_min": conformal["area_ratio_min"],
+                 "conformal_area_ratio_max": conformal["area_ratio_max"]})
     info.update(distortion(x, s, tris))
     return s, info
