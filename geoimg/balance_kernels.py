@@ -74,32 +74,45 @@ def balance_energy(s, tris, a, cot, beta):
     return float(e), (area, lam, dirichlet)
 
 
-@njit(cache=True)
-def _gradient(s, tris, a, cot, area, lam, beta, dirichlet, g):
-    for t in range(tris.shape[0]):
+@njit(parallel=True, cache=True)
+def _corner_gradients(s, tris, a, cot, area, lam, beta, dirichlet, out):
+    """Each triangle's gradient with respect to its three corners, (T, 3, 3), in parallel."""
+    for t in prange(tris.shape[0]):
         ay = lam * area[t]
         lr = math.log(ay / a[t])
         f_d = beta * a[t] / ay * lam
         f_a = (2.0 * a[t] * lr / ay - beta * a[t] * dirichlet[t] / ay ** 2) * lam
-        u = np.zeros(3)
-        for k in range(3):
-            for c in range(3):
-                u[c] += s[tris[t, k], c]
-        u /= math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2)
+        i0, i1, i2 = tris[t, 0], tris[t, 1], tris[t, 2]
+        ux = s[i0, 0] + s[i1, 0] + s[i2, 0]
+        uy = s[i0, 1] + s[i1, 1] + s[i2, 1]
+        uz = s[i0, 2] + s[i1, 2] + s[i2, 2]
+        ln = math.sqrt(ux * ux + uy * uy + uz * uz)
+        ux, uy, uz = ux / ln, uy / ln, uz / ln
         for k in range(3):
             vk, v1, v2 = tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
             c1, c2 = cot[t, (k + 1) % 3], cot[t, (k + 2) % 3]
             ex = s[v2, 0] - s[v1, 0]
             ey = s[v2, 1] - s[v1, 1]
             ez = s[v2, 2] - s[v1, 2]
-            cr = (u[1] * ez - u[2] * ey, u[2] * ex - u[0] * ez, u[0] * ey - u[1] * ex)
+            out[t, k, 0] = 0.5 * (uy * ez - uz * ey) * f_a + f_d * (c2 * (s[vk, 0] - s[v1, 0]) + c1 * (s[vk, 0] - s[v2, 0]))
+            out[t, k, 1] = 0.5 * (uz * ex - ux * ez) * f_a + f_d * (c2 * (s[vk, 1] - s[v1, 1]) + c1 * (s[vk, 1] - s[v2, 1]))
+            out[t, k, 2] = 0.5 * (ux * ey - uy * ex) * f_a + f_d * (c2 * (s[vk, 2] - s[v1, 2]) + c1 * (s[vk, 2] - s[v2, 2]))
+
+
+@njit(cache=True)
+def _scatter(tris, corner, g):
+    for t in range(tris.shape[0]):
+        for k in range(3):
+            v = tris[t, k]
             for c in range(3):
-                g[vk, c] += 0.5 * cr[c] * f_a + f_d * (c2 * (s[vk, c] - s[v1, c]) + c1 * (s[vk, c] - s[v2, c]))
+                g[v, c] += corner[t, k, c]
 
 
 def balance_gradient(s, tris, a, cot, beta, state):
     """Gradient (n, 3) of the energy at ``s`` (the normalization of the areas held fixed)."""
     area, lam, dirichlet = state
+    corner = np.empty((len(tris), 3, 3))
+    _corner_gradients(s, tris, a, cot, area, lam, float(beta), dirichlet, corner)
     g = np.zeros_like(s)
-    _gradient(s, tris, a, cot, area, lam, float(beta), dirichlet, g)
+    _scatter(tris, corner, g)
     return g

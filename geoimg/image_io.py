@@ -160,9 +160,9 @@ def save_scalar(values: np.ndarray, path, name: str = "Y", *, overwrite: bool = 
     return path
 
 
-def diverging_colors(values: np.ndarray, valid: np.ndarray | None = None) -> np.ndarray:
-    """8-bit RGB (H, W, 3) of a signed map: blue (negative), white (0), red (positive), scaled so the
-    99th percentile of |value| over valid pixels is full colour; invalid pixels black.
+def diverging_colors(values: np.ndarray, valid: np.ndarray | None = None, scale: float | None = None) -> np.ndarray:
+    """8-bit RGB (H, W, 3) of a signed map: blue (negative), white (0), red (positive), full colour at
+    ``|value| = scale`` (default: the 99th percentile of |value| over valid pixels); invalid pixels black.
 
     Examples
     --------
@@ -171,7 +171,8 @@ def diverging_colors(values: np.ndarray, valid: np.ndarray | None = None) -> np.
     """
     v = np.asarray(values, np.float64)
     valid = np.ones(v.shape, bool) if valid is None else np.asarray(valid, bool)
-    scale = np.percentile(np.abs(v[valid]), 99) if valid.any() else 1.0
+    if scale is None:
+        scale = np.percentile(np.abs(v[valid]), 99) if valid.any() else 1.0
     t = np.clip(v / max(scale, 1e-300), -1.0, 1.0)[..., None]
     white, blue, red = np.array([255.0, 255, 255]), np.array([59.0, 76, 192]), np.array([180.0, 4, 38])
     rgb = np.where(t < 0, white + (-t) * (blue - white), white + t * (red - white))

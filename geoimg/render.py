@@ -47,6 +47,23 @@ void main() {
 """
 
 
+_LINE_VERTEX = """
+#version 330
+uniform mat4 mvp;
+in vec3 in_pos;
+void main() {
+    gl_Position = mvp * vec4(in_pos, 1.0);
+    gl_Position.z -= 2e-4 * gl_Position.w;    // drawn just in front of the surface it lies on
+}
+"""
+_LINE_FRAGMENT = """
+#version 330
+uniform vec3 line_color;
+out vec4 color;
+void main() { color = vec4(line_color, 1.0); }
+"""
+
+
 class RenderError(GeoimgError):
     """No OpenGL context could be made, or the scene cannot be drawn."""
 
@@ -150,6 +167,7 @@ class Renderer:
                               f"the error was: {e}") from None
         self.size, self.background, self.albedo = (int(width), int(height)), tuple(background), tuple(albedo)
         self.prog = self.ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
+        self.lines = self.ctx.program(vertex_shader=_LINE_VERTEX, fragment_shader=_LINE_FRAGMENT)
         self.samples = samples if samples <= self.ctx.max_samples else 0
         self.fbo = self.ctx.framebuffer(color_attachments=[self.ctx.renderbuffer(self.size, samples=self.samples)],
                                         depth_attachment=self.ctx.depth_renderbuffer(self.size, samples=self.samples))
@@ -162,8 +180,10 @@ class Renderer:
         hi = np.max([p.max(axis=0) for p in pts], axis=0)
         return Camera.fit(lo, hi, azimuth=azimuth, elevation=elevation, up=up, aspect=self.size[0] / self.size[1])
 
-    def render(self, obj, camera: Camera | None = None) -> np.ndarray:
-        """An (H, W, 3) uint8 picture of the object."""
+    def render(self, obj, camera: Camera | None = None, *, edges: Mesh | None = None,
+               edge_color=(0.75, 0.1, 0.1)) -> np.ndarray:
+        """An (H, W, 3) uint8 picture of the object; ``edges``: a mesh whose polygon edges are drawn over
+        it (hidden where the surface is in front)."""
         v, tris, n = _geometry(obj)
         if camera is None:
             camera = Camera.fit(v.min(axis=0), v.max(axis=0), aspect=self.size[0] / self.size[1])
@@ -181,6 +201,8 @@ class Renderer:
             self.ctx.enable(self.ctx.DEPTH_TEST)
             self.fbo.clear(*self.background, 1.0)
             vao.render()
+            if edges is not None:
+                self._draw_edges(edges, camera, edge_color)
             self.ctx.copy_framebuffer(self.resolved, self.fbo)
             raw = self.resolved.read(components=3, alignment=1)
         finally:
@@ -189,6 +211,23 @@ class Renderer:
             ibo.release()
         img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)
         return img[::-1].copy()                          # OpenGL's rows run bottom up
+
+    def _draw_edges(self, mesh: Mesh, camera: Camera, color) -> None:
+        f, k = mesh.faces, mesh.face_sizes
+        nxt = np.where(np.arange(f.shape[1])[None, :] + 1 < k[:, None], np.roll(f, -1, axis=1), f[:, :1])
+        valid = f >= 0
+        pairs = np.stack([f[valid], nxt[valid]], axis=1).astype(np.uint32)
+        vbo = self.ctx.buffer(np.asarray(mesh.vertices, "f4").tobytes())
+        ibo = self.ctx.buffer(pairs.tobytes())
+        vao = self.ctx.vertex_array(self.lines, [(vbo, "3f", "in_pos")], ibo)
+        try:
+            self.lines["mvp"].write(camera.matrices(self.size[0] / self.size[1]).T.astype("f4").tobytes())
+            self.lines["line_color"].value = tuple(color)
+            vao.render(mode=self.ctx.LINES)
+        finally:
+            vao.release()
+            vbo.release()
+            ibo.release()
 
     def release(self) -> None:
         self.ctx.release()
