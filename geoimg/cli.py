@@ -121,6 +121,32 @@ def cmd_info(args) -> int:
     return 0
 
 
+def _demo_pictures(image, stem: Path, progress) -> list:
+    """A rendering of the quad mesh, of it mean-filtered, and a mean-curvature map; none when there is
+    no headless OpenGL (the reason is printed)."""
+    import filters
+    from .curvature import image_curvature
+    from .image_io import save_colormap
+    from .render import Renderer, RenderError, save_png
+
+    written = [save_colormap(image_curvature(image)[1], stem.with_name(stem.name + "_mean_curvature.png"),
+                             image.valid, overwrite=True)]
+    try:
+        r = Renderer(800, 600)
+    except RenderError as e:
+        print(f"  pictures skipped: {e}")
+        return written
+    try:
+        progress("rendering")
+        smooth = image.apply(filters.mean_filter, 5, iterations=3, mode="linear")
+        cam = r.camera_for(image, elevation=35)
+        for name, img in (("render", image), ("smoothed_render", smooth)):
+            written.append(save_png(r.render(img, cam), stem.with_name(f"{stem.name}_{name}.png"), overwrite=True))
+    finally:
+        r.release()
+    return written
+
+
 def cmd_demo(args) -> int:
     progress = Progress(args.quiet)
     src = Path(args.mesh) if args.mesh else SAMPLE_MESH
@@ -139,6 +165,7 @@ def cmd_demo(args) -> int:
              image.preview(out / f"{stem}_preview.png", overwrite=True)]
     quads = load_image(files[0]).to_mesh()
     files.append(save_mesh(quads, out / f"{stem}_quads.obj", overwrite=True))
+    files += _demo_pictures(image, out / stem, progress)
     # how far the surface lies from the mesh vertices it approximates
     used = mesh.referenced_vertices()
     dev = np.linalg.norm(surface.evaluate(param.coords[used]) - mesh.vertices[used], axis=1)

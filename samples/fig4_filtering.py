@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 import filters
@@ -27,20 +28,22 @@ def to_rgb(image) -> np.ndarray:
     return np.round((p - lo) / np.maximum(hi - lo, 1e-300) * 255).astype(np.uint8)
 
 
-def run(out_dir: Path, res: int = 129, size=(260, 220)) -> dict:
+def run(out_dir: Path, res: int = 129, size=(240, 240)) -> dict:
     mesh = geoimg.load_mesh(DATA / "spot_low_resolution.obj")
     image = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), s=1.0).sample(res | 1)
     head = mesh.vertices[np.argmax(mesh.vertices[:, 2])]               # the snout's tip
     region = image_region(image, head, 0.35, 0.15)
     versions = [("geometry image", image),
                 ("mean filter 5x5, twice", image.apply(filters.mean_filter, 5, iterations=2)),
-                ("inverse filter (sharpened)", image.apply(filters.inverse_filter, "mean", 3, nsr=3e-3)),
+                ("inverse filter", image.apply(filters.inverse_filter, "mean", 3, nsr=3e-3)),
                 ("head smoothed only", image.apply(filters.gaussian_filter, 3.0, mask=region, feather=4))]
     r = Renderer(*size)
     try:
         cam = r.camera_for(mesh, azimuth=-50, elevation=15)
-        top = [caption(to_rgb(img), name) for name, img in versions]
-        bottom = [caption(r.render(img.to_mesh(), cam), "its quad mesh") for _, img in versions]
+        side = size[1]
+        top = [caption(cv2.resize(to_rgb(img), (side, side), interpolation=cv2.INTER_NEAREST), name)
+               for name, img in versions]
+        bottom = [r.render(img.to_mesh(), cam) for _, img in versions]
     finally:
         r.release()
     stats = {name: float(np.abs(img.pixels - image.pixels).max()) for name, img in versions}

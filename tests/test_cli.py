@@ -49,7 +49,10 @@ def test_demo_writes_its_files(tmp_path, capsys):
     assert main(["demo", "-o", str(tmp_path), "--res", "48"]) == 0
     out = capsys.readouterr().out
     assert "mesh vertices to surface" in out
-    assert {p.name for p in tmp_path.iterdir()} == {"mountain.exr", "mountain_preview.png", "mountain_quads.obj"}
+    names = {p.name for p in tmp_path.iterdir()}
+    assert {"mountain.exr", "mountain_preview.png", "mountain_quads.obj", "mountain_mean_curvature.png"} <= names
+    pictures = {"mountain_render.png", "mountain_smoothed_render.png"}
+    assert pictures <= names or "pictures skipped" in out      # no headless OpenGL: said, not silent
 
 
 def test_quiet_prints_nothing(tmp_path, capsys):
