@@ -26,7 +26,7 @@ BULGE = 0.02
 
 def _check_disk(mesh: Mesh):
     topo = topology(mesh)
-    if not (topo.nonmanifold_edges == 0 and topo.components == 1 and topo.boundary_loops == 1 and topo.genus == 0):
+    if not (topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0 and topo.components == 1 and topo.boundary_loops == 1 and topo.genus == 0):
         raise ParametrizationError(
             f"method='disk' needs one boundary loop around a single genus-0 piece; the mesh is a {topo.describe()}")
 

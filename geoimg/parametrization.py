@@ -236,7 +236,8 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrizat
     from .topology import topology
 
     topo = topology(mesh)
-    single = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.genus == 0
+    single = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0 \
+        and topo.genus == 0
     if single and topo.boundary_loops == 1 and axis is None:
         return parametrize(mesh, "disk", boundary=boundary)
     if single and topo.closed and axis is None:
@@ -246,6 +247,8 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrizat
                   "mesh.split()) and convert each")
     elif topo.nonmanifold_edges:
         advice = "geoimg needs a manifold mesh: repair the edges shared by more than two faces first"
+    elif topo.nonmanifold_vertices:
+        advice = ("geoimg needs a manifold mesh: split the pinch vertices (one copy per fan of faces) first")
     elif topo.genus is not None and topo.genus > 0:
         advice = (f"geoimg needs genus 0: {topo.genus} handle{'s' if topo.genus > 1 else ''} would have to be "
                   "cut first")

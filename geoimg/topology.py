@@ -29,17 +29,23 @@ class Topology:
     nonmanifold_edges: int
     euler: int
     genus: int | None
+    nonmanifold_vertices: int = 0    # pinch points: a vertex whose faces form more than one fan
 
     @property
     def closed(self) -> bool:
-        """No boundary edge and no non-manifold edge."""
-        return self.boundary_edges == 0 and self.nonmanifold_edges == 0
+        """No boundary edge and no non-manifold edge or vertex."""
+        return self.boundary_edges == 0 and self.nonmanifold_edges == 0 and self.nonmanifold_vertices == 0
 
     def describe(self) -> str:
         """One line a user can read, e.g. ``closed surface of genus 1 (torus-like), 1 component``."""
         parts = []
-        if self.nonmanifold_edges:
-            parts.append(f"non-manifold ({self.nonmanifold_edges} edges shared by more than two faces)")
+        if self.nonmanifold_edges or self.nonmanifold_vertices:
+            what = []
+            if self.nonmanifold_edges:
+                what.append(f"{self.nonmanifold_edges} edges shared by more than two faces")
+            if self.nonmanifold_vertices:
+                what.append(f"{self.nonmanifold_vertices} vertices where separate fans of faces meet")
+            parts.append(f"non-manifold ({'; '.join(what)})")
         elif self.closed:
             kind = {0: "sphere-like", 1: "torus-like"}.get(self.genus, f"{self.genus} handles")
             parts.append(f"closed surface of genus {self.genus} ({kind})")
@@ -78,11 +84,39 @@ def topology(mesh: Mesh) -> Topology:
         _, blabels = connected_components(badj, directed=False)
         loops = len(np.unique(blabels[np.unique(bnd)]))
     nonmanifold = int((counts > 2).sum())
+    pinches = _pinch_vertices(mesh) if not nonmanifold else 0
     V, E, F = int(used.sum()), len(edges), len(f)
     euler = V - E + F
     twice = 2 * components - euler - loops
-    genus = None if nonmanifold or twice % 2 else twice // 2
-    return Topology(V, E, F, components, loops, len(bnd), nonmanifold, euler, genus)
+    genus = None if nonmanifold or pinches or twice % 2 else twice // 2
+    return Topology(V, E, F, components, loops, len(bnd), nonmanifold, euler, genus, pinches)
+
+
+def _pinch_vertices(mesh: Mesh) -> int:
+    """Vertices whose incident faces fall into more than one fan (faces joined across the edges at the
+    vertex): the pinch points of an edge-manifold mesh."""
+    f = mesh.faces
+    valid = f >= 0
+    corner_v = f[valid]
+    nxt = mesh.next_vertices()[valid]
+    k = mesh.face_sizes
+    cols = np.arange(f.shape[1])[None, :]
+    prv_idx = np.where(cols == 0, (k - 1)[:, None], cols - 1)
+    prv = np.take_along_axis(f, prv_idx, axis=1)[valid]
+    n_corners = len(corner_v)
+    corner = np.arange(n_corners)
+    # corners at v touching edge {v, w}; corners sharing a key are in one fan
+    keys = np.concatenate([corner_v * mesh.n_vertices + nxt, corner_v * mesh.n_vertices + prv])
+    owner = np.concatenate([corner, corner])
+    order = np.argsort(keys, kind="stable")
+    keys, owner = keys[order], owner[order]
+    same = keys[1:] == keys[:-1]
+    adj = sparse.coo_matrix((np.ones(int(same.sum())), (owner[:-1][same], owner[1:][same])),
+                            shape=(n_corners, n_corners))
+    _, label = connected_components(adj, directed=False)
+    fans = np.unique(np.stack([corner_v, label], axis=1), axis=0)
+    per_vertex = np.bincount(fans[:, 0], minlength=mesh.n_vertices)
+    return int((per_vertex > 1).sum())
 
 
 def boundary_loops(mesh: Mesh) -> list[np.ndarray]:

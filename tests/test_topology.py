@@ -32,3 +32,15 @@ def test_uv_seams_do_not_split_the_topology():
 def test_mountain_is_a_disk():
     t = topology(geoimg.load_mesh(SAMPLES / "mountain.obj"))
     assert (t.boundary_loops, t.genus, t.euler) == (1, 0, 1)
+
+
+def test_a_pinch_vertex_is_counted_and_refused():
+    v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [-1, 0, 0], [0, -1, 0], [0, 0, -1]]
+    tets = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [0, 5, 4], [0, 4, 6], [0, 6, 5], [4, 5, 6]]
+    mesh = geoimg.Mesh(v, tets)              # two tetrahedra touching at vertex 0: every edge is manifold
+    t = topology(mesh)
+    assert t.nonmanifold_edges == 0 and t.nonmanifold_vertices == 1 and not t.closed and t.genus is None
+    assert "1 vertices where separate fans of faces meet" in t.describe()
+    with pytest.raises(geoimg.ParametrizationError, match="split the pinch vertices"):
+        geoimg.parametrize(mesh)
+    assert topology(geoimg.Mesh(v[:4], tets[:4])).nonmanifold_vertices == 0
