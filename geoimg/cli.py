@@ -213,7 +213,6 @@ class _Op(argparse.Action):
 
 def cmd_filter(args) -> int:
     import filters
-    from .image import GeometryImage
     from .regions import image_region, load_mask, uv_region
 
     if not getattr(args, "ops", None):

@@ -15,7 +15,7 @@ from .atomic import atomic_path
 from .errors import ImageFileError
 from .image import GeometryImage
 
-__all__ = ["save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
+__all__ = ["read_raster", "save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
            "save_normal_map"]
 
 
@@ -84,19 +84,20 @@ def save_image(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
     return path
 
 
-def load_image(path) -> GeometryImage:
-    """Read a geometry image written by :func:`save_image` (or any float EXR with R, G, B channels).
+def read_raster(path, attributes=(), what: str = "image"):
+    """Pixels (H, W, C) float32 of any image OpenImageIO reads (integer formats scaled to [0, 1]), the
+    channel names and the values of the named attributes (None where absent).
 
     Raises
     ------
     FileNotFoundError
         If there is no such file.
     ImageFileError
-        If the file cannot be read or has no R, G, B channels.
+        If it cannot be read.
     """
     path = Path(path)
     if not path.is_file():
-        raise FileNotFoundError(f"no image file at {path}")
+        raise FileNotFoundError(f"no {what} file at {path}")
     oiio = _oiio()
     inp = oiio.ImageInput.open(str(path))
     if inp is None:
@@ -107,12 +108,24 @@ def load_image(path) -> GeometryImage:
         if data is None:
             raise ImageFileError(f"{path}: pixel data could not be read ({inp.geterror()})")
         names = list(spec.channelnames)
-        meta_json = spec.getattribute("geoimg:metadata")
-        domain = spec.getattribute("geoimg:domain") or "planar"
+        values = [spec.getattribute(a) for a in attributes]
     finally:
         inp.close()
-    data = np.asarray(data, np.float32).reshape(spec.height, spec.width, spec.nchannels)
+    return np.asarray(data, np.float32).reshape(spec.height, spec.width, spec.nchannels), names, values
 
+
+def load_image(path) -> GeometryImage:
+    """Read a geometry image written by :func:`save_image` (or any float EXR with R, G, B channels).
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no such file.
+    ImageFileError
+        If the file cannot be read or has no R, G, B channels.
+    """
+    data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"))
+    meta_json, domain = attrs[0], attrs[1] or "planar"
     def channels(keys):
         if all(k in names for k in keys):
             return np.stack([data[..., names.index(k)] for k in keys], axis=2)

@@ -229,8 +229,11 @@ def _weight(kind, du, dv, param, radius):
 
 
 @njit(cache=True)
-def _accumulate(kind, pu, pv, cand, n_cand, all_faces, uc, vc, param, radius, C, A, B, acc):
-    """Sum over candidate faces into acc[0:18]; returns the exponent shift (Gaussian) or 0."""
+def _accumulate(kind, pu, pv, cand, n_cand, all_faces, uc, vc, param, radius, C, A, B, acc, kf, kfu, kfv):
+    """Sum over candidate faces into acc[0:18]; returns the exponent shift (Gaussian) or 0.
+
+    Gaussian exponents are ``-r^2 param_f kf`` with ``kf`` this point's factor (a smoothness that
+    varies over the domain) and ``kfu, kfv`` its derivatives."""
     m = -np.inf
     if kind == 0:
         for k in range(n_cand):
@@ -239,7 +242,7 @@ def _accumulate(kind, pu, pv, cand, n_cand, all_faces, uc, vc, param, radius, C,
             dv = pv - vc[f]
             if not all_faces and (abs(du) > radius[f] or abs(dv) > radius[f]):
                 continue
-            e = -(du * du + dv * dv) * param[f]
+            e = -(du * du + dv * dv) * param[f] * kf
             if e > m:
                 m = e
         if m == -np.inf:
@@ -255,7 +258,10 @@ def _accumulate(kind, pu, pv, cand, n_cand, all_faces, uc, vc, param, radius, C,
         if kind == 0:
             if not all_faces and (abs(du) > radius[f] or abs(dv) > radius[f]):
                 continue
-            e, hu, hv = _weight(0, du, dv, param[f], radius[f])
+            e, hu, hv = _weight(0, du, dv, param[f] * kf, radius[f])
+            r2p = (du * du + dv * dv) * param[f]
+            hu -= r2p * kfu
+            hv -= r2p * kfv
             w = math.exp(e - m)
             wu = w * hu
             wv = w * hv
@@ -278,7 +284,7 @@ def _accumulate(kind, pu, pv, cand, n_cand, all_faces, uc, vc, param, radius, C,
 
 @njit(parallel=True, cache=True)
 def _points_kernel(kind, pts, uc, vc, param, radius, C, A, B, origin, h, nx, ny, cptr, cfaces,
-                   log_g_ref, force_exact, P, Pu, Pv, status):
+                   log_g_ref, force_exact, kf, kfu, kfv, P, Pu, Pv, status):
     n_faces = uc.shape[0]
     dummy = np.zeros(1, np.int64)
     for p in prange(pts.shape[0]):
@@ -293,17 +299,19 @@ def _points_kernel(kind, pts, uc, vc, param, radius, C, A, B, origin, h, nx, ny,
             if 0 <= ix < nx and 0 <= iy < ny:
                 c = iy * nx + ix
                 cand = cfaces[cptr[c]:cptr[c + 1]]
-                m = _accumulate(kind, pu, pv, cand, cand.shape[0], False, uc, vc, param, radius, C, A, B, acc)
+                m = _accumulate(kind, pu, pv, cand, cand.shape[0], False, uc, vc, param, radius, C, A, B, acc,
+                                kf[p], kfu[p], kfv[p])
                 if kind == 0:
                     certified = m > -np.inf and math.log(acc[0]) + m >= log_g_ref
                 else:
                     certified = acc[0] > 0.0
         if not certified:
             if kind == 0:
-                _accumulate(0, pu, pv, dummy, n_faces, True, uc, vc, param, radius, C, A, B, acc)
+                _accumulate(0, pu, pv, dummy, n_faces, True, uc, vc, param, radius, C, A, B, acc, kf[p], kfu[p],
+                            kfv[p])
                 st = EXACT
             elif force_exact:
-                _accumulate(1, pu, pv, dummy, n_faces, True, uc, vc, param, radius, C, A, B, acc)
+                _accumulate(1, pu, pv, dummy, n_faces, True, uc, vc, param, radius, C, A, B, acc, 1.0, 0.0, 0.0)
                 st = EXACT
             if kind == 1 and not acc[0] > 0.0:
                 # a hole of the locally supported weights: report it, take the nearest face's plane
@@ -333,7 +341,7 @@ def _points_kernel(kind, pts, uc, vc, param, radius, C, A, B, origin, h, nx, ny,
             Pv[p, c] = (acc[9 + c] + acc[15 + c] - val * acc[5]) / s
 
 
-def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, log_g_ref, exact=False):
+def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, log_g_ref, exact=False, factor=None):
     """Evaluate the surface and its first derivatives at scattered parameter points.
 
     Parameters
@@ -347,6 +355,8 @@ def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, log_g_
         log of the certification threshold of the truncated Gaussian sum.
     exact : bool
         Sum over every face (no truncation).
+    factor : (kf, kf_u, kf_v) of (k,) arrays, optional
+        Per-point factor of the Gaussian exponents and its derivatives (a smoothness map).
 
     Returns
     -------
@@ -359,9 +369,12 @@ def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, log_g_
     k = pts.shape[0]
     P, Pu, Pv = np.zeros((k, 3)), np.zeros((k, 3)), np.zeros((k, 3))
     status = np.zeros(k, np.int8)
+    if factor is None:
+        factor = (np.ones(k), np.zeros(k), np.zeros(k))
+    kf, kfu, kfv = (np.ascontiguousarray(a, np.float64) for a in factor)
     _points_kernel(int(kind), pts, np.ascontiguousarray(centres[:, 0]), np.ascontiguousarray(centres[:, 1]),
                    param, radius, C, A, B, origin, float(h), int(nx), int(ny), cptr, cfaces,
-                   float(log_g_ref), bool(exact), P, Pu, Pv, status)
+                   float(log_g_ref), bool(exact), kf, kfu, kfv, P, Pu, Pv, status)
     return P, Pu, Pv, status
 
 

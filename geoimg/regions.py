@@ -10,11 +10,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import ImageFileError
 from .image import GeometryImage
 from .mesh import Mesh
 
-__all__ = ["ball_weights", "image_region", "uv_region", "load_mask", "smoothness_field", "symmetric_mask"]
+__all__ = ["ball_weights", "image_region", "uv_region", "load_mask", "smoothness_field", "symmetric_mask",
+           "SmoothnessMap", "uv_smoothness"]
 
 
 def _positive(value, name, allow_zero=False):
@@ -87,25 +87,14 @@ def uv_region(shape, centre, radius: float, feather: float = 0.0) -> np.ndarray:
 def load_mask(path, shape) -> np.ndarray:
     """Weights (H, W) in [0, 1] from an image file (PNG, EXR, ...: the first channel, scaled by its
     type's range; 8-bit 255 is 1). The file must have the geometry image's size."""
-    import OpenImageIO as oiio
+    from .image_io import read_raster
 
     path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"mask: no image file at {path}")
-    inp = oiio.ImageInput.open(str(path))
-    if inp is None:
-        raise ImageFileError(f"mask: {path} cannot be read as an image ({oiio.geterror()})")
-    try:
-        spec = inp.spec()
-        data = inp.read_image(oiio.FLOAT)   # integer formats come normalized to [0, 1]
-    finally:
-        inp.close()
-    if data is None:
-        raise ImageFileError(f"mask: {path}: pixel data could not be read")
-    if (spec.height, spec.width) != tuple(shape):
-        raise ValueError(f"mask: {path} is {spec.width} x {spec.height} pixels; the geometry image is "
+    data, _, _ = read_raster(path, what="mask image")
+    if data.shape[:2] != tuple(shape):
+        raise ValueError(f"mask: {path} is {data.shape[1]} x {data.shape[0]} pixels; the geometry image is "
                          f"{shape[1]} x {shape[0]}")
-    w = np.asarray(data, np.float64).reshape(spec.height, spec.width, spec.nchannels)[..., 0]
+    w = data[..., 0].astype(np.float64)
     if not np.isfinite(w).all() or w.min() < 0 or w.max() > 1:
         raise ValueError(f"mask: {path}: values must lie in [0, 1]")
     return w
@@ -129,3 +118,46 @@ def smoothness_field(mesh: Mesh, centre, radius: float, inside: float, outside: 
     centroid = (xyz * valid[..., None]).sum(axis=1) / k[:, None]
     w = ball_weights(centroid, centre, radius, feather)
     return outside + (inside - outside) * w
+
+
+class SmoothnessMap:
+    """A smoothness ``s(u, v)`` that varies with the point evaluated (paper 4.5): ``inside`` within
+    ``radius`` of ``centre`` in the parameter domain, ``outside`` beyond ``radius + feather``, a
+    smoothstep between. Every face's Gaussian at a point uses that point's s, so a region is kept sharp
+    (or smoothed) whatever the faces around it do; the surface's derivatives include the map's own, so
+    normals stay exact. Pass it as ``s`` to :func:`geoimg.fit_surface` (planar parametrizations).
+
+    Examples
+    --------
+    >>> m = uv_smoothness((0.5, 0.5), 0.1, inside=1.0, outside=4.0, feather=0.2)
+    >>> s, su, sv = m(np.array([[0.5, 0.5], [0.5, 0.7], [0.5, 0.9]]))
+    >>> s.round(12).tolist(), (m.min, m.max)
+    ([1.0, 2.5, 4.0], (1.0, 4.0))
+    """
+
+    def __init__(self, centre, radius: float, inside: float, outside: float, feather: float):
+        self.centre = np.asarray(centre, np.float64)
+        if self.centre.shape != (2,) or not np.isfinite(self.centre).all():
+            raise ValueError(f"centre: expected (u, v), got {centre!r}")
+        self.radius = _positive(radius, "radius", allow_zero=True)
+        self.feather = _positive(feather, "feather")
+        self.inside, self.outside = _positive(inside, "inside"), _positive(outside, "outside")
+        self.min, self.max = min(self.inside, self.outside), max(self.inside, self.outside)
+
+    def __call__(self, uv):
+        """``(s, ds/du, ds/dv)`` at parameter points (k, 2)."""
+        d = np.asarray(uv, np.float64) - self.centre
+        r = np.sqrt((d ** 2).sum(axis=1))
+        t = np.clip(1.0 - (r - self.radius) / self.feather, 0.0, 1.0)
+        w = t * t * (3.0 - 2.0 * t)
+        dw_dt = 6.0 * t * (1.0 - t)
+        dr = np.divide(d, r[:, None], out=np.zeros_like(d), where=r[:, None] > 0)
+        dw = (dw_dt * (-1.0 / self.feather))[:, None] * dr          # zero where t is clipped (dw_dt = 0)
+        s = self.outside + (self.inside - self.outside) * w
+        grad = (self.inside - self.outside) * dw
+        return s, grad[:, 0], grad[:, 1]
+
+
+def uv_smoothness(centre, radius: float, inside: float, outside: float = 1.0, feather: float = 0.05):
+    """A :class:`SmoothnessMap` round ``centre`` in the parameter domain (the image's u, v)."""
+    return SmoothnessMap(centre, radius, inside, outside, feather)

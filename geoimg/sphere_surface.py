@@ -20,7 +20,7 @@ from .errors import ParametrizationError
 from .face_maps import SLIVER_RULES, _fit_planes, enclosing_circle_radius, robust_sliver_planes
 from .mesh import Mesh
 from .surface import _unit, reference_log_weight, truncation_radius
-from .octahedral import check_size, grid_directions, square_jacobian, square_to_sphere, area_ratio
+from .octahedral import check_size, grid_directions, square_jacobian, square_to_sphere
 
 __all__ = ["SphereSurface", "fit_sphere_surface"]
 

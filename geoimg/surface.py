@@ -64,6 +64,7 @@ class Surface:
     _param: np.ndarray = field(repr=False, default=None)
     _cells: tuple = field(repr=False, default=None)
     s_face: np.ndarray = field(repr=False, default=None)   # per-face s when it varies (s is then its minimum)
+    s_map: object = field(repr=False, default=None)        # s(u, v) varying with the point (s is its minimum)
 
     @property
     def log_g_ref(self) -> float:
@@ -91,8 +92,13 @@ class Surface:
             raise ValueError("uv: contains NaN or infinite values")
         kind = kernels.GAUSSIAN if self.weights == "gaussian" else kernels.LOCAL
         fm = self.faces
+        factor = None
+        if self.s_map is not None and kind == kernels.GAUSSIAN:   # exponents scale by (s_ref / s(u, v))^2
+            sp, su, sv = self.s_map(pts)
+            factor = ((self.s / sp) ** 2, -2.0 * self.s ** 2 * su / sp ** 3, -2.0 * self.s ** 2 * sv / sp ** 3)
         return kernels.evaluate_points(kind, pts, fm.centres, self._param, self._radius, fm.C, fm.A, fm.B,
-                                       self._cells, log_g_ref=self.log_g_ref, exact=exact or self.tol == 0)
+                                       self._cells, log_g_ref=self.log_g_ref, exact=exact or self.tol == 0,
+                                       factor=factor)
 
     def evaluate(self, uv, *, exact: bool = False) -> np.ndarray:
         """Surface points at parameter points.
@@ -181,7 +187,7 @@ class Surface:
         H, W = len(v), len(u)
         fm = self.faces
         n_exact = 0
-        if self.weights == "gaussian" and self.tol > 0:
+        if self.weights == "gaussian" and self.tol > 0 and self.s_map is None:
             P, Pu, Pv, ok = kernels.sample_grid_gaussian(
                 u, v, fm.centres, self.sigma, self._radius, fm.C, fm.A, fm.B, derivatives=normals, log_g_ref=self.log_g_ref)
             status = np.zeros((H, W), np.int8)
@@ -208,6 +214,8 @@ class Surface:
         }
         if self.s_face is not None:
             meta["s_max"] = float(self.s_face.max())
+        if self.s_map is not None:
+            meta["s_max"] = float(self.s_map.max)
         if holes.any():
             warnings.warn(f"locally supported weights (n={self.n}) leave {int(holes.sum())} pixels uncovered "
                           "(holes); they are masked. Raise n to close them.", stacklevel=2)
@@ -232,6 +240,10 @@ def _unit(v: np.ndarray) -> np.ndarray:
 def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None]:
     """``(s, None)`` for a number; ``(min s, per-face s)`` for an array (truncation and its certificate use
     the minimum, which is conservative)."""
+    from .regions import SmoothnessMap
+
+    if isinstance(s, SmoothnessMap):
+        return float(s.min), None
     if isinstance(s, (int, float, np.number)) and not isinstance(s, bool):
         if not (np.isfinite(s) and s > 0):
             raise ValueError(f"s: expected a positive finite number, got {s!r}")
@@ -254,10 +266,12 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
     mesh : Mesh
     param : Parametrization
         Per-vertex (u, v) of the mesh (see :func:`geoimg.parametrize`).
-    s : float or array_like of shape (mesh.n_faces,), default 1.0
-        Smoothness: sigma_i = s d_i (Gaussian weights). Per-face values give a surface smoothed more in
-        some places than in others, its normals still exact (paper 4.5; see
-        :func:`geoimg.regions.smoothness_field`).
+    s : float, array_like of shape (mesh.n_faces,), or SmoothnessMap; default 1.0
+        Smoothness: sigma_i = s d_i (Gaussian weights). Per-face values
+        (:func:`geoimg.regions.smoothness_field`) or a map s(u, v) that varies with the point evaluated
+        (:func:`geoimg.regions.uv_smoothness`, planar only) give a surface smoothed more in some places
+        than in others, its normals still exact (paper 4.5). Per-face values cannot keep a region sharp
+        inside a smoothed surrounding (the wide Gaussians around reach in); a map can.
     weights : {"gaussian", "local"}
         Rational Gaussian (infinitely smooth) or locally supported ``1 - 3R^2 + 2R^3`` (C1, faster, may
         leave holes, which are reported and masked).
@@ -295,11 +309,17 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         raise ValueError(f"param: has {param.coords.shape[0]} points but the mesh has {mesh.n_vertices} vertices")
     if weights not in WEIGHTS:
         raise ValueError(f"weights: expected one of {WEIGHTS}, got {weights!r}")
+    from .regions import SmoothnessMap
+
+    s_map = s if isinstance(s, SmoothnessMap) else None
     s, s_face = _smoothness(s, mesh.n_faces)
     if not (isinstance(tol, (int, float, np.number)) and 0 <= tol < 1):
         raise ValueError(f"tol: expected a number in [0, 1), got {tol!r}")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
         raise ValueError(f"n: expected an integer >= 2, got {n!r}")
+    if param.domain == "octahedral" and s_map is not None:
+        raise ValueError("s: a smoothness map s(u, v) is for planar parametrizations; on the sphere give one s "
+                         "per face (geoimg.regions.smoothness_field)")
     if param.domain == "octahedral":
         if weights != "gaussian":
             raise ValueError("weights: the octahedral (spherical) domain supports only 'gaussian' weights")
@@ -315,8 +335,8 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
     if weights == "gaussian":
         sigma = (s if s_kept is None else s_kept) * fm.d
         param_arr = 0.5 / sigma ** 2
-        if tol > 0:
-            radius = truncation_radius(sigma, s, tol)
+        if tol > 0:     # the widest Gaussian a point can give a face sets its reach
+            radius = truncation_radius(sigma * (s_map.max / s if s_map is not None else 1.0), s, tol)
         else:
             radius = np.full_like(sigma, np.inf)
     else:
@@ -329,4 +349,4 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
     polys = param.coords[np.where(mesh.faces >= 0, mesh.faces, mesh.faces[:, :1])][fm.face_index]
     return Surface(fm, param.extent, s, weights, int(n), float(tol), sliver_rule,
                    int(param.info.get("orientation", 1)), param.domain, polys, mesh.face_sizes[fm.face_index], radius, param_arr, cells,
-                   s_kept)
+                   s_kept, s_map)

@@ -51,21 +51,11 @@ def load_dem(path) -> np.ndarray:
     from pathlib import Path
 
     path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"no elevation file at {path}")
     if path.suffix.lower() == ".npz":
+        if not path.is_file():
+            raise FileNotFoundError(f"no elevation file at {path}")
         with np.load(path) as data:
             return np.asarray(data[data.files[0]], np.float64)
-    import OpenImageIO as oiio
+    from .image_io import read_raster
 
-    from .errors import ImageFileError
-
-    inp = oiio.ImageInput.open(str(path))
-    if inp is None:
-        raise ImageFileError(f"{path}: cannot be read as a raster ({oiio.geterror()})")
-    try:
-        spec = inp.spec()
-        data = inp.read_image(oiio.FLOAT)
-    finally:
-        inp.close()
-    return np.asarray(data, np.float64).reshape(spec.height, spec.width, spec.nchannels)[..., 0]
+    return read_raster(path, what="elevation")[0][..., 0].astype(np.float64)

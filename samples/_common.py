@@ -1,6 +1,7 @@
 """Helpers shared by the sample scripts: bundled data, hillshades, captions, contact sheets, wireframes."""
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import cv2
@@ -78,3 +79,28 @@ def save(rgb: np.ndarray, path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     cv2.imwrite(str(path), np.ascontiguousarray(rgb[..., ::-1]), [cv2.IMWRITE_PNG_COMPRESSION, 9])
     return path
+
+
+def _shown(value) -> str:
+    if isinstance(value, float):
+        return f"{value:.4g}"
+    if isinstance(value, dict):
+        return ", ".join(f"{k} {_shown(v)}" for k, v in value.items())
+    if isinstance(value, (tuple, list)):
+        return "(" + ", ".join(_shown(v) for v in value) + ")"
+    return str(value)
+
+
+def sample_main(run, doc: str, argv=None, **options):
+    """The command line of a sample: ``OUT_DIR`` and its ``--options`` (name=default); runs it and prints
+    what it measured, then the picture it wrote."""
+    ap = argparse.ArgumentParser(description=doc.strip().splitlines()[0])
+    ap.add_argument("out_dir", nargs="?", default="samples-out")
+    for name, default in options.items():
+        ap.add_argument(f"--{name}", type=type(default), default=default)
+    args = ap.parse_args(argv)
+    stats = run(Path(args.out_dir), **{name: getattr(args, name) for name in options})
+    for name, value in stats.items():
+        if name != "png":
+            print(f"{name}: {_shown(value)}")
+    print(f"wrote {stats['png']}")

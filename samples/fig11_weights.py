@@ -8,13 +8,12 @@ OUT_DIR/fig11_weights.png and prints the times (fit + sample, after a warm-up).
 """
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
 import geoimg
 
-from _common import DATA, caption, gray, hillshade, save, sheet
+from _common import DATA, caption, gray, hillshade, sample_main, save, sheet
 
 
 def run(out_dir: Path, res: int = 257) -> dict:
@@ -41,15 +40,7 @@ def run(out_dir: Path, res: int = 257) -> dict:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out_dir", nargs="?", default="samples-out")
-    ap.add_argument("--res", type=int, default=257)
-    args = ap.parse_args(argv)
-    stats = run(Path(args.out_dir), args.res)
-    for name, seconds in stats.items():
-        if name != "png":
-            print(f"{name:28s} {seconds:.2f} s")
-    print(f"wrote {stats['png']}")
+    sample_main(run, __doc__, argv, res=257)
 
 
 if __name__ == "__main__":

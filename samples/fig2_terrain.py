@@ -8,7 +8,6 @@ red positive). Writes OUT_DIR/fig2_terrain.png.
 """
 from __future__ import annotations
 
-import argparse
 import time
 from pathlib import Path
 
@@ -16,7 +15,7 @@ import geoimg
 from geoimg.curvature import surface_curvature
 from geoimg.image_io import diverging_colors
 
-from _common import caption, gray, hillshade, save, sheet, st_helens
+from _common import caption, gray, hillshade, sample_main, save, sheet, st_helens
 
 S_VALUES = (2.0, 4.0, 8.0)
 
@@ -39,15 +38,7 @@ def run(out_dir: Path, res: int = 257, step: int = 2) -> dict:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out_dir", nargs="?", default="samples-out")
-    ap.add_argument("--res", type=int, default=257)
-    ap.add_argument("--step", type=int, default=2)
-    args = ap.parse_args(argv)
-    stats = run(Path(args.out_dir), args.res, args.step)
-    for s in S_VALUES:
-        print(f"s = {s:g}: surface, image and curvature in {stats[s]['seconds']:.2f} s")
-    print(f"wrote {stats['png']}")
+    sample_main(run, __doc__, argv, res=257, step=2)
 
 
 if __name__ == "__main__":

@@ -8,7 +8,6 @@ Columns: s = 0.5, 1, 2. Writes OUT_DIR/fig3_small_meshes.png.
 """
 from __future__ import annotations
 
-import argparse
 import warnings
 from pathlib import Path
 
@@ -19,7 +18,7 @@ import geoimg
 from geoimg.render import Renderer
 from geoimg.terrain import load_dem
 
-from _common import CELL, DATA, caption, save, sheet, st_helens
+from _common import CELL, DATA, caption, sample_main, save, sheet, st_helens
 
 S_VALUES = (0.5, 1.0, 2.0)
 
@@ -63,15 +62,7 @@ def run(out_dir: Path, res: int = 129, size=(300, 240)) -> dict:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out_dir", nargs="?", default="samples-out")
-    ap.add_argument("--res", type=int, default=129)
-    args = ap.parse_args(argv)
-    stats = run(Path(args.out_dir), args.res)
-    for name, st in stats.items():
-        if name != "png":
-            print(f"{name}: {st['faces']} faces of {st['sizes']} corners")
-    print(f"wrote {stats['png']}")
+    sample_main(run, __doc__, argv, res=129)
 
 
 if __name__ == "__main__":

@@ -8,7 +8,6 @@ Writes OUT_DIR/fig4_filtering.png and prints how far each moved the surface.
 """
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import cv2
@@ -19,7 +18,7 @@ import geoimg
 from geoimg.regions import image_region
 from geoimg.render import Renderer
 
-from _common import DATA, caption, save, sheet
+from _common import DATA, caption, sample_main, save, sheet
 
 
 def to_rgb(image) -> np.ndarray:
@@ -52,15 +51,7 @@ def run(out_dir: Path, res: int = 129, size=(240, 240)) -> dict:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out_dir", nargs="?", default="samples-out")
-    ap.add_argument("--res", type=int, default=129)
-    args = ap.parse_args(argv)
-    stats = run(Path(args.out_dir), args.res)
-    for name, change in stats.items():
-        if name != "png":
-            print(f"{name:28s} largest change {change:.4f} (Spot is about 2 units long)")
-    print(f"wrote {stats['png']}")
+    sample_main(run, __doc__, argv, res=129)
 
 
 if __name__ == "__main__":

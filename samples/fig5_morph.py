@@ -8,7 +8,6 @@ distance to the per-vertex blend of the two DEM meshes.
 """
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +17,7 @@ from geoimg.image_io import diverging_colors
 from geoimg.metrics import surface_distance
 from geoimg.morph import morph
 
-from _common import caption, gray, hillshade, save, sheet, st_helens
+from _common import caption, gray, hillshade, sample_main, save, sheet, st_helens
 
 FRAMES = ((0.0, "2004-10-04"), (0.25, "3:1"), (0.5, "1:1"), (0.75, "1:3"), (1.0, "2007-07-05"))
 
@@ -41,16 +40,7 @@ def run(out_dir: Path, res: int = 257, step: int = 1) -> dict:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out_dir", nargs="?", default="samples-out")
-    ap.add_argument("--res", type=int, default=257)
-    ap.add_argument("--step", type=int, default=1)
-    args = ap.parse_args(argv)
-    stats = run(Path(args.out_dir), args.res, args.step)
-    for name, psnr in stats.items():
-        if name != "png":
-            print(f"{name:11s} PSNR against the per-vertex blend: {psnr:.1f} dB")
-    print(f"wrote {stats['png']}")
+    sample_main(run, __doc__, argv, res=257, step=1)
 
 
 if __name__ == "__main__":

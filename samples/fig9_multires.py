@@ -8,13 +8,12 @@ OUT_DIR/fig9_multires.png.
 """
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import geoimg
 from geoimg.render import Renderer
 
-from _common import DATA, caption, save, sheet
+from _common import DATA, caption, sample_main, save, sheet
 
 PAIRS = ((8.0, 13), (4.0, 25), (2.0, 49), (1.0, 97), (0.5, 193))
 
@@ -40,11 +39,7 @@ def run(out_dir: Path, finest: int = 193, size=(240, 220)) -> dict:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out_dir", nargs="?", default="samples-out")
-    ap.add_argument("--finest", type=int, default=193)
-    args = ap.parse_args(argv)
-    print(f"wrote {run(Path(args.out_dir), args.finest)['png']}")
+    sample_main(run, __doc__, argv, finest=193)
 
 
 if __name__ == "__main__":

@@ -1,22 +1,20 @@
-"""Partial smoothing two ways (paper 4.5, Fig. 10): in the surface domain (per-face s) and in the image
-domain (a masked, feathered Gaussian filter of the geometry image); a region smoothed, and everything but
-the region smoothed.
+"""Partial smoothing two ways (paper 4.5, Fig. 10): in the surface domain (a smoothness s(u, v) that
+varies with the point) and in the image domain (a masked, feathered Gaussian filter of the geometry
+image); a region smoothed, and everything but the region smoothed.
 
     python samples/partial_smoothing.py [OUT_DIR] [--res 257]
 
-The bundled mountain at s = 2, the region a ball round its summit. Writes OUT_DIR/partial_smoothing.png
+The bundled mountain at s = 2, the region a disk round its summit in the parameter domain. Writes OUT_DIR/partial_smoothing.png
 (hillshades, and the height change of each below it; surface domain from exact normals, image domain
 from grid normals) and prints how far each moved the surface inside the region and away from it.
 
-What it shows: the image-domain versions leave the untouched part bit for bit as it was. The surface
-domain (s per face) smooths a region well, but cannot keep a region sharp inside a smoothed
-surrounding: the wide Gaussians of the faces around reach into it (here the kept region moves by
-1.3e-2 of the diagonal, the rest by up to 2e-2). An s that varies with the point evaluated, not with
-the face, would keep it; geoimg does not offer that yet.
+What it shows: the image-domain versions leave the untouched part bit for bit as it was, with grid
+normals; the surface-domain versions are the s = 2 or s = 8 surface itself wherever s(u, v) is, with
+exact normals and a smooth blend between. (An s per face, `regions.smoothness_field`, cannot keep a
+region sharp inside a smoothed surrounding: the wide Gaussians of the faces around reach into it.)
 """
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import numpy as np
@@ -24,25 +22,26 @@ import numpy as np
 import filters
 import geoimg
 from geoimg.image_io import diverging_colors
-from geoimg.regions import image_region, smoothness_field
+from geoimg.regions import ball_weights, uv_smoothness
 
-from _common import DATA, caption, gray, hillshade, save, sheet
+from _common import DATA, caption, gray, hillshade, sample_main, save, sheet
 
 
 def run(out_dir: Path, res: int = 257) -> dict:
     mesh = geoimg.load_mesh(DATA / "mountain.obj")
     param = geoimg.parametrize(mesh, "heightfield", axis="y")
-    summit = mesh.vertices[np.argmax(mesh.vertices[:, 1])]
     diag = mesh.bounding_box_diagonal()
-    radius, feather = 0.12 * diag, 0.08 * diag
+    centre = param.coords[np.argmax(mesh.vertices[:, 1])]           # the summit, in the parameter domain
+    radius, feather = 0.18, 0.12                                      # parameter units (longer side 1)
     base = geoimg.fit_surface(mesh, param, s=2.0).sample(res)
-    region = image_region(base, summit, radius, feather)
+    u, v = base.parameter_grid()
+    uv = np.stack(np.meshgrid(u, v), axis=-1)
+    region = ball_weights(uv, centre, radius, feather)                # the same disk for both domains
     sigma = 6.0 * 128 / (res - 1) + 0.5
     orientation = int(base.metadata["orientation"])
 
     def surface(inside, outside):
-        s_face = smoothness_field(mesh, summit, radius, inside=inside, outside=outside, feather=feather)
-        img = geoimg.fit_surface(mesh, param, s=s_face).sample(res)
+        img = geoimg.fit_surface(mesh, param, s=uv_smoothness(centre, radius, inside, outside, feather)).sample(res)
         return img, img.normals
 
     def image(mask):
@@ -54,7 +53,7 @@ def run(out_dir: Path, res: int = 257) -> dict:
                 ("image domain, masked", *image(region)),
                 ("surface domain, all but the region", *surface(2.0, 8.0)),
                 ("image domain, all but the region", *image(1.0 - region))]
-    far = image_region(base, summit, radius + 2 * feather) == 0
+    far = region == 0
     inside = region == 1
     spacing = diag / np.sqrt(2) / (res - 1)     # about one pixel, in the mesh's units
     stats, top, bottom = {}, [], []
@@ -70,16 +69,7 @@ def run(out_dir: Path, res: int = 257) -> dict:
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out_dir", nargs="?", default="samples-out")
-    ap.add_argument("--res", type=int, default=257)
-    args = ap.parse_args(argv)
-    stats = run(Path(args.out_dir), args.res)
-    for name, st in stats.items():
-        if name != "png":
-            print(f"{name:36s} height change inside the region: RMS {st['inside_rms']:.2e} of the diagonal; "
-                  f"away from it: max {st['far_max']:.2e}")
-    print(f"wrote {stats['png']}")
+    sample_main(run, __doc__, argv, res=257)
 
 
 if __name__ == "__main__":

@@ -3,7 +3,6 @@ import warnings
 import numpy as np
 import pytest
 
-import filters
 import geoimg
 from filters import (bandpass, bilateral_filter, blend, composite, feather, fourier_filter, gaussian_filter,
                      grid_curvature, guided_filter, highpass, inverse_filter, lowpass, mean_filter, pad, paste,

@@ -188,3 +188,39 @@ def test_cli_filter_and_curvature(tmp_path, spot, capsys):
     assert "selects no pixel" in capsys.readouterr().err
     assert main(["filter", str(src), "-o", str(tmp_path / "f.exr"), "--mean", "3"]) == 2    # exists, no --force
     assert not (tmp_path / "g.exr").exists()
+
+
+def test_a_smoothness_map_keeps_a_region_sharp_and_normals_exact(mountain, mountain_surface):
+    from geoimg.regions import uv_smoothness
+    param = geoimg.parametrize(mountain, "heightfield", axis="y")
+    smap = uv_smoothness((0.5, 0.5), 0.15, inside=2.0, outside=6.0, feather=0.1)
+    varied = geoimg.fit_surface(mountain, param, s=smap)
+    six = geoimg.fit_surface(mountain, param, s=6.0)
+    rng = np.random.default_rng(4)
+    uv = rng.uniform(0.02, 0.98, (400, 2)) * param.extent
+    r = np.linalg.norm(uv - 0.5, axis=1)
+    diag = mountain.bounding_box_diagonal()
+    inside, outside = uv[r < 0.14], uv[r > 0.26]
+    # where s(u, v) is 2 the surface is the s = 2 surface, where it is 6 the s = 6 one: no reach across
+    assert np.abs(varied.evaluate(inside) - mountain_surface.evaluate(inside)).max() < 1e-9 * diag
+    assert np.abs(varied.evaluate(outside) - six.evaluate(outside)).max() < 1e-9 * diag
+    ring = uv[(r > 0.16) & (r < 0.24)][:20]                       # in the blend, where s varies
+    pu, pv = varied.derivatives(ring)
+    h = 1e-6
+    fd_u = (varied.evaluate(ring + [h, 0]) - varied.evaluate(ring - [h, 0])) / (2 * h)
+    fd_v = (varied.evaluate(ring + [0, h]) - varied.evaluate(ring - [0, h])) / (2 * h)
+    assert np.abs(pu - fd_u).max() < 1e-6 * np.abs(pu).max() and np.abs(pv - fd_v).max() < 1e-6 * np.abs(pv).max()
+    assert np.abs(varied.evaluate(uv[::9]) - varied.evaluate(uv[::9], exact=True)).max() < 1e-9 * diag
+    img = varied.sample(33)
+    assert img.metadata["s"] == 2.0 and img.metadata["s_max"] == 6.0
+
+
+def test_a_smoothness_map_is_refused_on_the_sphere_and_checked(spot):
+    from geoimg.regions import uv_smoothness
+    mesh, param, *_ = spot
+    with pytest.raises(ValueError, match="planar parametrizations"):
+        geoimg.fit_surface(mesh, param, s=uv_smoothness((0.5, 0.5), 0.1, 2.0))
+    with pytest.raises(ValueError, match="feather"):
+        uv_smoothness((0.5, 0.5), 0.1, 2.0, feather=0)
+    with pytest.raises(ValueError, match="centre"):
+        uv_smoothness((0.5,), 0.1, 2.0)
