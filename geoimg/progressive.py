@@ -121,8 +121,8 @@ def _place(s, v, u, faces, n_changed):
 
     ``faces`` are v's faces, the last ``n_changed`` of them the ones that were u's while v was away;
     v belongs in the sector at ``u`` those filled, close enough to ``u``. Candidates lie on the rays from
-    ``u`` to the mean of v's neighbours (a Tutte step), to each such face's centroid and in 48 directions
-    round ``u``, at steps 1, 1/2, 1/4, ... of the distance to the neighbours; the one whose smallest face
+    ``u`` to the mean of v's neighbours (a Tutte step), to each such face's centroid, along the wedge that
+    the two faces holding u and v allow, and in 48 directions round ``u``, at steps 1, 1/2, 1/4, ... of the distance to the neighbours; the one whose smallest face
     is largest wins (so the new faces are not needlessly small).
     """
     ring = np.unique(faces)
@@ -136,7 +136,17 @@ def _place(s, v, u, faces, n_changed):
     t1 /= np.linalg.norm(t1)
     t2 = np.cross(su, t1)
     ang = np.linspace(0.0, 2 * np.pi, 48, endpoint=False)
-    ends = np.vstack([targets, su + reach * (np.cos(ang)[:, None] * t1 + np.sin(ang)[:, None] * t2)])
+    # the faces holding both u and v are flat while v sits on u; each turns positive as v moves along its
+    # gradient det(v, b, c) = v . (b x c): the sum of the unit gradients points into the wedge they allow
+    wedge = np.zeros(3)
+    for f in faces:
+        if u in f:
+            j = int(np.flatnonzero(f == v)[0])
+            g = np.cross(s[f[(j + 1) % 3]], s[f[(j + 2) % 3]])
+            g -= (g @ su) * su
+            wedge += g / max(np.linalg.norm(g), 1e-300)
+    ends = np.vstack([targets, su + reach * wedge / max(np.linalg.norm(wedge), 1e-300),
+                      su + reach * (np.cos(ang)[:, None] * t1 + np.sin(ang)[:, None] * t2)])
     steps = 0.5 ** np.arange(40)
     cand = (su + (ends - su)[:, None, :] * steps[None, :, None]).reshape(-1, 3)
     cand /= np.linalg.norm(cand, axis=1, keepdims=True)

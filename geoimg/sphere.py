@@ -194,6 +194,7 @@ def _local_sizes(s: np.ndarray, edges: np.ndarray) -> np.ndarray:
 
 def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
     """Descend the area-balancing energy from ``s``; every accepted step keeps all triangles positive.
+    Returns ``(s, steps taken, (energy at the start, energy at the end))``.
 
     Steps follow the Laplacian-smoothed gradient (limbs move as a whole). When that finds no step that
     keeps every triangle positive (a region squeezed to 1e-15 of the sphere blocks any global move), a
@@ -205,7 +206,8 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
     tris = np.ascontiguousarray(tris, np.int64)
     e, state = balance_energy(s, tris, a, cot, beta)
     if not np.isfinite(e):
-        return s, 0, e
+        return s, 0, (e, e)
+    e_start = e
     edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
     mass = vertex_area / vertex_area.sum()
     precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
@@ -248,7 +250,7 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
             progress(f"area balancing step {step}: energy {e:.4f}")
         if converged:
             break
-    return s, done, e
+    return s, done, (e_start, e)
 
 
 def _vertex_areas(x, tris):
@@ -373,11 +375,12 @@ def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAU
             s, start = sp, "progressive"
     idx = np.flatnonzero(used)
     conformal = distortion(x, s, tris)   # of the starting map
-    s, done, _ = _balance(s, x, tris, lap, vertex_area, used, float(beta), int(steps), progress)
+    s, done, energy = _balance(s, x, tris, lap, vertex_area, used, float(beta), int(steps), progress)
     s[idx] = _align(s[idx], x[idx], vertex_area[idx])
     det = chord_orientation(s, tris)
     info.update({"flipped_triangles": int(np.sum(det <= 0)), "balance_steps": done, "removed_face": f0,
                  "start": start, "conformal_area_ratio_min": conformal["area_ratio_min"],
+                 "start_area_log_rms": conformal["area_log_rms"], "balance_energy": energy,
                  "conformal_area_ratio_max": conformal["area_ratio_max"]})
     info.update(distortion(x, s, tris))
     return s, info
