@@ -213,7 +213,7 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
     precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
 
     def tangent(v):
-        v = v - (v * s).sum(axis=1, keepdims=True) * s
+        v = v - np.einsum("ij,ij->i", v, s)[:, None] * s
         v[~used] = 0.0
         return v
 
@@ -230,7 +230,7 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
     alpha, done = 1.0, 0
     for step in range(steps):
         g = tangent(balance_gradient(s, tris, a, cot, beta, state))
-        d = tangent(-precond.solve(g))
+        d = tangent(-precond.solve(np.asfortranarray(g)))     # SuperLU takes columns: no copy
         d /= max(np.abs(d).max(), 1e-300)
         found = search(d, alpha)
         local = found is None

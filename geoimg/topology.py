@@ -70,10 +70,11 @@ def topology(mesh: Mesh) -> Topology:
     f = mesh.faces
     valid = f >= 0
     a, b = f[valid], mesh.next_vertices()[valid]
-    e = np.sort(np.stack([a, b], axis=1), axis=1)
-    edges, counts = np.unique(e, axis=0, return_counts=True)
-    used = mesh.referenced_vertices()
     n = mesh.n_vertices
+    lo, hi = np.minimum(a, b).astype(np.int64), np.maximum(a, b).astype(np.int64)
+    keys, counts = np.unique(lo * n + hi, return_counts=True)        # 1-D keys: much faster than rows
+    edges = np.stack([keys // n, keys % n], axis=1)
+    used = mesh.referenced_vertices()
     adj = sparse.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n))
     n_comp, labels = connected_components(adj, directed=False)
     components = len(np.unique(labels[used]))
@@ -114,8 +115,8 @@ def _pinch_vertices(mesh: Mesh) -> int:
     adj = sparse.coo_matrix((np.ones(int(same.sum())), (owner[:-1][same], owner[1:][same])),
                             shape=(n_corners, n_corners))
     _, label = connected_components(adj, directed=False)
-    fans = np.unique(np.stack([corner_v, label], axis=1), axis=0)
-    per_vertex = np.bincount(fans[:, 0], minlength=mesh.n_vertices)
+    fans = np.unique(corner_v.astype(np.int64) * n_corners + label)
+    per_vertex = np.bincount(fans // n_corners, minlength=mesh.n_vertices)
     return int((per_vertex > 1).sum())
 
 
