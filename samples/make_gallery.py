@@ -22,7 +22,8 @@ def shrink(src: Path, dst: Path, width: int) -> int:
     img = Image.open(src).convert("RGB")
     if img.width > width:
         img = img.resize((width, round(img.height * width / img.width)), Image.LANCZOS)
-    img.quantize(colors=64, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE).save(dst, optimize=True)
+    palette = img.quantize(colors=256, method=Image.Quantize.MEDIANCUT)     # 256 colours chosen for it,
+    img.quantize(palette=palette, dither=Image.Dither.FLOYDSTEINBERG).save(dst, optimize=True)   # dithered
     return dst.stat().st_size
 
 
