@@ -44,7 +44,9 @@ def _areas(s, tris, out):
 
 @njit(parallel=True, cache=True)
 def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
+    """The energy, and ``sum a_t log r_t`` (what the areas' normalization adds to the gradient)."""
     e = 0.0
+    mean_log = 0.0
     for t in prange(tris.shape[0]):
         dsum = 0.0
         for k in range(3):
@@ -59,7 +61,8 @@ def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
         ay = lam * area[t]
         lr = math.log(ay / a[t])
         e += a[t] * lr * lr + beta * a[t] * (d / ay - 2.0)
-    return e
+        mean_log += a[t] * lr
+    return e, mean_log
 
 
 def balance_energy(s, tris, a, cot, beta):
@@ -70,33 +73,40 @@ def balance_energy(s, tris, a, cot, beta):
         return np.inf, None
     lam = 1.0 / area.sum()
     dirichlet = np.empty(len(tris))
-    e = _terms(s, tris, a, cot, area, lam, float(beta), dirichlet)
-    return float(e), (area, lam, dirichlet)
+    e, mean_log = _terms(s, tris, a, cot, area, lam, float(beta), dirichlet)
+    return float(e), (area, lam, dirichlet, float(mean_log))
 
 
 @njit(parallel=True, cache=True)
-def _corner_gradients(s, tris, a, cot, area, lam, beta, dirichlet, out):
+def _corner_gradients(s, tris, a, cot, area, lam, beta, dirichlet, shift, out):
     """Each triangle's gradient with respect to its three corners, (T, 3, 3), in parallel."""
     for t in prange(tris.shape[0]):
         ay = lam * area[t]
         lr = math.log(ay / a[t])
         f_d = beta * a[t] / ay * lam
-        f_a = (2.0 * a[t] * lr / ay - beta * a[t] * dirichlet[t] / ay ** 2) * lam
+        f_a = (2.0 * a[t] * lr / ay - beta * a[t] * dirichlet[t] / ay ** 2) * lam - shift
         i0, i1, i2 = tris[t, 0], tris[t, 1], tris[t, 2]
         ux = s[i0, 0] + s[i1, 0] + s[i2, 0]
         uy = s[i0, 1] + s[i1, 1] + s[i2, 1]
         uz = s[i0, 2] + s[i1, 2] + s[i2, 2]
         ln = math.sqrt(ux * ux + uy * uy + uz * uz)
         ux, uy, uz = ux / ln, uy / ln, uz / ln
+        # area = 0.5 (e1 x e2) . u with u the normalized corner sum: its turning adds, to every corner,
+        # 0.5 (n - (n . u) u) / |p0 + p1 + p2| with n = e1 x e2
+        ax, ay_, az = s[i1, 0] - s[i0, 0], s[i1, 1] - s[i0, 1], s[i1, 2] - s[i0, 2]
+        bx, by, bz = s[i2, 0] - s[i0, 0], s[i2, 1] - s[i0, 1], s[i2, 2] - s[i0, 2]
+        nx, ny, nz = ay_ * bz - az * by, az * bx - ax * bz, ax * by - ay_ * bx
+        nu = nx * ux + ny * uy + nz * uz
+        tx, ty, tz = 0.5 * (nx - nu * ux) / ln, 0.5 * (ny - nu * uy) / ln, 0.5 * (nz - nu * uz) / ln
         for k in range(3):
             vk, v1, v2 = tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
             c1, c2 = cot[t, (k + 1) % 3], cot[t, (k + 2) % 3]
             ex = s[v2, 0] - s[v1, 0]
             ey = s[v2, 1] - s[v1, 1]
             ez = s[v2, 2] - s[v1, 2]
-            out[t, k, 0] = 0.5 * (uy * ez - uz * ey) * f_a + f_d * (c2 * (s[vk, 0] - s[v1, 0]) + c1 * (s[vk, 0] - s[v2, 0]))
-            out[t, k, 1] = 0.5 * (uz * ex - ux * ez) * f_a + f_d * (c2 * (s[vk, 1] - s[v1, 1]) + c1 * (s[vk, 1] - s[v2, 1]))
-            out[t, k, 2] = 0.5 * (ux * ey - uy * ex) * f_a + f_d * (c2 * (s[vk, 2] - s[v1, 2]) + c1 * (s[vk, 2] - s[v2, 2]))
+            out[t, k, 0] = (0.5 * (uy * ez - uz * ey) + tx) * f_a + f_d * (c2 * (s[vk, 0] - s[v1, 0]) + c1 * (s[vk, 0] - s[v2, 0]))
+            out[t, k, 1] = (0.5 * (uz * ex - ux * ez) + ty) * f_a + f_d * (c2 * (s[vk, 1] - s[v1, 1]) + c1 * (s[vk, 1] - s[v2, 1]))
+            out[t, k, 2] = (0.5 * (ux * ey - uy * ex) + tz) * f_a + f_d * (c2 * (s[vk, 2] - s[v1, 2]) + c1 * (s[vk, 2] - s[v2, 2]))
 
 
 @njit(cache=True)
@@ -109,10 +119,13 @@ def _scatter(tris, corner, g):
 
 
 def balance_gradient(s, tris, a, cot, beta, state):
-    """Gradient (n, 3) of the energy at ``s`` (the normalization of the areas held fixed)."""
-    area, lam, dirichlet = state
+    """Gradient (n, 3) of the energy at ``s``."""
+    area, lam, dirichlet, mean_log = state
+    # the areas' normalization lam = 1 / sum(area) depends on every area too: d lam / d area_t = -lam^2
+    # (summed in the energy's kernel: a numpy dot here would wake BLAS threads that fight numba's)
+    shift = 2.0 * lam * mean_log
     corner = np.empty((len(tris), 3, 3))
-    _corner_gradients(s, tris, a, cot, area, lam, float(beta), dirichlet, corner)
+    _corner_gradients(s, tris, a, cot, area, lam, float(beta), dirichlet, shift, corner)
     g = np.zeros_like(s)
     _scatter(tris, corner, g)
     return g

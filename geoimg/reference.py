@@ -84,11 +84,15 @@ class AreaBalanceNumpy:
     def gradient(self, state):
         p, u, ay, lam, lr, dirichlet = state
         f_d = (self.beta * self.a / ay * lam)[:, None]
-        f_a = ((2.0 * self.a * lr / ay - self.beta * self.a * dirichlet / ay ** 2) * lam)[:, None]
+        shift = 2.0 * lam * float(self.a @ lr)           # through lam = 1 / sum(area)
+        f_a = ((2.0 * self.a * lr / ay - self.beta * self.a * dirichlet / ay ** 2) * lam - shift)[:, None]
+        corner_sum = p.sum(axis=1)
+        n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+        turn = 0.5 * (n - np.einsum("ij,ij->i", n, u)[:, None] * u) / np.linalg.norm(corner_sum, axis=1)[:, None]
         parts = []
         for k in range(3):
             k1, k2 = (k + 1) % 3, (k + 2) % 3
-            g = 0.5 * np.cross(u, p[:, k2] - p[:, k1]) * f_a
+            g = (0.5 * np.cross(u, p[:, k2] - p[:, k1]) + turn) * f_a
             g += f_d * (self.cot[:, k2, None] * (p[:, k] - p[:, k1]) + self.cot[:, k1, None] * (p[:, k] - p[:, k2]))
             parts.append(g)
         return self.scatter @ np.concatenate(parts)

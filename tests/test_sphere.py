@@ -171,3 +171,26 @@ def test_simplification_undoes_exactly():
         for f, row in removed:
             cur[f] = row
     assert np.array_equal(cur, tris)
+
+
+def test_balance_gradient_matches_finite_differences(spot_small):
+    from geoimg.balance_kernels import balance_energy, balance_gradient
+    from geoimg.laplacian import corner_cotangents
+    mesh, p = spot_small
+    tris, _ = mesh.triangulate()
+    tris = tris.astype(np.int64)
+    x = mesh.vertices
+    a3 = 0.5 * np.linalg.norm(np.cross(x[tris[:, 1]] - x[tris[:, 0]], x[tris[:, 2]] - x[tris[:, 0]]), axis=1)
+    a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
+    s = p.coords
+    e, state = balance_energy(s, tris, a, cot, 0.3)
+    g = balance_gradient(s, tris, a, cot, 0.3, state)
+    rng = np.random.default_rng(2)
+    for v in rng.choice(mesh.n_vertices, 5, replace=False):
+        for c in range(3):
+            h = 1e-6
+            sp, sm = s.copy(), s.copy()
+            sp[v, c] += h
+            sm[v, c] -= h
+            fd = (balance_energy(sp, tris, a, cot, 0.3)[0] - balance_energy(sm, tris, a, cot, 0.3)[0]) / (2 * h)
+            assert abs(g[v, c] - fd) <= 1e-6 * np.abs(g).max(), (v, c, g[v, c], fd)
