@@ -162,28 +162,21 @@ class GeometryImage:
     def _octahedral_mesh(self) -> Mesh:
         """(N-1)^2 quads with the glued boundary welded by index: a closed genus-0 mesh.
         A welded vertex takes the mean of its pixels (identical unless a filter broke the symmetry)."""
-        from .octahedral import weld_index
+        from .octahedral import glued_groups, group_means
 
         n = self.shape[0]
-        weld = weld_index(n).ravel()
-        reps, index = np.unique(weld, return_inverse=True)
-        counts = np.bincount(index).astype(np.float64)[:, None]
-
-        def pool(a):
-            a = np.asarray(a, np.float64).reshape(-1, a.shape[-1])
-            return np.stack([np.bincount(index, a[:, c]) for c in range(a.shape[1])], axis=1) / counts
-
+        reps, index = glued_groups(n)
         grid = index.reshape(n, n)
         quads = np.stack([grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1]], axis=-1).reshape(-1, 4)
         if int(self.metadata.get("orientation", 1)) < 0:
             quads = quads[:, ::-1]
-        normals = pool(self.normals) if self.normals is not None else None
+        normals = group_means(self.normals, index) if self.normals is not None else None
         if normals is not None:
             normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
         u, v = self.parameter_grid()
         uu, vv = np.meshgrid(u, v)
         uv = np.stack([uu.ravel(), vv.ravel()], axis=1)[reps]
-        return Mesh(pool(self.pixels), quads, uv=uv, normals=normals)
+        return Mesh(group_means(self.pixels, index), quads, uv=uv, normals=normals)
 
     @property
     def boundary_mode(self) -> str:
@@ -197,8 +190,8 @@ class GeometryImage:
         arguments (to blend or composite) stand for their pixels and must share domain and size; a mask
         on an octahedral image is made symmetric on the glued boundary, and glued pixels of the result
         are averaged so they stay identical. ``mask=`` and ``feather=`` restrict any operation to a region
-        (through its own mask argument, or by blending its result in). The exact normals are dropped (the filtered image is no
-        longer the surface); the operation is recorded in ``metadata['filters']``.
+        (through its own mask argument, or by blending its result in). The exact normals are dropped (the
+        filtered image is no longer the surface); the operation is recorded in ``metadata['filters']``.
 
         Examples
         --------
@@ -224,18 +217,20 @@ class GeometryImage:
         if "mode" in params and "mode" not in kwargs:
             kwargs["mode"] = self.boundary_mode
         mask, feather = kwargs.get("mask"), kwargs.get("feather", 0.0)
-        if mask is not None and self.domain == "octahedral":
+        if mask is not None:
             from filters._checks import as_weights
-            from .regions import symmetric_mask
 
-            mask = kwargs["mask"] = symmetric_mask(as_weights(mask, self.shape))
+            mask = kwargs["mask"] = as_weights(mask, self.shape)
+            if self.domain == "octahedral":
+                from .regions import symmetric_mask
+
+                mask = kwargs["mask"] = symmetric_mask(mask)
         if mask is not None and "mask" not in params:   # any operation can be masked
             import filters
 
             kwargs.pop("mask")
             kwargs.pop("feather", None)
-            weights = filters.feather(filters._checks.as_weights(mask, self.shape), feather,
-                                      kwargs.get("mode", self.boundary_mode))
+            weights = filters.feather(mask, feather, kwargs.get("mode", self.boundary_mode))
             out = filters.apply_masked(self.pixels, np.asarray(op(self.pixels, *args, **kwargs)), weights)
             kwargs.update(mask=mask, feather=feather)
         else:

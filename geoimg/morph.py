@@ -18,6 +18,7 @@ from scipy.spatial.transform import Rotation
 import filters
 from .image import GeometryImage
 from .mesh import Mesh
+from .octahedral import average_glued, grid_directions, sphere_to_square
 
 __all__ = ["morph", "Morph", "EASINGS", "ALIGNMENTS"]
 
@@ -77,8 +78,6 @@ def _centre_and_radius(img: GeometryImage):
 
 def _octahedral_sampler(pixels: np.ndarray):
     """A function giving the cubic-spline interpolation of an octahedral image at unit directions (..., 3)."""
-    from .octahedral import sphere_to_square
-
     n = pixels.shape[0]
     padded = filters.pad(np.asarray(pixels, np.float64), _PAD, "octahedral")
     coeffs = [ndimage.spline_filter(padded[..., c], order=3, mode="nearest") for c in range(padded.shape[2])]
@@ -95,8 +94,6 @@ def _octahedral_sampler(pixels: np.ndarray):
 def _best_rotation(reference: GeometryImage, moving: np.ndarray) -> tuple[Rotation, float, float]:
     """Rotation R of the sphere minimizing the mean squared distance between ``reference(q)`` and
     ``moving(R q)`` on a coarse grid: the 24 rotations of the cube as starts, then Nelder-Mead."""
-    from .octahedral import grid_directions
-
     n = 33
     q = grid_directions(n).reshape(-1, 3)
     ref = _octahedral_sampler(reference.pixels)(q)
@@ -118,8 +115,6 @@ def _align(images, align: str, rotate: bool, shared, progress):
     """Move keys 1.. into key 0's frame; returns the new images and what was done to each. A key whose
     parametrization is shared with the key before it (``shared[k]``) gets that key's rotation, not a
     search of its own: its correspondence is the vertices'."""
-    from .octahedral import grid_directions
-
     c0, r0 = _centre_and_radius(images[0])
     out, report = [images[0]], [{"shape": 0, "reference": True}]
     previous = Rotation.identity()
@@ -142,7 +137,7 @@ def _align(images, align: str, rotate: bool, shared, progress):
             if angle > 0:
                 n = p.shape[0]
                 p = _octahedral_sampler(p)(rot.apply(grid_directions(n).reshape(-1, 3))).reshape(p.shape)
-                p = _average_glued(p)
+                p = average_glued(p)
             entry.update(rotation_deg=angle, rotation_axis=(rot.as_rotvec() / max(rot.magnitude(), 1e-300)).tolist())
             previous = rot
             if progress and "rms_before" in entry:
@@ -152,12 +147,6 @@ def _align(images, align: str, rotate: bool, shared, progress):
         out.append(GeometryImage(p.astype(img.pixels.dtype), img.mask, domain=img.domain, metadata=meta))
         report.append(entry)
     return out, report
-
-
-def _average_glued(p):
-    from .octahedral import average_glued
-
-    return average_glued(p)
 
 
 @dataclass(frozen=True, eq=False)

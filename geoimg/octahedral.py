@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["square_to_sphere", "sphere_to_square", "check_size", "weld_index", "area_ratio", "grid_directions",
-           "square_jacobian"]
+           "square_jacobian", "glued_groups", "group_means", "average_glued"]
 
 
 def _unfold(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -137,6 +137,26 @@ def weld_index(n: int) -> np.ndarray:
     return idx
 
 
+def glued_groups(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The groups of glued pixels of an ``n x n`` octahedral image: the flat index of each group's first
+    pixel, and each pixel's group number (flat order). ``(n - 1)^2 + 2`` groups.
+
+    Examples
+    --------
+    >>> reps, group = glued_groups(5)
+    >>> len(reps), int(group[4]), int(group[24])     # the corners are one group
+    (18, 0, 0)
+    """
+    return np.unique(weld_index(n).ravel(), return_inverse=True)
+
+
+def group_means(values: np.ndarray, group: np.ndarray) -> np.ndarray:
+    """Mean of ``values`` (n, n, C) or (n * n, C) over each group of :func:`glued_groups`, shape (G, C)."""
+    flat = np.asarray(values, np.float64).reshape(len(group), -1)
+    counts = np.bincount(group).astype(np.float64)[:, None]
+    return np.stack([np.bincount(group, flat[:, c]) for c in range(flat.shape[1])], axis=1) / counts
+
+
 def average_glued(pixels: np.ndarray) -> np.ndarray:
     """Each group of glued pixels of an ``n x n (x C)`` octahedral image replaced by its mean, so glued
     pixels hold identical values (a filter keeps them equal only up to rounding).
@@ -148,10 +168,5 @@ def average_glued(pixels: np.ndarray) -> np.ndarray:
     1.0
     """
     a = np.asarray(pixels)
-    n = a.shape[0]
-    weld = weld_index(n).ravel()
-    flat = a.reshape(n * n, -1).astype(np.float64)
-    counts = np.bincount(weld, minlength=n * n)
-    sums = np.stack([np.bincount(weld, flat[:, c], minlength=n * n) for c in range(flat.shape[1])], axis=1)
-    mean = sums[weld] / counts[weld][:, None]
-    return mean.reshape(a.shape).astype(a.dtype)
+    _, group = glued_groups(a.shape[0])
+    return group_means(a, group)[group].reshape(a.shape).astype(a.dtype)

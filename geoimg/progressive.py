@@ -14,6 +14,8 @@ import heapq
 import numpy as np
 from numba import njit
 
+from .sphere import facing_out
+
 __all__ = ["simplify", "progressive_sphere"]
 
 
@@ -91,10 +93,6 @@ def simplify(x: np.ndarray, tris: np.ndarray, target: int, max_valence: int = 12
     return alive, tris, records
 
 
-def _orient(s, t):
-    return np.einsum("ij,ij->i", s[t[:, 0]], np.cross(s[t[:, 1]], s[t[:, 2]]))
-
-
 @njit(cache=True)
 def _scores(s, faces, v, cand):
     """For each candidate position of ``v``, the smallest orientation ``det(a, b, c)`` over ``faces``."""
@@ -122,8 +120,9 @@ def _place(s, v, u, faces, n_changed):
     ``faces`` are v's faces, the last ``n_changed`` of them the ones that were u's while v was away;
     v belongs in the sector at ``u`` those filled, close enough to ``u``. Candidates lie on the rays from
     ``u`` to the mean of v's neighbours (a Tutte step), to each such face's centroid, along the wedge that
-    the two faces holding u and v allow, and in 48 directions round ``u``, at steps 1, 1/2, 1/4, ... of the distance to the neighbours; the one whose smallest face
-    is largest wins (so the new faces are not needlessly small).
+    the two faces holding u and v allow, and in 48 directions round ``u``, at steps 1, 1/2, 1/4, ... of
+    the distance to the neighbours; the one whose smallest face is largest wins (so the new faces are not
+    needlessly small).
     """
     ring = np.unique(faces)
     su = s[u]
@@ -165,9 +164,7 @@ def _tetrahedron(n, alive, coarse):
     s[:, 2] = 1.0
     idx = np.flatnonzero(alive)
     s[idx] = np.array([[1, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]]) / np.sqrt(3.0)
-    if (_orient(s, coarse) < 0).all():
-        s[idx] *= [-1.0, 1.0, 1.0]
-    return s
+    return facing_out(s, coarse)
 
 
 def progressive_sphere(x, tris, used, coarse_map, relax, *, target: int = 4, growth: float = 1.25,
@@ -176,31 +173,32 @@ def progressive_sphere(x, tris, used, coarse_map, relax, *, target: int = 4, gro
 
     The mesh is simplified down to ``target`` vertices (a tetrahedron by default, mapped onto a regular
     one; a coarser mesh that cannot be simplified further goes to ``coarse_map(alive, coarse_tris) -> s``);
-    ``relax(s, alive, tris)``
-    improves a fold-free map of an intermediate mesh (area balancing). Returns ``(s, info)``; ``info``
-    counts the vertices that found no fold-free place (then left on their partner).
+    ``relax(s, alive, tris)`` improves a fold-free map of an intermediate mesh (area balancing). Returns
+    ``(s, info)``; ``info`` counts the vertices that found no fold-free place (then left on their partner).
     """
     alive, coarse, records = simplify(x, tris, max(target, 4))
     live = coarse[coarse[:, 0] >= 0]
-    s = _tetrahedron(len(x), alive, live) if alive.sum() == 4 else coarse_map(alive, live)
+    count = int(alive.sum())
+    s = _tetrahedron(len(x), alive, live) if count == 4 else coarse_map(alive, live)
     if progress is not None:
-        progress(f"coarse mesh of {int(alive.sum())} vertices mapped; {len(records)} vertices to put back")
+        progress(f"coarse mesh of {count} vertices mapped; {len(records)} vertices to put back")
     cur = coarse.copy()
     misplaced = 0
-    next_relax = int(alive.sum() * growth)
+    next_relax = int(count * growth)
     for i, (v, u, removed, changed) in enumerate(reversed(records)):
         for f in changed:
             cur[f][cur[f] == u] = v
         for f, row in removed:
             cur[f] = row
         alive[v] = True
+        count += 1
         faces = cur[[f for f, _ in removed] + list(changed)]
         if not _place(s, v, u, faces, len(changed)):
             misplaced += 1
-        if alive.sum() >= next_relax or i == len(records) - 1:
+        if count >= next_relax or i == len(records) - 1:
             s = relax(s, alive, cur[cur[:, 0] >= 0])
-            next_relax = int(alive.sum() * growth)
+            next_relax = int(count * growth)
             if progress is not None:
-                progress(f"{int(alive.sum())} vertices on the sphere")
+                progress(f"{count} vertices on the sphere")
     s[~used] = [0.0, 0.0, 1.0]
     return s, {"coarse_vertices": int(len(x) - len(records)), "misplaced": misplaced}

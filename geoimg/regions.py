@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from filters._checks import positive
+
 from .image import GeometryImage
 from .mesh import Mesh
 
@@ -17,11 +19,8 @@ __all__ = ["ball_weights", "image_region", "uv_region", "load_mask", "smoothness
            "SmoothnessMap", "uv_smoothness"]
 
 
-def _positive(value, name, allow_zero=False):
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.number)) or not np.isfinite(value) \
-            or value < 0 or (value == 0 and not allow_zero):
-        raise ValueError(f"{name}: expected a {'non-negative' if allow_zero else 'positive'} number, got {value!r}")
-    return float(value)
+def _positive(value, name, allow_zero=False) -> float:
+    return float(positive(value, name, allow_zero=allow_zero))
 
 
 def ball_weights(points, centre, radius: float, feather: float = 0.0) -> np.ndarray:

@@ -26,7 +26,6 @@ from .balance_kernels import balance_energy, balance_gradient
 from .errors import ParametrizationError
 from .laplacian import factor_symmetric, corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
 from .mesh import Mesh
-from .progressive import progressive_sphere
 from .topology import topology
 
 __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
@@ -47,6 +46,13 @@ def chord_orientation(s: np.ndarray, tris: np.ndarray) -> np.ndarray:
     seen from outside."""
     a, b, c = s[tris[:, 0]], s[tris[:, 1]], s[tris[:, 2]]
     return np.einsum("ij,ij->i", a, np.cross(b, c))
+
+
+def facing_out(s: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """``s``, mirrored if fewer than half its triangles run counter-clockwise seen from outside."""
+    if np.sum(chord_orientation(s, tris) > 0) < len(tris) / 2:
+        return s * [-1.0, 1.0, 1.0]
+    return s
 
 
 def _areas(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
@@ -126,8 +132,6 @@ def _pick_removed_face(x: np.ndarray, tris: np.ndarray) -> int:
     return int(np.flatnonzero(good)[np.argmax(area[good])])
 
 
-
-
 def _laplacian(weights: sparse.spmatrix) -> sparse.csc_matrix:
     return (sparse.diags(np.asarray(weights.sum(axis=1)).ravel()) - weights).tocsc()
 
@@ -178,9 +182,7 @@ def _plane_to_sphere(z: np.ndarray, vertex_area: np.ndarray, used: np.ndarray, t
     s[:, 2] = 1.0
     idx = np.flatnonzero(used)
     s[idx] = mobius_centre(_inverse_stereographic(z[idx] / radius), vertex_area[idx] + 1e-12 * vertex_area.max())
-    if np.sum(chord_orientation(s, tris) > 0) < len(tris) / 2:   # keep faces counter-clockwise from outside
-        s = s * [-1.0, 1.0, 1.0]
-    return s
+    return facing_out(s, tris)
 
 
 def _local_sizes(s: np.ndarray, edges: np.ndarray) -> np.ndarray:
@@ -236,8 +238,9 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
         local = found is None
         if local:
             h = _local_sizes(s, edges)
-            d = -g * np.where(np.isfinite(h), h, 0.0)[:, None] ** 2
-            reach = np.linalg.norm(d, axis=1) / np.where(np.isfinite(h), h, 1.0)
+            on_edge = np.isfinite(h)
+            d = -g * np.where(on_edge, h, 0.0)[:, None] ** 2
+            reach = np.linalg.norm(d, axis=1) / np.where(on_edge, h, 1.0)
             d /= max(2.0 * reach.max(), 1e-300)            # no vertex moves more than half its shortest edge
             found = search(d, 1.0)
             if found is None:
@@ -267,9 +270,7 @@ def _tutte_sphere(z: np.ndarray, used: np.ndarray, tris: np.ndarray) -> np.ndarr
     s[:, 2] = 1.0
     idx = np.flatnonzero(used)
     s[idx] = _inverse_stereographic(z[idx] / np.sqrt((1 - h) / (1 + h)))
-    if np.sum(chord_orientation(s, tris) > 0) < len(tris) / 2:
-        s = s * [-1.0, 1.0, 1.0]
-    return s
+    return facing_out(s, tris)
 
 
 def _direct_start(x, tris, used, vertex_area, lap):
@@ -367,6 +368,8 @@ def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAU
     info = {}
     folds = int(np.sum(chord_orientation(s, tris) <= 0))
     if folds:
+        from .progressive import progressive_sphere   # (it builds on this module's orientation test)
+
         if progress is not None:
             progress(f"the direct maps fold {folds} triangles: mapping coarse to fine")
         sp, extra = progressive_sphere(x, tris, used, _coarse_map(x, beta), _relax(x, beta), progress=progress)

@@ -58,7 +58,7 @@ def _fill(lo, hi, n):
 
 
 @njit(cache=True)
-def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, normal, height, origin, e1, e2, C, A, B, acc):
+def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, origin, e1, e2, C, A, B, acc):
     """Accumulate over candidate faces; returns the largest exponent (-inf when no face is in range)."""
     m = -np.inf
     for k in range(n_cand):
@@ -116,7 +116,7 @@ def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, normal, heig
 
 
 @njit(parallel=True, cache=True)
-def _kernel(q, t1, t2, centre, inv2s, radius, normal, height, origin, e1, e2, C, A, B, h, n, ptr, cells,
+def _kernel(q, t1, t2, centre, inv2s, radius, origin, e1, e2, C, A, B, h, n, ptr, cells,
             log_g_ref, force_exact, P, P1, P2, status):
     n_faces = centre.shape[0]
     dummy = np.zeros(1, np.int64)
@@ -129,13 +129,12 @@ def _kernel(q, t1, t2, centre, inv2s, radius, normal, height, origin, e1, e2, C,
             iz = min(max(int(math.floor((q[p, 2] + 1.0) / h)), 0), n - 1)
             c = (iz * n + iy) * n + ix
             cand = cells[ptr[c]:ptr[c + 1]]
-            m = _sum(q[p], t1[p], t2[p], cand, cand.shape[0], False, centre, inv2s, radius, normal, height,
-                     origin, e1, e2, C, A, B, acc)
+            m = _sum(q[p], t1[p], t2[p], cand, cand.shape[0], False, centre, inv2s, radius, origin, e1, e2,
+                     C, A, B, acc)
             certified = m >= log_g_ref
         status[p] = TRUNCATED
         if not certified:
-            _sum(q[p], t1[p], t2[p], dummy, n_faces, True, centre, inv2s, radius, normal, height,
-                 origin, e1, e2, C, A, B, acc)
+            _sum(q[p], t1[p], t2[p], dummy, n_faces, True, centre, inv2s, radius, origin, e1, e2, C, A, B, acc)
             status[p] = EXACT
         s = acc[0]
         for c in range(3):
@@ -148,7 +147,7 @@ def _kernel(q, t1, t2, centre, inv2s, radius, normal, height, origin, e1, e2, C,
 def evaluate_sphere(q, t1, t2, faces, cells, *, log_g_ref, exact=False):
     """Surface points and derivatives along ``t1``, ``t2`` at unit directions ``q`` (k, 3).
 
-    ``faces`` is a tuple ``(centre, inv2s, radius, normal, height, origin, e1, e2, C, A, B)``; ``cells``
+    ``faces`` is a tuple ``(centre, inv2s, radius, origin, e1, e2, C, A, B)``; ``cells``
     comes from :func:`build_cells_3d`. Returns ``P, P_t1, P_t2`` (k, 3) and a status per point.
     """
     q = np.ascontiguousarray(q, np.float64)

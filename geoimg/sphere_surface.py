@@ -90,7 +90,7 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
 
         d, n_slivers = robust_sliver_planes(mesh, face_index, d, area, C, A, B, ring_coords)
     centre = origin / np.linalg.norm(origin, axis=1, keepdims=True)
-    return dict(centre=centre, normal=normal, height=height, origin=origin, e1=e1, e2=e2, C=C, A=A, B=B, d=d,
+    return dict(centre=centre, origin=origin, e1=e1, e2=e2, C=C, A=A, B=B, d=d,
                 face_index=face_index, n_slivers=n_slivers, n_degenerate=int((~keep).sum()))
 
 
@@ -210,8 +210,7 @@ def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, s, tol: float, sliver_rul
     sigma = (s if s_face is None else s_face) * fm["d"]
     radius = truncation_radius(sigma, s, tol) if tol > 0 else np.full_like(sigma, 4.0)
     faces = tuple(np.ascontiguousarray(a, np.float64) for a in (
-        fm["centre"], 0.5 / sigma ** 2, radius, fm["normal"], fm["height"], fm["origin"], fm["e1"], fm["e2"],
-        fm["C"], fm["A"], fm["B"]))
+        fm["centre"], 0.5 / sigma ** 2, radius, fm["origin"], fm["e1"], fm["e2"], fm["C"], fm["A"], fm["B"]))
     cells = sphere_kernels.build_cells_3d(fm["centre"], np.minimum(radius, 4.0))
     return SphereSurface(s, float(tol), sliver_rule, fm["d"], fm["face_index"], fm["n_slivers"],
                          fm["n_degenerate"], faces, cells, orientation=int(orientation), s_face=s_face)
