@@ -1,4 +1,5 @@
 """Test helpers: real meshes from ../shared/data (beside the checkout) and small synthetic meshes."""
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +17,20 @@ def shared_file(rel: str) -> Path:
     if not path.is_file():
         pytest.skip(f"shared test data {path} not present")
     return path
+
+
+def finite_differences(surface, pts, h: float = 1e-6):
+    """Central differences ``(dP/du, dP/dv)`` of a planar surface at parameter points (k, 2)."""
+    fu = (surface.evaluate(pts + [h, 0]) - surface.evaluate(pts - [h, 0])) / (2 * h)
+    fv = (surface.evaluate(pts + [0, h]) - surface.evaluate(pts - [0, h])) / (2 * h)
+    return fu, fv
+
+
+def load_shared(rel: str) -> geoimg.Mesh:
+    """A mesh of the shared data, quietly (some files warn of UV seams, which the tests do not need)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return geoimg.load_mesh(shared_file(rel))
 
 
 def mixed_mesh(seed: int = 0, n: int = 7):

@@ -1,5 +1,3 @@
-import warnings
-
 import numpy as np
 import pytest
 
@@ -11,7 +9,7 @@ from filters.inverse import blur_taps, blur_transfer
 from geoimg.octahedral import grid_directions, weld_index
 from geoimg.topology import topology
 
-from helpers import shared_file
+from helpers import load_shared
 
 RNG = np.random.default_rng(7)
 NOISE = RNG.normal(size=(17, 17, 3))
@@ -35,9 +33,7 @@ MODES = ["reflect", "wrap", "octahedral"]
 
 @pytest.fixture(scope="module")
 def spot_octahedral():
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        mesh = geoimg.load_mesh(shared_file("meshes/closed_genus0/spot_low_resolution.obj"))
+    mesh = load_shared("meshes/closed_genus0/spot_low_resolution.obj")
     return geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), s=1).sample(65)
 
 

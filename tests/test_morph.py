@@ -13,20 +13,16 @@ from geoimg.metrics import surface_distance
 from geoimg.morph import _octahedral_sampler, morph
 from geoimg.octahedral import average_glued, grid_directions
 
-from helpers import SAMPLES, shared_file
+from helpers import load_shared, SAMPLES, shared_file
 
 
-def load(rel):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return geoimg.load_mesh(shared_file(rel))
 
 
 @pytest.fixture(scope="module")
 def spots():
-    a = load("meshes/closed_genus0/spot_low_resolution.obj")
+    a = load_shared("meshes/closed_genus0/spot_low_resolution.obj")
     img = geoimg.fit_surface(a, geoimg.parametrize(a, "sphere"), s=1).sample(33)
-    b = load("meshes/closed_genus0/bunny.obj")
+    b = load_shared("meshes/closed_genus0/bunny.obj")
     img_b = geoimg.fit_surface(b, geoimg.parametrize(b, "sphere"), s=1).sample(33)
     return img, img_b
 
@@ -111,9 +107,9 @@ def test_resample_brings_keys_to_one_size(terrain, mountain_surface):
 
 
 def test_shared_faces_share_the_parametrization_and_match_vertex_interpolation():
-    man, woman = load("meshes/closed_genus0/human_man.obj"), load("meshes/closed_genus0/human_woman.obj")
+    man, woman = load_shared("meshes/closed_genus0/human_man.obj"), load_shared("meshes/closed_genus0/human_woman.obj")
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")          # the human map folds some triangles (reported elsewhere)
+        warnings.simplefilter("error")           # the human's sphere map folds nothing now: nothing to warn of
         m = morph(man, woman, frames=3, easing="linear", align="none", resolution=65)
     assert m.report[1]["parametrization"].startswith("shared with shape 0") and m.report[1]["rotation_deg"] == 0.0
     # the surface is linear in the vertices for a fixed parametrization, so a blend of the two images is

@@ -1,5 +1,4 @@
 """Geometry images through the filters: domain rules, masks and regions, curvature, varying s, CLI."""
-import warnings
 
 import numpy as np
 import pytest
@@ -12,18 +11,14 @@ from geoimg.octahedral import weld_index
 from geoimg.regions import image_region, load_mask, smoothness_field, uv_region
 from geoimg.topology import topology
 
-from helpers import shared_file
+from helpers import finite_differences, load_shared
 
 
-def load(rel):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return geoimg.load_mesh(shared_file(rel))
 
 
 @pytest.fixture(scope="module")
 def spot():
-    mesh = load("meshes/closed_genus0/spot_low_resolution.obj")
+    mesh = load_shared("meshes/closed_genus0/spot_low_resolution.obj")
     param = geoimg.parametrize(mesh, "sphere")
     surf = geoimg.fit_surface(mesh, param, s=1)
     return mesh, param, surf, surf.sample(65)
@@ -110,9 +105,7 @@ def test_varying_s_smooths_a_region_and_keeps_normals_exact(mountain, mountain_s
     # exact normals: analytic derivatives agree with finite differences of the varied surface
     pts = uv[near][:5]
     pu, pv = varied.derivatives(pts)
-    h = 1e-6
-    fd_u = (varied.evaluate(pts + [h, 0]) - varied.evaluate(pts - [h, 0])) / (2 * h)
-    fd_v = (varied.evaluate(pts + [0, h]) - varied.evaluate(pts - [0, h])) / (2 * h)
+    fd_u, fd_v = finite_differences(varied, pts)
     assert np.abs(pu - fd_u).max() < 1e-5 * np.abs(pu).max() and np.abs(pv - fd_v).max() < 1e-5 * np.abs(pv).max()
     # truncation stays certified: the truncated sum equals the exact one
     assert np.abs(varied.evaluate(uv[::7]) - varied.evaluate(uv[::7], exact=True)).max() < 1e-9 * diag
@@ -138,7 +131,7 @@ def test_bad_smoothness_is_refused(s, message):
 # --- curvature --------------------------------------------------------------------------------------
 
 def test_surface_curvature_of_a_sphere_mesh():
-    mesh = load("meshes/closed_genus0/sphere.obj")
+    mesh = load_shared("meshes/closed_genus0/sphere.obj")
     surf = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), s=1)
     K, H = surface_curvature(surf, 33)
     r = np.linalg.norm(mesh.vertices, axis=1).mean()
@@ -206,9 +199,7 @@ def test_a_smoothness_map_keeps_a_region_sharp_and_normals_exact(mountain, mount
     assert np.abs(varied.evaluate(outside) - six.evaluate(outside)).max() < 1e-9 * diag
     ring = uv[(r > 0.16) & (r < 0.24)][:20]                       # in the blend, where s varies
     pu, pv = varied.derivatives(ring)
-    h = 1e-6
-    fd_u = (varied.evaluate(ring + [h, 0]) - varied.evaluate(ring - [h, 0])) / (2 * h)
-    fd_v = (varied.evaluate(ring + [0, h]) - varied.evaluate(ring - [0, h])) / (2 * h)
+    fd_u, fd_v = finite_differences(varied, ring)
     assert np.abs(pu - fd_u).max() < 1e-6 * np.abs(pu).max() and np.abs(pv - fd_v).max() < 1e-6 * np.abs(pv).max()
     assert np.abs(varied.evaluate(uv[::9]) - varied.evaluate(uv[::9], exact=True)).max() < 1e-9 * diag
     img = varied.sample(33)

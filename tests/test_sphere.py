@@ -1,5 +1,3 @@
-import warnings
-
 import numpy as np
 import pytest
 
@@ -9,18 +7,14 @@ from geoimg.octahedral import weld_index
 from geoimg.sphere import chord_orientation, sphere_coords
 from geoimg.topology import topology
 
-from helpers import shared_file
+from helpers import load_shared
 
 
-def load(rel):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")   # UV seams
-        return geoimg.load_mesh(shared_file(rel))
 
 
 @pytest.fixture(scope="module")
 def spot_small():
-    mesh = load("meshes/closed_genus0/spot_low_resolution.obj")
+    mesh = load_shared("meshes/closed_genus0/spot_low_resolution.obj")
     return mesh, parametrize(mesh, "sphere")
 
 
@@ -30,7 +24,7 @@ def spot_small():
                                  "meshes/polygonal/cylinder.obj", "meshes/polygonal/spot_control_mesh.obj",
                                  "meshes/polygonal/sword-quad-dominant.obj"])
 def test_sphere_map_folds_nothing_and_balances_area(rel):
-    mesh = load(rel)
+    mesh = load_shared(rel)
     before = mesh.vertices.copy()
     s, info = sphere_coords(mesh)
     tris, _ = mesh.triangulate()
@@ -44,7 +38,7 @@ def test_sphere_map_folds_nothing_and_balances_area(rel):
 
 
 def test_area_balancing_lifts_the_bunny_ears():
-    s, info = sphere_coords(load("meshes/closed_genus0/bunny.obj"))
+    s, info = sphere_coords(load_shared("meshes/closed_genus0/bunny.obj"))
     assert info["conformal_area_ratio_min"] < 1e-3 and info["area_ratio_min"] > 0.05
 
 
@@ -76,7 +70,7 @@ def test_coarse_mesh_surface_stays_near_the_mesh():
     # 26 faces: each Gaussian spans a quarter of the sphere, so faces turned 90 degrees away carry weight;
     # their maps must stay bounded there (a central projection onto their planes put a pixel at y = -9.8)
     from geoimg.metrics import surface_distance
-    mesh = load("meshes/polygonal/chamfer-cube.off")
+    mesh = load_shared("meshes/polygonal/chamfer-cube.off")
     img = geoimg.fit_surface(mesh, parametrize(mesh, "sphere"), s=1).sample(65)
     half = np.abs(mesh.vertices).max()
     assert np.abs(img.pixels).max() < 1.5 * half
@@ -127,7 +121,7 @@ def test_octahedral_errors(spot_small):
     with pytest.raises(ValueError, match=r"\[0, 1\]"):
         surf.evaluate([[1.5, 0.2]])
     with pytest.raises(ParametrizationError, match="genus 1"):
-        parametrize(load("meshes/closed_higher_genus/torus.obj"), "sphere")
+        parametrize(load_shared("meshes/closed_higher_genus/torus.obj"), "sphere")
 
 
 def test_balance_kernels_match_the_numpy_reference(spot_small):
@@ -149,7 +143,7 @@ def test_balance_kernels_match_the_numpy_reference(spot_small):
 def test_a_shape_whose_direct_maps_fold_is_mapped_coarse_to_fine():
     # the conformal map squeezes the fingers below float precision and the Tutte map folds too; the
     # progressive map (simplify to a tetrahedron, put the vertices back one by one, relax) folds nothing
-    mesh = load("meshes/closed_genus0/human_man.obj")
+    mesh = load_shared("meshes/closed_genus0/human_man.obj")
     s, info = sphere_coords(mesh)
     tris, _ = mesh.triangulate()
     assert info["direct_folds"] > 100 and info["start"] == "progressive" and info["misplaced"] == 0
@@ -159,7 +153,7 @@ def test_a_shape_whose_direct_maps_fold_is_mapped_coarse_to_fine():
 
 def test_simplification_undoes_exactly():
     from geoimg.progressive import simplify
-    mesh = load("meshes/closed_genus0/spot_low_resolution.obj")
+    mesh = load_shared("meshes/closed_genus0/spot_low_resolution.obj")
     tris, _ = mesh.triangulate()
     alive, coarse, records = simplify(mesh.vertices, tris, 4)
     live = coarse[coarse[:, 0] >= 0]
