@@ -136,14 +136,12 @@ def _demo_pictures(image, stem: Path, progress) -> list:
     except RenderError as e:
         print(f"  pictures skipped: {e}")
         return written
-    try:
+    with r:
         progress("rendering")
         smooth = image.apply(filters.mean_filter, 5, iterations=3, mode="linear")
         cam = r.camera_for(image, elevation=35)
         for name, img in (("render", image), ("smoothed_render", smooth)):
             written.append(save_png(r.render(img, cam), stem.with_name(f"{stem.name}_{name}.png"), overwrite=True))
-    finally:
-        r.release()
     return written
 
 
@@ -284,11 +282,8 @@ def cmd_render(args) -> int:
     from .render import Renderer, save_png
 
     shape = _load_shape(args.file)
-    r = Renderer(args.width, args.height)
-    try:
+    with Renderer(args.width, args.height) as r:
         rgb = r.render(shape, r.camera_for(shape, azimuth=args.azimuth, elevation=args.elevation, up=args.up))
-    finally:
-        r.release()
     out = save_png(rgb, args.output, overwrite=args.force)
     if not args.quiet:
         print(f"wrote {out}: {args.width} x {args.height}")
@@ -316,20 +311,17 @@ def cmd_morph(args) -> int:
         written.append(Path(args.frames_dir))
         save_frames(m, args.frames_dir, args.frame_format, overwrite=args.force,
                     progress=ProgressBar(f"{args.frame_format} frames", args.quiet))
-    for path in (args.gif, args.mp4):
-        if not path:
-            continue
-        r = Renderer(args.width, args.height)
-        try:
+    animations = [path for path in (args.gif, args.mp4) if path]
+    if animations:                                   # rendered once, written in each format asked for
+        with Renderer(args.width, args.height) as r:
             cam = r.camera_for(*m.keys, azimuth=args.azimuth, elevation=args.elevation, up=args.up)
-            bar = ProgressBar(f"pictures for {Path(path).name}", args.quiet)
+            bar = ProgressBar("pictures", args.quiet)
             pictures = []
             for i, frame in enumerate(m.frames()):
                 pictures.append(r.render(frame, cam))
                 bar(i + 1, len(m))
-        finally:
-            r.release()
-        written.append(save_animation(pictures, path, fps=args.fps, overwrite=args.force))
+        for path in animations:
+            written.append(save_animation(pictures, path, fps=args.fps, overwrite=args.force))
     if not args.quiet:
         print(f"morph of {len(m.keys)} shapes, {len(m)} frames ({args.easing})")
         for entry in m.report[1:]:

@@ -6,6 +6,8 @@ multisampling. A morph keeps one camera for all its frames, fitted to the union 
 """
 from __future__ import annotations
 
+import contextlib
+import importlib.util
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -144,7 +146,8 @@ def _geometry(obj) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 class Renderer:
-    """An offscreen OpenGL renderer of fixed size; reuse it for many frames.
+    """An offscreen OpenGL renderer of fixed size; reuse it for many frames (a context manager: its
+    OpenGL context is released on leaving the ``with`` block).
 
     Raises
     ------
@@ -187,12 +190,10 @@ class Renderer:
         v, tris, n = _geometry(obj)
         if camera is None:
             camera = Camera.fit(v.min(axis=0), v.max(axis=0), aspect=self.size[0] / self.size[1])
-        data = np.hstack([v, n]).astype("f4")
-        vbo = self.ctx.buffer(data.tobytes())
-        ibo = self.ctx.buffer(tris.tobytes())
-        vao = self.ctx.vertex_array(self.prog, [(vbo, "3f 3f", "in_pos", "in_nrm")], ibo)
-        try:
-            self.prog["mvp"].write(camera.matrices(self.size[0] / self.size[1]).T.astype("f4").tobytes())
+        mvp = camera.matrices(self.size[0] / self.size[1]).T.astype("f4").tobytes()
+        with self._vertex_array(self.prog, np.hstack([v, n]).astype("f4"), "3f 3f", ("in_pos", "in_nrm"),
+                                tris) as vao:
+            self.prog["mvp"].write(mvp)
             key, fill = camera.lights()
             self.prog["key_dir"].value = tuple(key)
             self.prog["fill_dir"].value = tuple(fill)
@@ -201,36 +202,44 @@ class Renderer:
             self.ctx.enable(self.ctx.DEPTH_TEST)
             self.fbo.clear(*self.background, 1.0)
             vao.render()
-            if edges is not None:
-                self._draw_edges(edges, camera, edge_color)
-            self.ctx.copy_framebuffer(self.resolved, self.fbo)
-            raw = self.resolved.read(components=3, alignment=1)
-        finally:
-            vao.release()
-            vbo.release()
-            ibo.release()
+        if edges is not None:
+            self._draw_edges(edges, mvp, edge_color)
+        self.ctx.copy_framebuffer(self.resolved, self.fbo)
+        raw = self.resolved.read(components=3, alignment=1)
         img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)
         return img[::-1].copy()                          # OpenGL's rows run bottom up
 
-    def _draw_edges(self, mesh: Mesh, camera: Camera, color) -> None:
-        f, k = mesh.faces, mesh.face_sizes
-        nxt = np.where(np.arange(f.shape[1])[None, :] + 1 < k[:, None], np.roll(f, -1, axis=1), f[:, :1])
-        valid = f >= 0
-        pairs = np.stack([f[valid], nxt[valid]], axis=1).astype(np.uint32)
-        vbo = self.ctx.buffer(np.asarray(mesh.vertices, "f4").tobytes())
-        ibo = self.ctx.buffer(pairs.tobytes())
-        vao = self.ctx.vertex_array(self.lines, [(vbo, "3f", "in_pos")], ibo)
+    @contextlib.contextmanager
+    def _vertex_array(self, program, data: np.ndarray, layout: str, names, indices: np.ndarray):
+        """Buffers for one draw, released afterwards."""
+        vbo = self.ctx.buffer(np.ascontiguousarray(data).tobytes())
+        ibo = self.ctx.buffer(np.ascontiguousarray(indices, np.uint32).tobytes())
+        vao = self.ctx.vertex_array(program, [(vbo, layout, *names)], ibo)
         try:
-            self.lines["mvp"].write(camera.matrices(self.size[0] / self.size[1]).T.astype("f4").tobytes())
-            self.lines["line_color"].value = tuple(color)
-            vao.render(mode=self.ctx.LINES)
+            yield vao
         finally:
             vao.release()
             vbo.release()
             ibo.release()
 
+    def _draw_edges(self, mesh: Mesh, mvp: bytes, color) -> None:
+        f, k = mesh.faces, mesh.face_sizes
+        nxt = np.where(np.arange(f.shape[1])[None, :] + 1 < k[:, None], np.roll(f, -1, axis=1), f[:, :1])
+        valid = f >= 0
+        pairs = np.stack([f[valid], nxt[valid]], axis=1)
+        with self._vertex_array(self.lines, np.asarray(mesh.vertices, "f4"), "3f", ("in_pos",), pairs) as vao:
+            self.lines["mvp"].write(mvp)
+            self.lines["line_color"].value = tuple(color)
+            vao.render(mode=self.ctx.LINES)
+
     def release(self) -> None:
         self.ctx.release()
+
+    def __enter__(self) -> "Renderer":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.release()
 
 
 def render(obj, width: int = 800, height: int = 600, *, azimuth: float = 30.0, elevation: float = 20.0,
@@ -243,11 +252,8 @@ def render(obj, width: int = 800, height: int = 600, *, azimuth: float = 30.0, e
     >>> render(m, 64, 48).shape
     (48, 64, 3)
     """
-    r = Renderer(width, height)
-    try:
+    with Renderer(width, height) as r:
         return r.render(obj, r.camera_for(obj, azimuth=azimuth, elevation=elevation, up=up))
-    finally:
-        r.release()
 
 
 def save_png(rgb: np.ndarray, path, *, overwrite: bool = False) -> Path:
@@ -276,11 +282,9 @@ def save_animation(frames, path, *, fps: float = 24.0, overwrite: bool = False) 
         with atomic_path(path, overwrite) as tmp:
             iio.imwrite(tmp, np.stack(frames), extension=".gif", duration=1000.0 / fps, loop=0)
     elif ext == ".mp4":
-        try:
-            import imageio_ffmpeg  # noqa: F401
-        except ImportError:
+        if importlib.util.find_spec("imageio_ffmpeg") is None:
             raise RenderError("MP4 needs the imageio-ffmpeg package: pip install imageio-ffmpeg "
-                              "(or pip install 'geoimg[video]'); GIF needs nothing more") from None
+                              "(or pip install 'geoimg[video]'); GIF needs nothing more")
         with atomic_path(path, overwrite) as tmp:
             iio.imwrite(tmp, np.stack(frames), extension=".mp4", fps=fps, codec="libx264", macro_block_size=8)
     else:

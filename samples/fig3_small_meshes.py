@@ -43,9 +43,8 @@ def cases():
 
 
 def run(out_dir: Path, res: int = 129, size=(300, 240)) -> dict:
-    r = Renderer(*size)
     rows, stats = [], {}
-    try:
+    with Renderer(*size) as r:
         for name, mesh, method, up, azimuth in cases():
             param = geoimg.parametrize(mesh, method, axis="z" if method == "heightfield" else None)
             cam = r.camera_for(mesh, azimuth=azimuth, elevation=35 if up == "z" else 15, up=up)
@@ -55,8 +54,6 @@ def run(out_dir: Path, res: int = 129, size=(300, 240)) -> dict:
                 row.append(caption(r.render(quads, cam, edges=mesh), f"s = {s:g}"))
             rows.append(row)
             stats[name] = {"faces": mesh.n_faces, "sizes": sorted(set(mesh.face_sizes.tolist()))}
-    finally:
-        r.release()
     stats["png"] = str(save(sheet(rows), Path(out_dir) / "fig3_small_meshes.png"))
     return stats
 

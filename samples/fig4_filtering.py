@@ -36,15 +36,12 @@ def run(out_dir: Path, res: int = 129, size=(240, 240)) -> dict:
                 ("mean filter 5x5, twice", image.apply(filters.mean_filter, 5, iterations=2)),
                 ("inverse filter", image.apply(filters.inverse_filter, "mean", 3, nsr=3e-3)),
                 ("head smoothed only", image.apply(filters.gaussian_filter, 3.0, mask=region, feather=4))]
-    r = Renderer(*size)
-    try:
+    with Renderer(*size) as r:
         cam = r.camera_for(mesh, azimuth=-50, elevation=15)
         side = size[1]
         top = [caption(cv2.resize(to_rgb(img), (side, side), interpolation=cv2.INTER_NEAREST), name)
                for name, img in versions]
         bottom = [r.render(img.to_mesh(), cam) for _, img in versions]
-    finally:
-        r.release()
     stats = {name: float(np.abs(img.pixels - image.pixels).max()) for name, img in versions}
     stats["png"] = str(save(sheet([top, bottom]), Path(out_dir) / "fig4_filtering.png"))
     return stats

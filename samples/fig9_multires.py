@@ -22,9 +22,8 @@ def run(out_dir: Path, finest: int = 193, size=(240, 220)) -> dict:
     mesh = geoimg.load_mesh(DATA / "spot_low_resolution.obj")
     param = geoimg.parametrize(mesh, "sphere")
     scale = (finest - 1) / (PAIRS[-1][1] - 1)
-    r = Renderer(*size)
     row, stats = [], {}
-    try:
+    with Renderer(*size) as r:
         cam = r.camera_for(mesh, azimuth=-50, elevation=15)
         for s, n in PAIRS:
             n = max(5, int(round((n - 1) * scale)) + 1) | 1
@@ -32,8 +31,6 @@ def run(out_dir: Path, finest: int = 193, size=(240, 220)) -> dict:
             stats[s] = n
             row.append(caption(r.render(quads, cam, edges=quads if n <= 49 else None,
                                         edge_color=(0.2, 0.2, 0.6)), f"s = {s:g}, {n} x {n}"))
-    finally:
-        r.release()
     stats["png"] = str(save(sheet([row]), Path(out_dir) / "fig9_multires.png"))
     return stats
 
