@@ -237,24 +237,25 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return np.divide(v, n, out=np.zeros_like(v), where=n > 0)
 
 
-def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None]:
-    """``(s, None)`` for a number; ``(min s, per-face s)`` for an array (truncation and its certificate use
-    the minimum, which is conservative)."""
+def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None, object]:
+    """``(s, None, None)`` for a number; ``(min s, per-face s, None)`` for an array; ``(min s, None, map)``
+    for a :class:`~geoimg.regions.SmoothnessMap` (truncation and its certificate use the minimum, which
+    is conservative)."""
     from .regions import SmoothnessMap
 
     if isinstance(s, SmoothnessMap):
-        return float(s.min), None
+        return float(s.min), None, s
     if isinstance(s, (int, float, np.number)) and not isinstance(s, bool):
         if not (np.isfinite(s) and s > 0):
             raise ValueError(f"s: expected a positive finite number, got {s!r}")
-        return float(s), None
+        return float(s), None, None
     arr = np.asarray(s) if not isinstance(s, (str, bytes, bool)) else np.asarray([])
     if arr.dtype == object or not np.issubdtype(arr.dtype, np.number) or arr.shape != (n_faces,):
         raise ValueError(f"s: expected a positive number or {n_faces} per-face values, got {s!r:.80}")
     arr = arr.astype(np.float64)
     if not (np.isfinite(arr).all() and (arr > 0).all()):
         raise ValueError("s: per-face values must be positive and finite")
-    return float(arr.min()), arr
+    return float(arr.min()), arr, None
 
 
 def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: str = "gaussian", n: int = 10,
@@ -309,10 +310,7 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         raise ValueError(f"param: has {param.coords.shape[0]} points but the mesh has {mesh.n_vertices} vertices")
     if weights not in WEIGHTS:
         raise ValueError(f"weights: expected one of {WEIGHTS}, got {weights!r}")
-    from .regions import SmoothnessMap
-
-    s_map = s if isinstance(s, SmoothnessMap) else None
-    s, s_face = _smoothness(s, mesh.n_faces)
+    s, s_face, s_map = _smoothness(s, mesh.n_faces)
     if not (isinstance(tol, (int, float, np.number)) and 0 <= tol < 1):
         raise ValueError(f"tol: expected a number in [0, 1), got {tol!r}")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
