@@ -1,25 +1,30 @@
 """geoimg: polygon meshes to geometry images and back, through Goshtasby's weighted-mean surface.
 
+The pipeline, one subpackage per stage: :mod:`geoimg.mesh` (the Mesh type, files, topology) ->
+:mod:`geoimg.parametrization` (planar, disk, sphere) -> :mod:`geoimg.surface` (the weighted-mean
+surface) -> :mod:`geoimg.image` (geometry images, their domains, files, regions) ->
+:mod:`geoimg.animation` (morphs, glTF, pictures). Image operations live in the separate package
+:mod:`filters`.
+
 >>> import geoimg
 >>> mesh = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 1], [0, 1, 0]], [[0, 1, 2, 3]])
->>> param = geoimg.parametrize(mesh, "heightfield", axis="z")
->>> image = geoimg.fit_surface(mesh, param, s=2.0).sample(8)
->>> image.to_mesh().n_faces
-49
+>>> image = geoimg.mesh_to_image(mesh, 8, s=2.0, method="heightfield", axis="z")
+>>> image.domain.kind, image.to_mesh().n_faces
+('planar', 49)
 """
-from .errors import GeoimgError, ImageFileError, MeshError, MeshFileError, ParametrizationError
-from .image import GeometryImage, grid_normals
-from .image_io import load_image, save_image, save_preview
-from .mesh import Mesh
-from .mesh_io import load_mesh, save_mesh
+from .errors import GeoimgError, ImageError, ImageFileError, MeshError, MeshFileError, ParametrizationError
+from .mesh import Mesh, grid_mesh, load_mesh, save_mesh
 from .parametrization import Parametrization, parametrize
+from .image import (Domain, GeometryImage, OctahedralDomain, PlanarDomain, grid_normals, load_image, save_image,
+                    save_preview)
 from .surface import Surface, fit_surface
-from .terrain import grid_mesh
+from ._convert import mesh_to_image
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "GeoimgError", "ImageFileError", "MeshError", "MeshFileError", "ParametrizationError",
-    "GeometryImage", "grid_normals", "load_image", "save_image", "save_preview",
-    "Mesh", "load_mesh", "save_mesh", "Parametrization", "parametrize", "Surface", "fit_surface", "grid_mesh",
+    "GeoimgError", "ImageError", "ImageFileError", "MeshError", "MeshFileError", "ParametrizationError",
+    "Mesh", "grid_mesh", "load_mesh", "save_mesh", "Parametrization", "parametrize",
+    "Domain", "GeometryImage", "OctahedralDomain", "PlanarDomain", "grid_normals", "load_image", "save_image",
+    "save_preview", "Surface", "fit_surface", "mesh_to_image",
 ]

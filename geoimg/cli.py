@@ -10,15 +10,19 @@ from pathlib import Path
 
 import numpy as np
 
+import filters
+from ._convert import mesh_to_image
+from ._optional import MissingDependency
+from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, morph, save_animation, \
+    save_frames, save_glb, save_png
 from .errors import GeoimgError
-from .image_io import load_image
-from .mesh_io import MESH_FORMATS, load_mesh, save_mesh
-from .parametrization import PARAMETRIZATION_METHODS, parametrize
-from .surface import WEIGHTS, fit_surface
-from .topology import topology
-from .face_maps import SLIVER_RULES
+from .image import (grid_normals, image_curvature, image_region, load_image, load_mask, save_colormap,
+                    save_normal_map, save_scalar, uv_region)
+from .mesh import MESH_FORMATS, load_mesh, save_mesh, surface_distance, topology
+from .parametrization import AXES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
+from .surface import SLIVER_RULES, WEIGHTS
 
-SAMPLE_MESH = Path(__file__).resolve().parent.parent / "samples" / "data" / "mountain.obj"
+SAMPLE_MESH = Path(__file__).resolve().parent / "data" / "mountain.obj"    # package data: works from a wheel
 
 
 class Progress:
@@ -56,26 +60,16 @@ def _load_shape(path):
     return load_image(path) if Path(path).suffix.lower() == ".exr" else load_mesh(path)
 
 
-def _mesh_to_image(args, progress):
-    progress(f"loading {args.mesh}")
-    mesh = load_mesh(args.mesh)
-    progress(f"{mesh.n_vertices} vertices, {mesh.n_faces} faces; parametrizing ({args.method})")
-    param = parametrize(mesh, args.method, axis=args.axis, boundary=getattr(args, "boundary", "square"),
-                        progress=progress)
-    progress(f"parametrized by {param.method}; fitting the surface (s={args.s}, {args.weights} weights)")
-    surface = fit_surface(mesh, param, args.s, weights=args.weights, n=args.n, tol=args.tol,
-                          sliver_rule=args.sliver_rule)
-    res = args.res or surface.auto_resolution()
-    progress(f"sampling {res} pixels along the longer side")
-    image = surface.sample(res)
-    image.metadata["source"] = Path(args.mesh).name
-    image.metadata["parametrization"] = param.method
-    return mesh, param, surface, image
+def _image_of(args, mesh, progress):
+    """The geometry image of a mesh (or mesh file) with the ``geoimg image`` options."""
+    return mesh_to_image(mesh, args.res, args.s, args.method, axis=args.axis, boundary=args.boundary,
+                         weights=args.weights, n=args.n, tol=args.tol, sliver_rule=args.sliver_rule,
+                         progress=progress)
 
 
 def cmd_image(args) -> int:
     progress = Progress(args.quiet)
-    *_, image = _mesh_to_image(args, progress)
+    image = _image_of(args, args.mesh, progress)
     out = image.save(args.output, overwrite=args.force)
     if args.preview:
         image.preview(args.preview, overwrite=args.force)
@@ -100,7 +94,7 @@ def cmd_info(args) -> int:
     if path.suffix.lower() == ".exr":
         img = load_image(path)
         H, W = img.shape
-        print(f"{path}: geometry image {W} x {H}, domain {img.domain}, {int(img.valid.sum())} valid pixels, "
+        print(f"{path}: geometry image {W} x {H}, domain {img.domain.kind}, {int(img.valid.sum())} valid pixels, "
               f"normals {'yes' if img.normals is not None else 'no'}")
         lo, hi = img.pixels[img.valid].min(axis=0), img.pixels[img.valid].max(axis=0)
         print(f"  bounding box {np.round(lo, 6).tolist()} .. {np.round(hi, 6).tolist()}")
@@ -124,16 +118,11 @@ def cmd_info(args) -> int:
 def _demo_pictures(image, stem: Path, progress) -> list:
     """A rendering of the quad mesh, of it mean-filtered, and a mean-curvature map; none when there is
     no headless OpenGL (the reason is printed)."""
-    import filters
-    from .curvature import image_curvature
-    from .image_io import save_colormap
-    from .render import Renderer, RenderError, save_png
-
     written = [save_colormap(image_curvature(image)[1], stem.with_name(stem.name + "_mean_curvature.png"),
                              image.valid, overwrite=True)]
     try:
         r = Renderer(800, 600)
-    except RenderError as e:
+    except (RenderError, MissingDependency) as e:
         print(f"  pictures skipped: {e}")
         return written
     with r:
@@ -153,10 +142,11 @@ def cmd_demo(args) -> int:
                                 "or pass --mesh")
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
-    ns = argparse.Namespace(mesh=str(src), method="auto", axis=None, s=args.s, weights="gaussian", n=10,
-                            tol=1e-10, sliver_rule="robust", res=args.res)
+    progress(f"loading {src}")
+    mesh = load_mesh(src)
     t0 = time.perf_counter()
-    mesh, param, surface, image = _mesh_to_image(ns, progress)
+    image = mesh_to_image(mesh, args.res, args.s, progress=progress)
+    image.metadata["source"] = src.name
     t1 = time.perf_counter()
     stem = src.stem
     files = [image.save(out / f"{stem}.exr", overwrite=True),
@@ -164,16 +154,14 @@ def cmd_demo(args) -> int:
     quads = load_image(files[0]).to_mesh()
     files.append(save_mesh(quads, out / f"{stem}_quads.obj", overwrite=True))
     files += _demo_pictures(image, out / stem, progress)
-    # how far the surface lies from the mesh vertices it approximates
-    used = mesh.referenced_vertices()
-    dev = np.linalg.norm(surface.evaluate(param.coords[used]) - mesh.vertices[used], axis=1)
-    diag = mesh.bounding_box_diagonal()
+    progress("measuring the quad mesh against the input")
+    dist = surface_distance(mesh, quads, n=50000)       # how far the result lies from what it approximates
     H, W = image.shape
     print(f"geoimg demo on {src.name}: {mesh.n_vertices} vertices, {mesh.n_faces} faces")
     print(f"  surface s={args.s}: {W} x {H} geometry image in {t1 - t0:.2f} s "
           f"(first run includes numba compilation, cached afterwards)")
-    print(f"  mesh vertices to surface: RMS {np.sqrt(np.mean(dev ** 2)) / diag:.2e}, "
-          f"max {dev.max() / diag:.2e} of the bounding-box diagonal")
+    print(f"  quad mesh to input mesh: PSNR {dist['psnr_db']:.1f} dB, Hausdorff "
+          f"{dist['hausdorff'] / dist['diagonal']:.2e} of the bounding-box diagonal")
     print(f"  quad mesh: {quads.n_vertices} vertices, {quads.n_faces} quads")
     for f in files:
         print(f"  wrote {f}")
@@ -210,9 +198,6 @@ class _Op(argparse.Action):
 
 
 def cmd_filter(args) -> int:
-    import filters
-    from .regions import image_region, load_mask, uv_region
-
     if not getattr(args, "ops", None):
         raise ValueError("no operation given: add e.g. --mean 5 or --sharpen 3 (see geoimg filter --help)")
     image = load_image(args.image)
@@ -256,10 +241,6 @@ def cmd_filter(args) -> int:
 
 
 def cmd_curvature(args) -> int:
-    from .curvature import image_curvature
-    from .image import grid_normals
-    from .image_io import save_colormap, save_normal_map, save_scalar
-
     image = load_image(args.image)
     K, H = image_curvature(image)
     stem = Path(args.output)
@@ -268,8 +249,7 @@ def cmd_curvature(args) -> int:
         written.append(save_scalar(values, stem.with_name(f"{stem.name}_{name}.exr"), name, overwrite=args.force))
         written.append(save_colormap(values, stem.with_name(f"{stem.name}_{name}.png"), image.valid,
                                      overwrite=args.force))
-    normals = image.normals if image.normals is not None else grid_normals(image.pixels,
-                                                                          int(image.metadata.get("orientation", 1)))
+    normals = image.normals if image.normals is not None else grid_normals(image.pixels, image.domain.orientation)
     written.append(save_normal_map(normals, stem.with_name(f"{stem.name}_normals.png"), image.valid,
                                    overwrite=args.force))
     if not args.quiet:
@@ -279,8 +259,6 @@ def cmd_curvature(args) -> int:
 
 
 def cmd_render(args) -> int:
-    from .render import Renderer, save_png
-
     shape = _load_shape(args.file)
     with Renderer(args.width, args.height) as r:
         rgb = r.render(shape, r.camera_for(shape, azimuth=args.azimuth, elevation=args.elevation, up=args.up))
@@ -291,10 +269,6 @@ def cmd_render(args) -> int:
 
 
 def cmd_morph(args) -> int:
-    from .animation import save_frames, save_glb
-    from .morph import morph
-    from .render import Renderer, save_animation
-
     progress = Progress(args.quiet)
     if not (args.output or args.gif or args.mp4 or args.frames_dir):
         raise ValueError("nothing to write: give -o OUT.glb, --gif, --mp4 or --frames-dir")
@@ -360,8 +334,8 @@ def build_parser() -> argparse.ArgumentParser:
     im.add_argument("--res", type=_positive(int), default=None, help="pixels along the longer side (default: from s)")
     im.add_argument("--s", type=_positive(float), default=1.0, help="smoothness s (sigma_i = s d_i), default 1")
     im.add_argument("--method", choices=PARAMETRIZATION_METHODS, default="auto", help="parametrization")
-    im.add_argument("--axis", choices=("x", "y", "z"), default=None, help="up axis of a height field")
-    im.add_argument("--boundary", choices=("square", "keep"), default="square",
+    im.add_argument("--axis", choices=AXES, default=None, help="up axis of a height field")
+    im.add_argument("--boundary", choices=DISK_BOUNDARIES, default="square",
                     help="disk meshes: boundary on the unit square (default) or kept (a convex planar outline)")
     im.add_argument("--weights", choices=WEIGHTS, default="gaussian")
     im.add_argument("--n", type=int, default=10, help="face centres per local weight (--weights local)")
@@ -385,7 +359,7 @@ def build_parser() -> argparse.ArgumentParser:
         fi.add_argument(f"--{name}", dest=name, action=_Op, nargs=len(kinds) if len(kinds) > 1 else None,
                         metavar=metavar, help=text)
     fi.add_argument("--nsr", type=_positive(float), default=1e-3, help="Wiener noise-to-signal ratio of --sharpen")
-    fi.add_argument("--mode", choices=("reflect", "linear", "wrap", "octahedral"), default=None,
+    fi.add_argument("--mode", choices=filters.PAD_MODES, default=None,
                     help="boundary rule (default: octahedral for spherical images, reflect for planar ones)")
     fi.add_argument("--mask", default=None, help="image file (same size): where to filter, 0..1")
     fi.add_argument("--region", type=float, nargs=4, metavar=("X", "Y", "Z", "R"), default=None,
@@ -411,7 +385,7 @@ def build_parser() -> argparse.ArgumentParser:
     view.add_argument("--height", type=int, default=600)
     view.add_argument("--azimuth", type=float, default=30.0, help="degrees about the up axis (default 30)")
     view.add_argument("--elevation", type=float, default=20.0, help="degrees above the horizon (default 20)")
-    view.add_argument("--up", choices=("x", "y", "z"), default="y", help="the shape's up axis (default y)")
+    view.add_argument("--up", choices=UP_AXES, default="y", help="the shape's up axis (default y)")
 
     re_ = sub.add_parser("render", help="shade a mesh or geometry image to PNG (headless)", parents=[common, view])
     re_.add_argument("file", help="mesh or .exr geometry image")
@@ -425,16 +399,15 @@ def build_parser() -> argparse.ArgumentParser:
     mo.add_argument("-o", "--output", default=None, help="output .glb (morph targets + weights animation)")
     mo.add_argument("--frames", type=int, default=30, help="frames in all (default 30)")
     mo.add_argument("--fps", type=_positive(float), default=24.0)
-    mo.add_argument("--easing", default="smoothstep",
-                    choices=("linear", "smoothstep", "ease-in-out", "ease-in", "ease-out"))
-    mo.add_argument("--align", choices=("similarity", "centre", "none"), default="similarity",
+    mo.add_argument("--easing", default="smoothstep", choices=tuple(EASINGS))
+    mo.add_argument("--align", choices=ALIGNMENTS, default="similarity",
                     help="bring shapes 2.. onto shape 1: centre (and scale: similarity)")
     mo.add_argument("--no-rotate", action="store_true", help="spherical images: keep the spheres as they are")
     mo.add_argument("--res", type=_positive(int), default=129, help="pixels per side for meshes (default 129)")
     mo.add_argument("--gif", default=None, help="also render an animated GIF")
     mo.add_argument("--mp4", default=None, help="also render an MP4 (needs imageio-ffmpeg)")
     mo.add_argument("--frames-dir", default=None, help="also write every frame to this folder")
-    mo.add_argument("--frame-format", choices=("obj", "ply", "off", "exr"), default="obj")
+    mo.add_argument("--frame-format", choices=FRAME_FORMATS, default="obj")
     mo.add_argument("--force", action="store_true", help="overwrite existing files")
     mo.set_defaults(func=cmd_morph)
 

@@ -19,3 +19,7 @@ class ParametrizationError(GeoimgError, ValueError):
 
 class ImageFileError(GeoimgError, ValueError):
     """A geometry-image file cannot be read or written."""
+
+
+class ImageError(GeoimgError, ValueError):
+    """A geometry image (array, domain, mask) is malformed or does not fit its domain."""

@@ -12,10 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import ParametrizationError
-from .laplacian import corner_angles, mean_value_weights, solve_free
-from .mesh import Mesh
-from .topology import boundary_loops, topology
+from ..errors import ParametrizationError
+from ..mesh import Mesh, boundary_loops, topology
+from ._laplacian import corner_angles, mean_value_weights, solve_free
 
 __all__ = ["disk_coords", "DISK_BOUNDARIES"]
 

@@ -16,9 +16,10 @@ from scipy import ndimage, optimize
 from scipy.spatial.transform import Rotation
 
 import filters
-from .image import GeometryImage
-from .mesh import Mesh
-from .octahedral import average_glued, grid_directions, sphere_to_square
+from .._convert import mesh_to_image
+from ..image import GeometryImage
+from ..mesh import Mesh
+from ..parametrization import grid_directions, parametrize, sphere_to_square
 
 __all__ = ["morph", "Morph", "EASINGS", "ALIGNMENTS"]
 
@@ -45,9 +46,6 @@ def _ease(easing):
 def _as_images(shapes, resolution, progress):
     """Geometry images of the shapes; meshes with the same faces as the previous mesh reuse its
     parametrization, so their images correspond vertex for vertex."""
-    from .parametrization import parametrize
-    from .surface import fit_surface
-
     images, used_param, last = [], [], None
     for k, shape in enumerate(shapes):
         if isinstance(shape, GeometryImage):
@@ -64,7 +62,7 @@ def _as_images(shapes, resolution, progress):
             used_param.append(param.method)
         if progress:
             progress(f"shape {k}: {used_param[-1]} parametrization, sampling {resolution} pixels")
-        images.append(fit_surface(shape, param).sample(resolution))
+        images.append(mesh_to_image(shape, resolution, parametrization=param))
         last = (shape, param, k)
     return images, used_param
 
@@ -76,10 +74,10 @@ def _centre_and_radius(img: GeometryImage):
     return centre, float(np.sqrt(((p - centre) ** 2).sum(axis=1).mean()))
 
 
-def _octahedral_sampler(pixels: np.ndarray):
+def _octahedral_sampler(pixels: np.ndarray, domain):
     """A function giving the cubic-spline interpolation of an octahedral image at unit directions (..., 3)."""
     n = pixels.shape[0]
-    padded = filters.pad(np.asarray(pixels, np.float64), _PAD, "octahedral")
+    padded = domain.pad(np.asarray(pixels, np.float64), _PAD)
     coeffs = [ndimage.spline_filter(padded[..., c], order=3, mode="nearest") for c in range(padded.shape[2])]
 
     def sample(q):
@@ -96,8 +94,8 @@ def _best_rotation(reference: GeometryImage, moving: np.ndarray) -> tuple[Rotati
     ``moving(R q)`` on a coarse grid: the 24 rotations of the cube as starts, then Nelder-Mead."""
     n = 33
     q = grid_directions(n).reshape(-1, 3)
-    ref = _octahedral_sampler(reference.pixels)(q)
-    mov = _octahedral_sampler(moving)
+    ref = _octahedral_sampler(reference.pixels, reference.domain)(q)
+    mov = _octahedral_sampler(moving, reference.domain)
 
     def cost(rotvec):
         return float(((mov(Rotation.from_rotvec(rotvec).apply(q)) - ref) ** 2).sum(axis=1).mean())
@@ -126,7 +124,7 @@ def _align(images, align: str, rotate: bool, shared, progress):
             scale = r0 / r if align == "similarity" and r > 0 else 1.0
             p = p + (c0 - c) if scale == 1.0 else (p - c) * scale + c0     # a shape already in place stays exact
             entry.update(translation=(c0 - c).tolist(), scale=float(scale))
-        if rotate and img.domain == "octahedral":
+        if rotate and img.domain.rotations:
             if shared[k]:
                 rot = previous
                 entry.update(rotation_from=k - 1)
@@ -136,8 +134,8 @@ def _align(images, align: str, rotate: bool, shared, progress):
             angle = float(np.degrees(rot.magnitude()))
             if angle > 0:
                 n = p.shape[0]
-                p = _octahedral_sampler(p)(rot.apply(grid_directions(n).reshape(-1, 3))).reshape(p.shape)
-                p = average_glued(p)
+                p = _octahedral_sampler(p, img.domain)(rot.apply(grid_directions(n).reshape(-1, 3))).reshape(p.shape)
+                p = img.domain.average_glued(p)
             entry.update(rotation_deg=angle, rotation_axis=(rot.as_rotvec() / max(rot.magnitude(), 1e-300)).tolist())
             previous = rot
             if progress and "rms_before" in entry:
@@ -194,9 +192,7 @@ class Morph:
         mask = None
         if a.mask is not None or b.mask is not None:
             mask = a.valid & b.valid
-        meta = {"domain": a.domain, "morph_time": float(t), "orientation": a.metadata.get("orientation", 1),
-                "extent": a.metadata.get("extent", [1.0, 1.0])}
-        return GeometryImage(px, mask, domain=a.domain, metadata=meta)
+        return GeometryImage(px, mask, domain=a.domain, metadata={"morph_time": float(t)})
 
     def frames(self):
         """The frames, in order (a generator)."""
@@ -258,9 +254,8 @@ def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float 
     if not (isinstance(lag, numbers.Real) and 0 <= lag < 1):
         raise ValueError(f"lag: expected a number in [0, 1), got {lag!r}")
     images, how = _as_images(shapes, resolution, progress)
-    domains = {img.domain for img in images}
-    if len(domains) > 1:
-        kinds = ", ".join(f"shape {k}: {img.domain}" for k, img in enumerate(images))
+    if not all(img.domain.same_kind(images[0].domain) for img in images[1:]):
+        kinds = ", ".join(f"shape {k}: {img.domain.kind}" for k, img in enumerate(images))
         raise ValueError(f"shapes: cannot morph between domains ({kinds}); geometry images must share a "
                          "parametrization domain (planar with planar, spherical with spherical)")
     for k, img in enumerate(images[1:], start=1):
@@ -268,17 +263,12 @@ def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float 
             if not resample:
                 raise ValueError(f"shapes: shape {k} is {img.shape[1]} x {img.shape[0]} pixels, shape 0 is "
                                  f"{images[0].shape[1]} x {images[0].shape[0]}; pass resample=True to resize it")
-            mode = "octahedral" if img.domain == "octahedral" else "linear"
-            px = filters.resize(img.pixels, images[0].shape, mode)
+            px = filters.resize(img.pixels, images[0].shape, img.domain.extension)
             valid = None if img.mask is None else filters.resize(img.mask.astype(np.float64), images[0].shape) > 0.5
             images[k] = GeometryImage(px, valid, domain=img.domain, metadata=img.metadata)
     weights = None
     if mask is not None:
-        from filters._checks import as_weights
-        weights = as_weights(mask, images[0].shape)
-        if images[0].domain == "octahedral":
-            from .regions import symmetric_mask
-            weights = symmetric_mask(weights)
+        weights = images[0].domain.symmetric_mask(filters.as_weights(mask, images[0].shape))
     keys, report = _align(images, align, bool(rotate), [h.startswith("shared") for h in how], progress)
     for entry, h in zip(report, how):
         entry["parametrization"] = h

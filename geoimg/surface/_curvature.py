@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .image import GeometryImage
+from ..parametrization import grid_directions
 
-__all__ = ["surface_curvature", "image_curvature", "shape_operator_curvatures"]
+__all__ = ["surface_curvature", "planar_curvature", "sphere_curvature", "shape_operator_curvatures"]
 
 STEP = 1e-4
 
@@ -42,7 +42,8 @@ def shape_operator_curvatures(J1, J2, N1, N2) -> tuple[np.ndarray, np.ndarray]:
     return K, H
 
 
-def _planar(surface, resolution):
+def planar_curvature(surface, resolution):
+    """``(K, H)`` of a surface over a parameter rectangle on its sampling grid."""
     u, v = surface.grid(resolution)
     uu, vv = np.meshgrid(u, v)
     uv = np.stack([uu.ravel(), vv.ravel()], axis=1)
@@ -60,9 +61,8 @@ def _planar(surface, resolution):
     return K.reshape(len(v), len(u)), H.reshape(len(v), len(u))
 
 
-def _sphere(surface, resolution):
-    from .octahedral import grid_directions
-
+def sphere_curvature(surface, resolution):
+    """``(K, H)`` of a surface over the sphere on its octahedral sampling grid."""
     n = resolution if resolution is not None else surface.auto_resolution()
     q = grid_directions(n).reshape(-1, 3)
     _, P1, P2, t1, t2, _ = surface.evaluate_directions(q)
@@ -92,15 +92,4 @@ def surface_curvature(surface, resolution: int | None = None) -> tuple[np.ndarra
     >>> float(abs(K).max()), float(abs(H).max())     # a plane
     (0.0, 0.0)
     """
-    if getattr(surface, "domain", "planar") == "octahedral":
-        return _sphere(surface, resolution)
-    return _planar(surface, resolution)
-
-
-def image_curvature(image: GeometryImage) -> tuple[np.ndarray, np.ndarray]:
-    """``(K, H)`` of a geometry image from its grid (:func:`filters.grid_curvature`), with the boundary
-    rule of its domain (``linear`` for planar images) and its orientation."""
-    from filters import grid_curvature
-
-    mode = "octahedral" if image.domain == "octahedral" else "linear"
-    return grid_curvature(image.pixels, mode, int(image.metadata.get("orientation", 1)))
+    return surface.curvature(resolution)

@@ -20,11 +20,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import sparse
 
-from .errors import ParametrizationError
-from .mesh import Mesh
-from .parametrization import signed_face_areas
+from ..errors import ParametrizationError
+from ..mesh import Mesh
+from ..parametrization import signed_face_areas
 
-__all__ = ["FaceMaps", "face_maps", "enclosing_circle_radius", "robust_sliver_planes", "SLIVER_RULES",
+__all__ = ["FaceMaps", "face_maps", "fit_planes", "enclosing_circle_radius", "robust_sliver_planes", "SLIVER_RULES",
            "SLIVER_RATIO"]
 
 SLIVER_RULES = ("robust", "paper")
@@ -66,7 +66,7 @@ def enclosing_circle_radius(p: np.ndarray) -> np.ndarray:
     return np.where(obtuse | (area2 == 0), 0.5 * np.sqrt(longest), circum)
 
 
-def _fit_planes(uv: np.ndarray, xyz: np.ndarray, valid: np.ndarray, centres: np.ndarray):
+def fit_planes(uv: np.ndarray, xyz: np.ndarray, valid: np.ndarray, centres: np.ndarray):
     """Least-squares planes through point sets of shape (F, K, .), ``valid`` (F, K) marking real points.
 
     Exact when a set has three affinely independent points. Returns C, A, B of shape (F, 3).
@@ -133,7 +133,7 @@ def face_maps(mesh: Mesh, coords: np.ndarray, *, sliver_rule: str = "robust") ->
         raise ParametrizationError("every face has zero area in the parameter domain")
     face_index = np.flatnonzero(keep)
     uv, xyz, valid, centres, d, area = uv[keep], xyz[keep], valid[keep], centres[keep], d[keep], area[keep]
-    C, A, B = _fit_planes(uv, xyz, valid, centres)
+    C, A, B = fit_planes(uv, xyz, valid, centres)
     n_slivers = 0
     if sliver_rule == "robust":
         d, n_slivers = robust_sliver_planes(mesh, face_index, d, area, C, A, B,
@@ -158,5 +158,5 @@ def robust_sliver_planes(mesh: Mesh, face_index, d, area, C, A, B, ring_coords):
         rv = ring >= 0
         ridx = np.where(rv, ring, ring[:, :1])
         pts, usable, centres = ring_coords(ridx, sliver)
-        C[sliver], A[sliver], B[sliver] = _fit_planes(pts, mesh.vertices[ridx], rv & usable, centres)
+        C[sliver], A[sliver], B[sliver] = fit_planes(pts, mesh.vertices[ridx], rv & usable, centres)
     return d, n_slivers

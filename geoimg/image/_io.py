@@ -1,8 +1,5 @@
-"""Geometry-image files through OpenImageIO: OpenEXR (float32, lossless, metadata) and 16-bit PNG previews.
-
-An EXR holds channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask, and
-``N.X, N.Y, N.Z`` when it has normals; the metadata dict is stored as JSON in ``geoimg:metadata``
-with the domain also in ``geoimg:domain``. float32 pixels round-trip bit for bit.
+"""Geometry-image files: OpenEXR geometry images (see :meth:`GeometryImage.save`), 16-bit PNG previews
+and scalar, colour and normal maps.
 """
 from __future__ import annotations
 
@@ -11,38 +8,18 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic import atomic_path
-from .errors import ImageFileError
-from .image import GeometryImage
+from .._atomic import atomic_path
+from .._raster import FLOAT, UINT8, read_raster, write_raster
+from ..errors import ImageFileError
+from ._domain import Domain
+from ._image import GeometryImage
 
-__all__ = ["read_raster", "save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
+__all__ = ["save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
            "save_normal_map"]
 
 
-def _oiio():
-    import OpenImageIO as oiio
-
-    return oiio
-
-
-def _write(path: Path, data: np.ndarray, names, fmt, attributes=()) -> None:
-    oiio = _oiio()
-    out = oiio.ImageOutput.create(str(path))
-    if out is None:
-        raise ImageFileError(f"{path}: OpenImageIO cannot write this format ({oiio.geterror()})")
-    spec = oiio.ImageSpec(data.shape[1], data.shape[0], data.shape[2], fmt)
-    spec.channelnames = tuple(names)
-    for key, value in attributes:
-        spec.attribute(key, value)
-    if not out.open(str(path), spec) or not out.write_image(np.ascontiguousarray(data)):
-        msg = out.geterror()
-        out.close()
-        raise ImageFileError(f"{path}: writing failed ({msg})")
-    out.close()
-
-
 def save_image(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
-    """Write a geometry image to OpenEXR, atomically.
+    """Write a geometry image to OpenEXR, atomically (see :meth:`GeometryImage.save`).
 
     Parameters
     ----------
@@ -65,53 +42,7 @@ def save_image(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
     """
     if not isinstance(image, GeometryImage):
         raise TypeError(f"image: expected a GeometryImage, got {type(image).__name__}")
-    path = Path(path)
-    if path.suffix.lower() != ".exr":
-        raise ImageFileError(f"{path}: geometry images are saved as OpenEXR; use a .exr name "
-                             "(previews: GeometryImage.preview)")
-    oiio = _oiio()
-    planes, names = [image.pixels.astype(np.float32)], ["R", "G", "B"]
-    if image.mask is not None:
-        planes.append(image.mask.astype(np.float32)[..., None])
-        names.append("mask")
-    if image.normals is not None:
-        planes.append(np.asarray(image.normals, np.float32))
-        names += ["N.X", "N.Y", "N.Z"]
-    attrs = [("geoimg:domain", image.domain), ("geoimg:metadata", json.dumps(image.metadata, sort_keys=True)),
-             ("compression", "zip")]
-    with atomic_path(path, overwrite) as tmp:
-        _write(tmp, np.concatenate(planes, axis=2), names, oiio.FLOAT, attrs)
-    return path
-
-
-def read_raster(path, attributes=(), what: str = "image"):
-    """Pixels (H, W, C) float32 of any image OpenImageIO reads (integer formats scaled to [0, 1]), the
-    channel names and the values of the named attributes (None where absent).
-
-    Raises
-    ------
-    FileNotFoundError
-        If there is no such file.
-    ImageFileError
-        If it cannot be read.
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"no {what} file at {path}")
-    oiio = _oiio()
-    inp = oiio.ImageInput.open(str(path))
-    if inp is None:
-        raise ImageFileError(f"{path}: cannot be read as an image ({oiio.geterror()})")
-    try:
-        spec = inp.spec()
-        data = inp.read_image(oiio.FLOAT)
-        if data is None:
-            raise ImageFileError(f"{path}: pixel data could not be read ({inp.geterror()})")
-        names = list(spec.channelnames)
-        values = [spec.getattribute(a) for a in attributes]
-    finally:
-        inp.close()
-    return np.asarray(data, np.float32).reshape(spec.height, spec.width, spec.nchannels), names, values
+    return image.save(path, overwrite=overwrite)
 
 
 def load_image(path) -> GeometryImage:
@@ -140,24 +71,20 @@ def load_image(path) -> GeometryImage:
         meta = json.loads(meta_json) if meta_json else {}
     except json.JSONDecodeError as e:
         raise ImageFileError(f"{path}: geoimg:metadata is not valid JSON ({e})") from None
-    return GeometryImage(xyz, None if mask is None else mask[..., 0] > 0.5, domain=domain, normals=normals,
+    if not isinstance(meta, dict):
+        raise ImageFileError(f"{path}: geoimg:metadata is not a JSON object")
+    try:
+        dom = Domain.from_metadata(domain, meta)
+    except ValueError as e:
+        raise ImageFileError(f"{path}: {e}") from None
+    return GeometryImage(xyz, None if mask is None else mask[..., 0] > 0.5, domain=dom, normals=normals,
                          metadata=meta)
 
 
 def save_preview(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
-    """Write a 16-bit RGB PNG: X, Y, Z each stretched to [0, 65535] over the valid pixels, masked pixels black."""
-    path = Path(path)
-    if path.suffix.lower() != ".png":
-        raise ImageFileError(f"{path}: previews are PNG; use a .png name")
-    valid = image.valid
-    p = np.asarray(image.pixels, np.float64)
-    lo = p[valid].min(axis=0)
-    span = np.maximum(p[valid].max(axis=0) - lo, 1e-300)
-    q = np.clip(np.round((p - lo) / span * 65535.0), 0, 65535).astype(np.uint16)
-    q[~valid] = 0
-    with atomic_path(path, overwrite) as tmp:
-        _write(tmp, q, ["R", "G", "B"], _oiio().UINT16)
-    return path
+    """Write a 16-bit RGB PNG: X, Y, Z each stretched to [0, 65535] over the valid pixels, masked pixels
+    black (see :meth:`GeometryImage.preview`)."""
+    return image.preview(path, overwrite=overwrite)
 
 
 def save_scalar(values: np.ndarray, path, name: str = "Y", *, overwrite: bool = False) -> Path:
@@ -169,7 +96,7 @@ def save_scalar(values: np.ndarray, path, name: str = "Y", *, overwrite: bool = 
     if a.ndim != 2:
         raise ValueError(f"values: expected shape (H, W), got {a.shape}")
     with atomic_path(path, overwrite) as tmp:
-        _write(tmp, a[..., None], [name], _oiio().FLOAT)
+        write_raster(tmp, a[..., None], [name], FLOAT)
     return path
 
 
@@ -201,7 +128,7 @@ def save_colormap(values: np.ndarray, path, valid: np.ndarray | None = None, *, 
         raise ImageFileError(f"{path}: colour maps are PNG; use a .png name")
     rgb = diverging_colors(values, valid)
     with atomic_path(path, overwrite) as tmp:
-        _write(tmp, rgb, ["R", "G", "B"], _oiio().UINT8)
+        write_raster(tmp, rgb, ["R", "G", "B"], UINT8)
     return path
 
 
@@ -215,5 +142,5 @@ def save_normal_map(normals: np.ndarray, path, valid: np.ndarray | None = None, 
     if valid is not None:
         rgb[~np.asarray(valid, bool)] = 0
     with atomic_path(path, overwrite) as tmp:
-        _write(tmp, rgb, ["R", "G", "B"], _oiio().UINT8)
+        write_raster(tmp, rgb, ["R", "G", "B"], UINT8)
     return path

@@ -1,9 +1,12 @@
 """Terrain meshes from elevation grids (DEMs)."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
-from .mesh import Mesh
+from .._raster import read_raster
+from ._mesh import Mesh
 
 __all__ = ["grid_mesh", "load_dem"]
 
@@ -48,14 +51,10 @@ def grid_mesh(heights, spacing=(1.0, 1.0)) -> Mesh:
 def load_dem(path) -> np.ndarray:
     """Elevations (H, W) float64 of a single-band raster (GeoTIFF, EXR, ...) through OpenImageIO, or of
     the first array in an ``.npz``. Georeferencing is not read: give :func:`grid_mesh` the cell size."""
-    from pathlib import Path
-
     path = Path(path)
     if path.suffix.lower() == ".npz":
         if not path.is_file():
             raise FileNotFoundError(f"no elevation file at {path}")
         with np.load(path) as data:
             return np.asarray(data[data.files[0]], np.float64)
-    from .image_io import read_raster
-
     return read_raster(path, what="elevation")[0][..., 0].astype(np.float64)

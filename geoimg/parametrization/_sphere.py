@@ -22,11 +22,12 @@ from __future__ import annotations
 import numpy as np
 from scipy import sparse
 
-from .balance_kernels import balance_energy, balance_gradient
-from .errors import ParametrizationError
-from .laplacian import factor_symmetric, corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
-from .mesh import Mesh
-from .topology import topology
+from ..errors import ParametrizationError
+from ..mesh import Mesh, topology
+from ._balance_kernels import balance_energy, balance_gradient
+from ._laplacian import factor_symmetric, corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
+from ._orientation import chord_orientation, facing_out
+from ._progressive import progressive_sphere
 
 __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 
@@ -39,20 +40,6 @@ def _check_sphere(mesh: Mesh):
     if not (topo.closed and topo.components == 1 and topo.genus == 0):
         raise ParametrizationError(
             f"method='sphere' needs a closed genus-0 mesh in one piece; the mesh is a {topo.describe()}")
-
-
-def chord_orientation(s: np.ndarray, tris: np.ndarray) -> np.ndarray:
-    """``det(s_a, s_b, s_c)`` of every triangle on the sphere: positive when it runs counter-clockwise
-    seen from outside."""
-    a, b, c = s[tris[:, 0]], s[tris[:, 1]], s[tris[:, 2]]
-    return np.einsum("ij,ij->i", a, np.cross(b, c))
-
-
-def facing_out(s: np.ndarray, tris: np.ndarray) -> np.ndarray:
-    """``s``, mirrored if fewer than half its triangles run counter-clockwise seen from outside."""
-    if np.sum(chord_orientation(s, tris) > 0) < len(tris) / 2:
-        return s * [-1.0, 1.0, 1.0]
-    return s
 
 
 def _areas(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
@@ -368,8 +355,6 @@ def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAU
     info = {}
     folds = int(np.sum(chord_orientation(s, tris) <= 0))
     if folds:
-        from .progressive import progressive_sphere   # (it builds on this module's orientation test)
-
         if progress is not None:
             progress(f"the direct maps fold {folds} triangles: mapping coarse to fine")
         sp, extra = progressive_sphere(x, tris, used, _coarse_map(x, beta), _relax(x, beta), progress=progress)

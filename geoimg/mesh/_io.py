@@ -11,10 +11,11 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import trimesh
 
-from .atomic import atomic_path
-from .errors import MeshError, MeshFileError
-from .mesh import Mesh, pad_faces
+from .._atomic import atomic_path
+from ..errors import MeshError, MeshFileError
+from ._mesh import Mesh, pad_faces
 
 __all__ = ["load_mesh", "save_mesh", "MESH_FORMATS"]
 
@@ -416,8 +417,6 @@ def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
 
 # ------------------------------------------------------------------------------ STL, GLB (trimesh)
 def _read_trimesh(path: Path) -> Mesh:
-    import trimesh
-
     loaded = trimesh.load(str(path), process=False, force="mesh")
     v = np.asarray(loaded.vertices, np.float64)
     f = np.asarray(loaded.faces, np.int64)
@@ -437,8 +436,6 @@ def _read_trimesh(path: Path) -> Mesh:
 
 
 def _write_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:
-    import trimesh
-
     tris, _ = mesh.triangulate()
     tm = trimesh.Trimesh(mesh.vertices, tris, process=False)
     with open(tmp, "wb") as fh:

@@ -3,9 +3,9 @@
 Each face lives on the sphere through its parametrized vertices: its plane through them (the chord
 polygon), a frame in that plane, ``d_i`` the smallest enclosing circle of the chord triangle (mean vertex
 distance for n > 3) and the affine map of the frame coordinates onto the face in space, as in
-:mod:`geoimg.face_maps` (same sliver rule). Weights are Gaussians of the chord distance between a
+:mod:`geoimg.surface._face_maps` (same sliver rule). Weights are Gaussians of the chord distance between a
 direction and the face's centre, ``sigma_i = s d_i``; truncation and its certificate are those of
-:mod:`geoimg.surface`. See :mod:`geoimg.sphere_kernels` for the evaluation.
+:mod:`geoimg.surface._base`. See :mod:`geoimg.surface._sphere_kernels` for the evaluation.
 """
 from __future__ import annotations
 
@@ -15,14 +15,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import sphere_kernels
-from .errors import ParametrizationError
-from .face_maps import SLIVER_RULES, _fit_planes, enclosing_circle_radius, robust_sliver_planes
-from .mesh import Mesh
-from .surface import _unit, reference_log_weight, truncation_radius
-from .octahedral import check_size, grid_directions, square_jacobian, square_to_sphere
+from ..errors import ParametrizationError
+from ..image import Domain
+from ..mesh import Mesh
+from ..parametrization import square_jacobian, square_to_sphere
+from . import _sphere_kernels as sphere_kernels
+from ._base import Surface, truncation_radius, unit
+from ._curvature import sphere_curvature
+from ._face_maps import fit_planes, enclosing_circle_radius, robust_sliver_planes
 
-__all__ = ["SphereSurface", "fit_sphere_surface"]
+__all__ = ["SphereSurface", "fit_sphere_surface", "MAX_AUTO_RESOLUTION"]
 
 MAX_AUTO_RESOLUTION = 2049
 
@@ -78,7 +80,7 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
     face_index = np.flatnonzero(keep)
     sel = (normal, height, origin, e1, e2, ab, xyz, valid, d, area)
     normal, height, origin, e1, e2, ab, xyz, valid, d, area = (a[keep] for a in sel)
-    C, A, B = _fit_planes(ab, xyz, valid, np.zeros((len(d), 2)))
+    C, A, B = fit_planes(ab, xyz, valid, np.zeros((len(d), 2)))
     n_slivers = 0
     if sliver_rule == "robust":
         def ring_coords(ridx, sliver):   # ring vertices in each sliver's frame
@@ -95,11 +97,12 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
 
 
 @dataclass(frozen=True, eq=False)
-class SphereSurface:
+class SphereSurface(Surface):
     """A fitted weighted-mean surface over the sphere; build it with :func:`geoimg.fit_surface` on a
     ``sphere`` parametrization. Points are addressed by octahedral image coordinates ``(u, v)`` in
     ``[0, 1]^2`` (or by unit directions, see :meth:`evaluate_directions`)."""
 
+    domain: Domain
     s: float
     tol: float
     sliver_rule: str
@@ -111,15 +114,7 @@ class SphereSurface:
     _cells: tuple = field(repr=False, default=None)
     weights: str = "gaussian"
     n: int = 0
-    orientation: int = 1
-    domain: str = "octahedral"
-    extent: tuple = (1.0, 1.0)
     s_face: np.ndarray = field(repr=False, default=None)   # per-face s when it varies (s is its minimum)
-
-    @property
-    def log_g_ref(self) -> float:
-        """log of the least Gaussian a point inside a face receives from that face."""
-        return reference_log_weight(self.s)
 
     def evaluate_directions(self, q, *, exact: bool = False):
         """Points and derivatives along a tangent frame ``(t1, t2)`` (with ``t1 x t2 = q``) at unit
@@ -157,54 +152,44 @@ class SphereSurface:
     def normals(self, uv, *, exact: bool = False) -> np.ndarray:
         """Unit normals from the analytic derivatives (smooth across the creases), shape (k, 3)."""
         _, P1, P2, _, _, _ = self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)
-        return _unit(np.cross(P1, P2) * self.orientation)
+        return unit(np.cross(P1, P2) * self.orientation)
+
+    def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        return sphere_curvature(self, resolution)
 
     def auto_resolution(self) -> int:
         """Odd side whose pixels cover about ``(s * mean d)^2`` of the sphere each, on average."""
         spacing = self.s * float(self.d.mean())
         side = int(math.ceil(math.sqrt(4.0 * math.pi) / spacing)) + 1
         side += 1 - side % 2
-        if side > MAX_AUTO_RESOLUTION:
-            warnings.warn(f"automatic resolution {side} capped at {MAX_AUTO_RESOLUTION}", stacklevel=3)
-        return max(3, min(side, MAX_AUTO_RESOLUTION))
+        return max(3, self._capped(side, MAX_AUTO_RESOLUTION))
 
-    def grid(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Columns ``u`` and rows ``v`` of the ``N x N`` octahedral grid (``N`` odd; corners included)."""
-        n = check_size(self.auto_resolution() if resolution is None else resolution)
-        g = np.linspace(0.0, 1.0, n)
-        return g, g
+    def _s_max(self):
+        return None if self.s_face is None else float(self.s_face.max())
 
-    def sample(self, resolution: int | None = None, *, normals: bool = True):
-        """Resample into an ``N x N`` octahedral :class:`~geoimg.GeometryImage` (``N`` odd; no mask).
-
-        Glued boundary pixels are evaluated at bit-identical directions, so they hold identical values.
-        """
-        from .image import GeometryImage
-
-        n = check_size(self.auto_resolution() if resolution is None else resolution)
-        q = grid_directions(n).reshape(-1, 3)
+    def _sample_grid(self, shape, normals: bool):
+        """Glued boundary pixels are evaluated at bit-identical directions, so they hold identical values."""
+        n = shape[0]
+        q = self.domain.directions(n).reshape(-1, 3)
         P, P1, P2, _, _, st = self.evaluate_directions(q)
-        nrm = _unit(np.cross(P1, P2) * self.orientation).reshape(n, n, 3).astype(np.float32) if normals else None
-        meta = {"domain": "octahedral", "s": float(self.s), "weights": "gaussian", "n": 0, "tol": float(self.tol),
-                "sliver_rule": self.sliver_rule, "resolution": int(n), "extent": [1.0, 1.0], "source": "",
-                "orientation": int(self.orientation), "exact_pixels": int((st == sphere_kernels.EXACT).sum()),
-                "hole_pixels": 0}
-        if self.s_face is not None:
-            meta["s_max"] = float(self.s_face.max())
-        return GeometryImage(P.reshape(n, n, 3).astype(np.float32), None, domain="octahedral", normals=nrm,
-                             metadata=meta)
+        nrm = unit(np.cross(P1, P2) * self.orientation).reshape(n, n, 3) if normals else None
+        return P.reshape(n, n, 3), nrm, None, int((st == sphere_kernels.EXACT).sum()), 0
 
 
-def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, s, tol: float, sliver_rule: str,
-                       orientation: int = 1) -> SphereSurface:
-    """Fit the surface to a mesh whose vertices have unit vectors ``coords`` (called by ``fit_surface``);
-    ``s`` is a number or one value per mesh face (truncation then uses the smallest)."""
-    if sliver_rule not in SLIVER_RULES:
-        raise ValueError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
+def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float, s_face, s_map, *, weights: str,
+                       n: int, tol: float, sliver_rule: str) -> SphereSurface:
+    """Fit the surface to a mesh whose vertices have unit vectors ``coords`` (called by ``fit_surface``,
+    which has checked the settings); ``s`` the smallest of ``s_face`` when that is given."""
+    if s_map is not None:
+        raise ValueError("s: a smoothness map s(u, v) is for planar parametrizations; on the sphere give one s "
+                         "per face (geoimg.surface.smoothness_field)")
+    if weights != "gaussian":
+        raise ValueError("weights: the octahedral (spherical) domain supports only 'gaussian' weights")
+    s = s if s_face is None else s_face
     fm = _sphere_face_maps(mesh, coords, sliver_rule)
     if fm["n_degenerate"]:
         warnings.warn(f"fit_surface: {fm['n_degenerate']} faces of zero area on the sphere were left out",
-                      stacklevel=3)
+                      stacklevel=4)
     s_face = None if np.ndim(s) == 0 else np.asarray(s, np.float64)[fm["face_index"]]
     s = float(np.min(s))
     sigma = (s if s_face is None else s_face) * fm["d"]
@@ -212,5 +197,5 @@ def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, s, tol: float, sliver_rul
     faces = tuple(np.ascontiguousarray(a, np.float64) for a in (
         fm["centre"], 0.5 / sigma ** 2, radius, fm["origin"], fm["e1"], fm["e2"], fm["C"], fm["A"], fm["B"]))
     cells = sphere_kernels.build_cells_3d(fm["centre"], np.minimum(radius, 4.0))
-    return SphereSurface(s, float(tol), sliver_rule, fm["d"], fm["face_index"], fm["n_slivers"],
-                         fm["n_degenerate"], faces, cells, orientation=int(orientation), s_face=s_face)
+    return SphereSurface(domain, s, float(tol), sliver_rule, fm["d"], fm["face_index"], fm["n_slivers"],
+                         fm["n_degenerate"], faces, cells, s_face=s_face)

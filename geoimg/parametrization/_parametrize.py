@@ -13,13 +13,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ParametrizationError
-from .mesh import Mesh
+from ..errors import ParametrizationError
+from ..mesh import Mesh, topology
+from ._disk import disk_coords
+from ._sphere import sphere_coords
 
-__all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATION_METHODS"]
+__all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATION_METHODS", "AXES"]
 
 PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere")
 _AXES = {"x": 0, "y": 1, "z": 2}
+AXES = tuple(_AXES)
 SNAP_DEGREES = 15.0
 
 
@@ -157,8 +160,6 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
     used = mesh.referenced_vertices()
     info: dict = {}
     if method == "sphere":
-        from .sphere import sphere_coords
-
         coords, info = sphere_coords(mesh, progress=progress)
         info["orientation"] = 1
         if info["flipped_triangles"]:
@@ -166,8 +167,6 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
                           "sphere; the map is not one-to-one there", stacklevel=2)
         return Parametrization(coords, (1.0, 1.0), "octahedral", "sphere", info["flipped_triangles"], 0, info)
     if method == "disk":
-        from .disk import disk_coords
-
         raw, info = disk_coords(mesh, boundary)
     elif method == "uv":
         if axis is not None:
@@ -233,8 +232,6 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrizat
             return p
         tried.append(f"{method}: {p.flipped_faces} of {mesh.n_faces} faces fold over" if p.flipped_faces else
                      f"{method}: {p.degenerate_faces} of {mesh.n_faces} faces project to a line")
-    from .topology import topology
-
     topo = topology(mesh)
     single = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0 \
         and topo.genus == 0

@@ -10,12 +10,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pygltflib as gl
 
-from .atomic import atomic_path
-from .image import GeometryImage
-from .mesh_io import save_mesh
-from .morph import Morph
+from .._atomic import atomic_path
+from .._optional import require
+from ..image import GeometryImage
+from ..mesh import save_mesh
+from ._morph import Morph
 
 __all__ = ["save_glb", "save_frames", "FRAME_FORMATS"]
 
@@ -39,11 +39,11 @@ def _vertex_normals(image, valid) -> tuple[np.ndarray, object]:
 class _Buffer:
     """Accessors appended to one binary buffer."""
 
-    def __init__(self, gltf: gl.GLTF2):
-        self.gltf, self.blob = gltf, bytearray()
+    def __init__(self, gl, gltf):
+        self.gl, self.gltf, self.blob = gl, gltf, bytearray()
 
     def add(self, array: np.ndarray, kind: str, component: int, target=None, minmax=False) -> int:
-        data = np.ascontiguousarray(array).tobytes()
+        gl, data = self.gl, np.ascontiguousarray(array).tobytes()
         while len(self.blob) % 4:
             self.blob.append(0)
         view = gl.BufferView(buffer=0, byteOffset=len(self.blob), byteLength=len(data), target=target)
@@ -80,7 +80,8 @@ def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, 
     --------
     >>> import tempfile, pathlib
     >>> from geoimg import GeometryImage
-    >>> from geoimg.morph import morph
+    >>> from geoimg.animation import morph
+    >>> import pygltflib as gl
     >>> a = GeometryImage(np.zeros((3, 3, 3), np.float32))
     >>> m = morph(a, GeometryImage(np.ones((3, 3, 3), np.float32)), frames=4, align="none")
     >>> p = save_glb(m, pathlib.Path(tempfile.mkdtemp()) / "m.glb")
@@ -93,6 +94,7 @@ def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, 
         raise ValueError(f"{path}: expected a .glb name")
     if not (fps > 0):
         raise ValueError(f"fps: expected a positive number, got {fps!r}")
+    gl = require("pygltflib", "writing a glTF morph")
     weights, target_images = _weights(morph)
     valid = None
     if any(k.mask is not None for k in morph.keys):
@@ -100,7 +102,7 @@ def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, 
     base_normals, base = _vertex_normals(morph.keys[0], valid)
     base_pos = np.asarray(base.vertices, np.float32)
     gltf = gl.GLTF2(asset=gl.Asset(generator="geoimg"), scene=0, scenes=[gl.Scene(nodes=[0])])
-    buf = _Buffer(gltf)
+    buf = _Buffer(gl, gltf)
     pos = buf.add(base_pos, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER, minmax=True)
     nrm = buf.add(base_normals, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER)
     idx = buf.add(_triangles(base).reshape(-1), gl.SCALAR, gl.UNSIGNED_INT, gl.ELEMENT_ARRAY_BUFFER)

@@ -14,7 +14,7 @@ import heapq
 import numpy as np
 from numba import njit
 
-from .sphere import facing_out
+from ._orientation import facing_out
 
 __all__ = ["simplify", "progressive_sphere"]
 

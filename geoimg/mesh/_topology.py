@@ -7,7 +7,7 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse.csgraph import connected_components
 
-from .mesh import Mesh
+from ._mesh import Mesh
 
 __all__ = ["Topology", "topology", "boundary_loops"]
 

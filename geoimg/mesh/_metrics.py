@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .mesh import Mesh
+from ._mesh import Mesh
 
 __all__ = ["point_triangle_distance", "point_mesh_distance", "sample_surface", "surface_distance"]
 

@@ -7,17 +7,17 @@ multisampling. A morph keeps one camera for all its frames, fitted to the union 
 from __future__ import annotations
 
 import contextlib
-import importlib.util
 import math
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .atomic import atomic_path
-from .errors import GeoimgError
-from .image import GeometryImage
-from .mesh import Mesh
+from .._atomic import atomic_path
+from .._optional import require
+from ..errors import GeoimgError
+from ..image import GeometryImage
+from ..mesh import Mesh
 
 __all__ = ["Renderer", "Camera", "render", "save_png", "save_animation", "RenderError", "UP_AXES"]
 
@@ -160,9 +160,8 @@ class Renderer:
         for name, value in (("width", width), ("height", height)):
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 8 <= value <= 8192:
                 raise ValueError(f"{name}: expected an integer from 8 to 8192, got {value!r}")
+        moderngl = require("moderngl", "rendering")
         try:
-            import moderngl
-
             self.ctx = moderngl.create_standalone_context(backend="egl")
         except Exception as e:   # noqa: BLE001 - any failure to get a context means the same to the user
             raise RenderError("no headless OpenGL context: geoimg renders through EGL with Mesa "
@@ -258,8 +257,7 @@ def render(obj, width: int = 800, height: int = 600, *, azimuth: float = 30.0, e
 
 def save_png(rgb: np.ndarray, path, *, overwrite: bool = False) -> Path:
     """Write an (H, W, 3) uint8 picture as PNG (atomically)."""
-    import imageio.v3 as iio
-
+    iio = require("imageio.v3", "writing pictures")
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise ValueError(f"{path}: expected a .png name")
@@ -271,8 +269,7 @@ def save_png(rgb: np.ndarray, path, *, overwrite: bool = False) -> Path:
 def save_animation(frames, path, *, fps: float = 24.0, overwrite: bool = False) -> Path:
     """Write pictures (each (H, W, 3) uint8) as an animated GIF (looping) or an H.264 MP4 (needs the
     ``imageio-ffmpeg`` package: ``pip install geoimg[video]``)."""
-    import imageio.v3 as iio
-
+    iio = require("imageio.v3", "writing animations")
     path = Path(path)
     ext = path.suffix.lower()
     frames = [np.asarray(f, np.uint8) for f in frames]
@@ -282,9 +279,7 @@ def save_animation(frames, path, *, fps: float = 24.0, overwrite: bool = False) 
         with atomic_path(path, overwrite) as tmp:
             iio.imwrite(tmp, np.stack(frames), extension=".gif", duration=1000.0 / fps, loop=0)
     elif ext == ".mp4":
-        if importlib.util.find_spec("imageio_ffmpeg") is None:
-            raise RenderError("MP4 needs the imageio-ffmpeg package: pip install imageio-ffmpeg "
-                              "(or pip install 'geoimg[video]'); GIF needs nothing more")
+        require("imageio_ffmpeg", "MP4 (GIF needs nothing more)")
         with atomic_path(path, overwrite) as tmp:
             iio.imwrite(tmp, np.stack(frames), extension=".mp4", fps=fps, codec="libx264", macro_block_size=8)
     else:

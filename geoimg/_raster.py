@@ -1,0 +1,63 @@
+"""Raster files through OpenImageIO: read any image as float arrays, write named channels.
+
+The lowest layer under geometry-image files, masks and elevation grids; it knows nothing of meshes
+or geometry images.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import OpenImageIO as oiio
+
+from .errors import ImageFileError
+
+__all__ = ["read_raster", "write_raster", "FLOAT", "UINT16", "UINT8"]
+
+FLOAT, UINT16, UINT8 = oiio.FLOAT, oiio.UINT16, oiio.UINT8
+
+
+def write_raster(path: Path, data: np.ndarray, names, fmt, attributes=()) -> None:
+    """Write ``data`` (H, W, C) to ``path`` with channel ``names``, pixel format ``fmt`` (``FLOAT``,
+    ``UINT16``, ``UINT8``) and ``(name, value)`` attributes; the format follows the file name."""
+    out = oiio.ImageOutput.create(str(path))
+    if out is None:
+        raise ImageFileError(f"{path}: OpenImageIO cannot write this format ({oiio.geterror()})")
+    spec = oiio.ImageSpec(data.shape[1], data.shape[0], data.shape[2], fmt)
+    spec.channelnames = tuple(names)
+    for key, value in attributes:
+        spec.attribute(key, value)
+    if not out.open(str(path), spec) or not out.write_image(np.ascontiguousarray(data)):
+        msg = out.geterror()
+        out.close()
+        raise ImageFileError(f"{path}: writing failed ({msg})")
+    out.close()
+
+
+def read_raster(path, attributes=(), what: str = "image"):
+    """Pixels (H, W, C) float32 of any image OpenImageIO reads (integer formats scaled to [0, 1]), the
+    channel names and the values of the named attributes (None where absent).
+
+    Raises
+    ------
+    FileNotFoundError
+        If there is no such file.
+    ImageFileError
+        If it cannot be read.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"no {what} file at {path}")
+    inp = oiio.ImageInput.open(str(path))
+    if inp is None:
+        raise ImageFileError(f"{path}: cannot be read as an image ({oiio.geterror()})")
+    try:
+        spec = inp.spec()
+        data = inp.read_image(oiio.FLOAT)
+        if data is None:
+            raise ImageFileError(f"{path}: pixel data could not be read ({inp.geterror()})")
+        names = list(spec.channelnames)
+        values = [spec.getattribute(a) for a in attributes]
+    finally:
+        inp.close()
+    return np.asarray(data, np.float32).reshape(spec.height, spec.width, spec.nchannels), names, values

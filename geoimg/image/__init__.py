@@ -1,0 +1,17 @@
+"""Geometry images: the :class:`GeometryImage` type, its domains, files, regions and curvature.
+
+>>> import numpy as np
+>>> from geoimg.image import GeometryImage, OctahedralDomain
+>>> img = GeometryImage(np.zeros((5, 5, 3), np.float32), domain=OctahedralDomain())
+>>> img.to_mesh().n_vertices          # glued pixels welded: (5 - 1)^2 + 2
+18
+"""
+from ._domain import DOMAIN_KINDS, Domain, OctahedralDomain, PlanarDomain, grid_normals
+from ._image import DEFAULT_PAD, GeometryImage
+from ._io import diverging_colors, load_image, save_colormap, save_image, save_normal_map, save_preview, save_scalar
+from ._regions import image_region, load_mask, uv_region
+from ._curvature import image_curvature
+
+__all__ = ["DOMAIN_KINDS", "Domain", "OctahedralDomain", "PlanarDomain", "grid_normals", "DEFAULT_PAD",
+           "GeometryImage", "diverging_colors", "load_image", "save_colormap", "save_image", "save_normal_map",
+           "save_preview", "save_scalar", "image_region", "load_mask", "uv_region", "image_curvature"]

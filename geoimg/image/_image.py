@@ -1,0 +1,292 @@
+"""Geometry images: a regular grid of surface points stored as an (H, W, 3) float image of X, Y, Z."""
+from __future__ import annotations
+
+import inspect
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+import filters
+from .._atomic import atomic_path
+from .._raster import FLOAT, UINT16, write_raster
+from ..errors import ImageError, ImageFileError
+from ..mesh import Mesh
+from ._domain import Domain, PlanarDomain
+
+__all__ = ["GeometryImage", "DEFAULT_PAD"]
+
+DEFAULT_PAD = 16
+
+
+def _boundary_aware(op):
+    """The parameters of a :mod:`filters` operation (array in, array out, the boundary rule as
+    ``mode=``), or None for any other callable."""
+    module = getattr(op, "__module__", None) or ""
+    if module != "filters" and not module.startswith("filters."):
+        return None
+    try:
+        params = inspect.signature(op).parameters
+    except (TypeError, ValueError):
+        return None
+    return params if "mode" in params else None
+
+
+@dataclass(frozen=True, eq=False)
+class GeometryImage:
+    """A geometry image.
+
+    Attributes
+    ----------
+    pixels : numpy.ndarray, shape (H, W, 3)
+        X, Y, Z of the surface at each grid point (float32 or float64, kept as given).
+    mask : numpy.ndarray of bool, shape (H, W), or None
+        Pixels inside the parametrized region (None: all valid).
+    domain : Domain
+        What kind of image it is (:class:`~geoimg.PlanarDomain`, :class:`~geoimg.OctahedralDomain`):
+        how pixels map to parameters, which pixels are glued, what filters see beyond the edges. A
+        kind name (``"planar"``, ``"octahedral"``) is accepted too; its fields (``extent``,
+        ``orientation``) are then taken from ``metadata``, where they are not kept.
+    normals : numpy.ndarray, shape (H, W, 3), or None
+        Exact unit normals from the surface's derivatives, when known.
+    metadata : dict
+        How the image was made (s, weights, resolution, source, ...).
+
+    Examples
+    --------
+    >>> img = GeometryImage(np.zeros((4, 5, 3), np.float32))
+    >>> img.shape, img.domain.kind, img.to_mesh().n_faces
+    ((4, 5), 'planar', 12)
+    """
+
+    pixels: np.ndarray
+    mask: np.ndarray | None = None
+    domain: Domain = field(default_factory=PlanarDomain)
+    normals: np.ndarray | None = None
+    metadata: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        p = np.asarray(self.pixels)
+        if p.ndim != 3 or p.shape[2] != 3 or p.shape[0] < 2 or p.shape[1] < 2:
+            raise ImageError(f"pixels: expected shape (H, W, 3) with H, W >= 2, got {p.shape}")
+        if p.dtype not in (np.float32, np.float64):
+            raise TypeError(f"pixels: expected float32 or float64, got {p.dtype}")
+        if not np.isfinite(p).all():
+            raise ImageError("pixels: contain NaN or infinite values")
+        p = p.copy()
+        p.setflags(write=False)
+        object.__setattr__(self, "pixels", p)
+        if self.mask is not None:
+            m = np.asarray(self.mask)
+            if m.shape != p.shape[:2]:
+                raise ImageError(f"mask: expected shape {p.shape[:2]}, got {m.shape}")
+            if m.dtype != bool:
+                raise TypeError(f"mask: expected a boolean array, got {m.dtype}")
+            m = m.copy()
+            m.setflags(write=False)
+            object.__setattr__(self, "mask", m)
+        if self.normals is not None:
+            n = np.asarray(self.normals)
+            if n.shape != p.shape:
+                raise ImageError(f"normals: expected shape {p.shape}, got {n.shape}")
+            n = n.copy()
+            n.setflags(write=False)
+            object.__setattr__(self, "normals", n)
+        meta = dict(self.metadata)
+        domain = self.domain
+        if isinstance(domain, str):
+            domain = Domain.from_metadata(domain, meta)
+        elif not isinstance(domain, Domain):
+            raise TypeError(f"domain: expected a geoimg Domain or a kind name, got {type(domain).__name__}")
+        for key in Domain.METADATA_KEYS:       # the domain's own fields live in the domain
+            meta.pop(key, None)
+        domain.check_shape(p.shape[:2])
+        domain.check_mask(self.mask)
+        object.__setattr__(self, "domain", domain)
+        object.__setattr__(self, "metadata", meta)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(H, W)."""
+        return self.pixels.shape[:2]
+
+    @property
+    def valid(self) -> np.ndarray:
+        """The mask, or all True when there is none."""
+        return np.ones(self.shape, bool) if self.mask is None else self.mask
+
+    def parameter_grid(self) -> tuple[np.ndarray, np.ndarray]:
+        """The image coordinates (u, v) of the columns and rows (0 to the domain's extent)."""
+        return self.domain.pixel_uv(self.shape)
+
+    def to_mesh(self) -> Mesh:
+        """The regular quad mesh: a quad per 2x2 block of valid pixels, a vertex per pixel of a quad, glued
+        pixels welded by index into one vertex (their mean), so an octahedral image gives a closed
+        genus-0 mesh. (A valid pixel that no quad uses, e.g. an isolated one, gives no vertex.)
+
+        Quads are oriented like the source mesh (``domain.orientation``). Vertices carry the pixel's
+        (u, v) and a normal: the exact one when the image has ``normals``, else one from the grid
+        (planar images).
+
+        Returns
+        -------
+        Mesh
+            (H - 1)(W - 1) quads when every pixel is valid.
+
+        Raises
+        ------
+        GeoimgError
+            If no 2 x 2 block of valid pixels exists.
+        """
+        return self.domain.quad_mesh(self.pixels, self.valid, self.normals)
+
+    def with_pixels(self, pixels, *, mask=..., metadata=None) -> "GeometryImage":
+        """A new image of the same domain with other pixels (no exact normals: they belong to the old
+        surface); ``mask`` and ``metadata`` are kept unless given."""
+        return GeometryImage(pixels, self.mask if mask is ... else mask, self.domain,
+                             metadata=dict(self.metadata) if metadata is None else metadata)
+
+    @property
+    def boundary_mode(self) -> str:
+        """The :mod:`filters` boundary rule of the image's domain (``reflect``, ``octahedral``)."""
+        return self.domain.boundary
+
+    def apply(self, op, *args, pad: int | None = None, **kwargs) -> "GeometryImage":
+        """Run an operation on the pixels with the domain's boundary rule; a new image.
+
+        Two kinds of operation are accepted:
+
+        - a :mod:`filters` function (array first, array out, the boundary rule as ``mode=``): it gets
+          ``mode=`` the domain's rule unless the call gives one;
+        - any other callable on an (H, W, 3) array returning an array of the same shape, e.g.
+          ``cv2.GaussianBlur``, ``scipy.ndimage.median_filter`` or
+          ``skimage.restoration.denoise_tv_chambolle``: it runs on the pixels padded by ``pad`` pixels
+          (default :data:`DEFAULT_PAD`) with the domain's rule, and the result is cropped back, so it
+          sees across an octahedral image's glued sides as a filters function does. Give a larger
+          ``pad`` for wider operations.
+
+        Geometry images among the arguments (to blend or composite) stand for their pixels (padded
+        too, for other callables) and must share domain and size; glued pixels of the result are
+        averaged so they stay identical. ``mask=`` and ``feather=`` restrict any operation to a region
+        (through its own mask argument, or by blending its result in); a mask is first made symmetric
+        over glued pixels. The exact normals are dropped (the filtered image is no longer the surface);
+        the operation is recorded in ``metadata['filters']``.
+
+        Examples
+        --------
+        >>> img = GeometryImage(np.random.default_rng(0).normal(size=(5, 5, 3)), domain="octahedral")
+        >>> out = img.apply(filters.mean_filter, 3)
+        >>> out.metadata["filters"], out.domain.kind
+        (['mean_filter(3, mode=octahedral)'], 'octahedral')
+        >>> from scipy import ndimage
+        >>> out = img.apply(ndimage.uniform_filter, size=(3, 3, 1), pad=2)
+        >>> bool(np.array_equal(out.pixels[0, 1], out.pixels[0, 3]))     # glued pixels agree
+        True
+        """
+        params = _boundary_aware(op)
+        width = 0
+        if params is None:
+            width = DEFAULT_PAD if pad is None else int(filters.positive(pad, "pad", integer=True, allow_zero=True))
+        elif pad is not None:
+            raise ImageError(f"pad: {getattr(op, '__name__', op)} meets the image's edges through its mode; "
+                             "pad is for other callables")
+
+        def pixels_of(x):
+            if isinstance(x, GeometryImage):
+                if not x.domain.same_kind(self.domain) or x.shape != self.shape:
+                    raise ImageError(f"image: expected a {self.domain.kind} {self.shape} geometry image, got a "
+                                     f"{x.domain.kind} {x.shape} one (resample it with filters.resize first)")
+                return x.pixels if params is not None else self.domain.pad(x.pixels, width)
+            return x
+
+        args = [pixels_of(a) for a in args]
+        kwargs = {k: pixels_of(v) for k, v in kwargs.items()}
+        if params is not None and "mode" not in kwargs:
+            kwargs["mode"] = self.boundary_mode
+        mask, feather = kwargs.get("mask"), kwargs.get("feather", 0.0)
+        if mask is not None:
+            mask = kwargs["mask"] = self.domain.symmetric_mask(filters.as_weights(mask, self.shape))
+        if mask is not None and (params is None or "mask" not in params):   # any operation can be masked
+            kwargs.pop("mask")
+            kwargs.pop("feather", None)
+            weights = filters.feather(mask, feather, kwargs.get("mode", self.boundary_mode))
+            out = filters.apply_masked(self.pixels, self._run(op, args, kwargs, params, width), weights)
+            kwargs.update(mask=mask, feather=feather)
+        else:
+            out = self._run(op, args, kwargs, params, width)
+        out = self.domain.average_glued(out)
+        shown = [repr(a) if np.ndim(a) == 0 else f"<array {np.shape(a)}>" for a in args]
+        shown += [f"{k}={v}" if isinstance(v, str) or np.ndim(v) == 0 else f"{k}=<array>" for k, v in kwargs.items()]
+        if params is None:
+            shown.append(f"pad={width}")
+        meta = dict(self.metadata)
+        meta["filters"] = list(meta.get("filters", [])) + [f"{getattr(op, '__name__', 'op')}({', '.join(shown)})"]
+        return self.with_pixels(out.astype(self.pixels.dtype), metadata=meta)
+
+    def _run(self, op, args, kwargs, params, width) -> np.ndarray:
+        """``op`` on the pixels: directly for a filters function, else padded by the domain's rule and
+        cropped back."""
+        name = getattr(op, "__name__", op)
+        if params is not None:
+            out = op(self.pixels, *args, **kwargs)
+        else:
+            out = op(self.domain.pad(self.pixels, width), *args, **kwargs)
+        out = np.asarray(out[0] if isinstance(out, tuple) else out)
+        H, W = self.shape
+        expected = self.pixels.shape if params is not None else (H + 2 * width, W + 2 * width, 3)
+        if out.shape != expected:
+            raise ImageError(f"{name}: returned shape {out.shape}, expected {expected} (an array like its input)")
+        if params is None:
+            out = out[width:width + H, width:width + W]
+        if not np.isfinite(out).all():
+            raise ImageError(f"{name}: returned NaN or infinite values")
+        return out
+
+    def save(self, path, *, overwrite: bool = False):
+        """Write the image to OpenEXR (float32, lossless, with metadata), atomically.
+
+        Channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask, and
+        ``N.X, N.Y, N.Z`` when it has normals; the metadata and the domain's fields as JSON in
+        ``geoimg:metadata``, the domain's kind also in ``geoimg:domain``. float32 pixels round-trip bit
+        for bit (:func:`geoimg.load_image`).
+
+        Returns
+        -------
+        pathlib.Path
+        """
+        path = _suffixed(path, ".exr", "geometry images are saved as OpenEXR; use a .exr name "
+                                       "(previews: GeometryImage.preview)")
+        planes, names = [self.pixels.astype(np.float32)], ["R", "G", "B"]
+        if self.mask is not None:
+            planes.append(self.mask.astype(np.float32)[..., None])
+            names.append("mask")
+        if self.normals is not None:
+            planes.append(np.asarray(self.normals, np.float32))
+            names += ["N.X", "N.Y", "N.Z"]
+        record = {**self.metadata, **self.domain.to_metadata()}
+        attrs = [("geoimg:domain", self.domain.kind), ("geoimg:metadata", json.dumps(record, sort_keys=True)),
+                 ("compression", "zip")]
+        with atomic_path(path, overwrite) as tmp:
+            write_raster(tmp, np.concatenate(planes, axis=2), names, FLOAT, attrs)
+        return path
+
+    def preview(self, path, *, overwrite: bool = False):
+        """Write a 16-bit PNG with each channel stretched to its range over valid pixels (masked: black)."""
+        path = _suffixed(path, ".png", "previews are PNG; use a .png name")
+        valid = self.valid
+        p = np.asarray(self.pixels, np.float64)
+        lo = p[valid].min(axis=0)
+        span = np.maximum(p[valid].max(axis=0) - lo, 1e-300)
+        q = np.clip(np.round((p - lo) / span * 65535.0), 0, 65535).astype(np.uint16)
+        q[~valid] = 0
+        with atomic_path(path, overwrite) as tmp:
+            write_raster(tmp, q, ["R", "G", "B"], UINT16)
+        return path
+
+
+def _suffixed(path, suffix: str, message: str) -> Path:
+    path = Path(path)
+    if path.suffix.lower() != suffix:
+        raise ImageFileError(f"{path}: {message}")
+    return path

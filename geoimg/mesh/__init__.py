@@ -1,0 +1,14 @@
+"""Meshes: the :class:`Mesh` type, mesh files, topology, terrains and distances between meshes.
+
+>>> from geoimg.mesh import Mesh, topology
+>>> topology(Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])).boundary_loops
+1
+"""
+from ._mesh import Mesh, pad_faces
+from ._io import MESH_FORMATS, load_mesh, save_mesh
+from ._topology import Topology, boundary_loops, topology
+from ._terrain import grid_mesh, load_dem
+from ._metrics import point_mesh_distance, sample_surface, surface_distance
+
+__all__ = ["Mesh", "pad_faces", "MESH_FORMATS", "load_mesh", "save_mesh", "Topology", "boundary_loops", "topology",
+           "grid_mesh", "load_dem", "point_mesh_distance", "sample_surface", "surface_distance"]

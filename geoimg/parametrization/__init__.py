@@ -1,0 +1,15 @@
+"""Parametrizations: per-vertex coordinates of a mesh in a planar rectangle or on the unit sphere, and
+the octahedral map that unfolds the sphere onto a square.
+
+>>> from geoimg.parametrization import square_to_sphere
+>>> square_to_sphere([[0.5, 0.5]]).tolist()
+[[0.0, 0.0, 1.0]]
+"""
+from ._parametrize import AXES, PARAMETRIZATION_METHODS, Parametrization, parametrize, signed_face_areas
+from ._disk import DISK_BOUNDARIES, disk_coords
+from ._sphere import sphere_coords
+from ._octahedral import area_ratio, grid_directions, sphere_to_square, square_jacobian, square_to_sphere
+
+__all__ = ["AXES", "DISK_BOUNDARIES", "PARAMETRIZATION_METHODS", "Parametrization", "parametrize", "signed_face_areas", "disk_coords",
+           "sphere_coords", "area_ratio", "grid_directions", "sphere_to_square", "square_jacobian",
+           "square_to_sphere"]

@@ -1,0 +1,159 @@
+"""The interface every weighted-mean surface has, whatever its domain, and the truncation rule they share.
+
+Truncation (``tol``, default 1e-10): a point inside face k has ``G_k >= g_ref = exp(-(4/3)^2 / 2 s^2)``
+(no point of a triangle is farther than 4/3 d_k from its centroid). Face j is skipped where
+``G_j < tol * g_ref``, i.e. outside ``|x - c_j| <= R_j = sigma_j sqrt(2 ln(1/tol) + (4/3)^2 / s^2)``
+(about the paper's 7 sigma at s = 1). So every skipped weight ``W_j`` is below ``tol``. A point whose
+truncated sum is below ``g_ref`` (outside the mesh, or next to a sliver) is recomputed exactly over
+all faces in the log domain. ``tol=0`` evaluates the exact, untruncated sum everywhere.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from abc import ABC, abstractmethod
+
+import numpy as np
+
+from ..image import Domain, GeometryImage
+
+__all__ = ["Surface", "reference_log_weight", "truncation_radius", "unit", "TRUNCATION_RHO"]
+
+TRUNCATION_RHO = 4.0 / 3.0
+
+
+def reference_log_weight(s: float) -> float:
+    """log of the least Gaussian weight a point inside a face gets from it: ``-(4/3)^2 / 2 s^2``."""
+    return -TRUNCATION_RHO ** 2 / (2.0 * s ** 2)
+
+
+def truncation_radius(sigma: np.ndarray, s: float, tol: float) -> np.ndarray:
+    """Distance beyond which a face's weight is below ``tol`` times the least weight of a point's own face."""
+    return sigma * math.sqrt(2.0 * math.log(1.0 / tol) + TRUNCATION_RHO ** 2 / s ** 2)
+
+
+def unit(v: np.ndarray) -> np.ndarray:
+    """Rows of ``v`` scaled to length 1 (zero rows stay zero)."""
+    n = np.linalg.norm(v, axis=-1, keepdims=True)
+    return np.divide(v, n, out=np.zeros_like(v), where=n > 0)
+
+
+class Surface(ABC):
+    """A fitted weighted-mean surface ``P(u, v)``; build one with :func:`geoimg.fit_surface`.
+
+    Points are addressed by image coordinates ``(u, v)`` of its :attr:`domain` (the parameter rectangle
+    ``[0, extent[0]] x [0, extent[1]]``). Every surface has the same methods: :meth:`evaluate`,
+    :meth:`derivatives`, :meth:`normals`, :meth:`curvature`, :meth:`auto_resolution`, :meth:`grid`
+    and :meth:`sample`.
+
+    Attributes
+    ----------
+    domain : Domain
+        The kind of geometry image it samples into, with its extent and orientation.
+    s, weights, n, tol, sliver_rule
+        The fit's settings (``s`` the smallest when it varies).
+    """
+
+    domain: Domain
+    s: float
+    weights: str
+    n: int
+    tol: float
+    sliver_rule: str
+
+    @property
+    def extent(self) -> tuple:
+        """The parameter rectangle's size (the longer side 1)."""
+        return self.domain.extent
+
+    @property
+    def orientation(self) -> int:
+        """+1 when ``P_u x P_v`` points along the mesh's face normals, else -1."""
+        return self.domain.orientation
+
+    @property
+    def log_g_ref(self) -> float:
+        """log of the least Gaussian a point inside a face receives from that face (-inf for local weights)."""
+        if self.weights != "gaussian":
+            return -math.inf
+        return reference_log_weight(self.s)
+
+    @abstractmethod
+    def evaluate(self, uv, *, exact: bool = False) -> np.ndarray:
+        """Surface points (k, 3) at image coordinates ``uv`` (k, 2); ``exact`` sums over every face
+        instead of the truncated neighbourhood."""
+
+    @abstractmethod
+    def derivatives(self, uv, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """Analytic first derivatives ``(P_u, P_v)``, each of shape (k, 3)."""
+
+    @abstractmethod
+    def normals(self, uv, *, exact: bool = False) -> np.ndarray:
+        """Unit normals (k, 3) from the analytic derivatives, pointing like the mesh's faces."""
+
+    @abstractmethod
+    def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Gaussian and mean curvature ``(K, H)`` on the grid :meth:`sample` uses, each (H, W) float64."""
+
+    @abstractmethod
+    def auto_resolution(self) -> int:
+        """Pixels along the longer side for a sample spacing of ``s * mean(d_i)`` (the paper's section 4.4)."""
+
+    @abstractmethod
+    def _sample_grid(self, shape, normals: bool):
+        """``(P, N, mask, exact_pixels, hole_pixels)`` on the domain's grid of ``shape``: positions
+        (H, W, 3), unit normals or None, the validity mask or None, and how many pixels were summed
+        exactly or left uncovered."""
+
+    def _s_max(self) -> float | None:
+        """The largest s when it varies over the surface."""
+        return None
+
+    def grid(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The image coordinates of the columns (u) and rows (v) for a resolution along the longer side
+        (default :meth:`auto_resolution`)."""
+        res = self.auto_resolution() if resolution is None else resolution
+        return self.domain.pixel_uv(self.domain.grid_shape(res))
+
+    def sample(self, resolution: int | None = None, *, normals: bool = True) -> GeometryImage:
+        """Resample the surface on a regular grid into a :class:`~geoimg.GeometryImage`.
+
+        Parameters
+        ----------
+        resolution : int, optional
+            Pixels along the longer side; default :meth:`auto_resolution`.
+        normals : bool, default True
+            Also compute exact normals from the analytic derivatives.
+
+        Returns
+        -------
+        GeometryImage
+            float32 pixels (H, W, 3) of the surface's domain; the metadata records the fit's settings.
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 1], [1, 1, 2], [0, 1, 1]], [[0, 1, 2], [0, 2, 3]])
+        >>> img = geoimg.fit_surface(m, geoimg.Parametrization(m.vertices[:, :2], (1, 1)), s=2).sample(5)
+        >>> img.pixels.shape, bool(img.mask.all()), img.metadata["s"]
+        ((5, 5, 3), True, 2.0)
+        """
+        shape = self.domain.grid_shape(self.auto_resolution() if resolution is None else resolution)
+        P, nrm, mask, n_exact, n_holes = self._sample_grid(shape, normals)
+        meta = {"s": float(self.s), "weights": self.weights, "n": int(self.n), "tol": float(self.tol),
+                "sliver_rule": self.sliver_rule, "resolution": int(max(shape)), "source": "",
+                "exact_pixels": int(n_exact), "hole_pixels": int(n_holes)}
+        s_max = self._s_max()
+        if s_max is not None:
+            meta["s_max"] = float(s_max)
+        if n_holes:
+            warnings.warn(f"locally supported weights (n={self.n}) leave {n_holes} pixels uncovered (holes); they "
+                          "are masked. Raise n to close them.", stacklevel=2)
+        return GeometryImage(P.astype(np.float32), mask, self.domain,
+                             normals=None if nrm is None else nrm.astype(np.float32), metadata=meta)
+
+    @staticmethod
+    def _capped(resolution: int, cap: int) -> int:
+        if resolution > cap:
+            warnings.warn(f"automatic resolution {resolution} capped at {cap}", stacklevel=4)
+        return min(resolution, cap)

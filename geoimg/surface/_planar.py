@@ -1,0 +1,188 @@
+"""The weighted-mean surface ``P(u, v) = sum_i W_i(u, v) P_i(u, v)`` of a mesh parametrized over a plane.
+
+Rational Gaussian weights (the paper's eq. 6-8) ``W_i = G_i / sum_j G_j``,
+``G_i = exp(-|x - c_i|^2 / 2 sigma_i^2)``, ``sigma_i = s d_i``; or locally supported weights (eq. 10-13)
+``W_i = 1 - 3R^2 + 2R^3`` with ``R = |x - c_i| / R_i``, ``R_i`` the radius holding the ``n`` nearest face
+centres. Truncation: see :mod:`geoimg.surface._base`.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..image import Domain
+from ..mesh import Mesh
+from . import _kernels as kernels
+from ._base import Surface, truncation_radius, unit
+from ._curvature import planar_curvature
+from ._face_maps import FaceMaps, face_maps
+
+__all__ = ["PlanarSurface", "fit_planar_surface", "MAX_AUTO_RESOLUTION"]
+
+MAX_AUTO_RESOLUTION = 4096
+
+
+@dataclass(frozen=True, eq=False)
+class PlanarSurface(Surface):
+    """A fitted weighted-mean surface over a planar parameter rectangle; build it with
+    :func:`geoimg.fit_surface`.
+
+    Attributes
+    ----------
+    faces : FaceMaps
+        Face centres, sizes and affine maps.
+    domain : Domain
+        The parameter rectangle ``[0, extent[0]] x [0, extent[1]]`` and the orientation.
+    s, weights, n, tol, sliver_rule
+        The fit's settings.
+    """
+
+    faces: FaceMaps
+    domain: Domain
+    s: float
+    weights: str
+    n: int
+    tol: float
+    sliver_rule: str
+    polygons: np.ndarray = field(repr=False, default=None)   # (F, K, 2) parametric faces, for the mask
+    sizes: np.ndarray = field(repr=False, default=None)
+    _radius: np.ndarray = field(repr=False, default=None)
+    _param: np.ndarray = field(repr=False, default=None)
+    _cells: tuple = field(repr=False, default=None)
+    s_face: np.ndarray = field(repr=False, default=None)   # per-face s when it varies (s is then its minimum)
+    s_map: object = field(repr=False, default=None)        # s(u, v) varying with the point (s is its minimum)
+
+    @property
+    def g_ref(self) -> float:
+        """``exp(log_g_ref)`` (underflows to 0 for s below about 0.035)."""
+        return math.exp(self.log_g_ref)
+
+    @property
+    def sigma(self) -> np.ndarray:
+        """sigma_i = s_i d_i of every face (Gaussian weights)."""
+        return (self.s if self.s_face is None else self.s_face) * self.faces.d
+
+    # ---------------------------------------------------------------- evaluation
+    def _points(self, uv, exact):
+        pts = np.asarray(uv, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] != 2:
+            raise ValueError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
+        if not np.isfinite(pts).all():
+            raise ValueError("uv: contains NaN or infinite values")
+        kind = kernels.GAUSSIAN if self.weights == "gaussian" else kernels.LOCAL
+        fm = self.faces
+        factor = None
+        if self.s_map is not None and kind == kernels.GAUSSIAN:   # exponents scale by (s_ref / s(u, v))^2
+            sp, su, sv = self.s_map(pts)
+            factor = ((self.s / sp) ** 2, -2.0 * self.s ** 2 * su / sp ** 3, -2.0 * self.s ** 2 * sv / sp ** 3)
+        return kernels.evaluate_points(kind, pts, fm.centres, self._param, self._radius, fm.C, fm.A, fm.B,
+                                       self._cells, log_g_ref=self.log_g_ref, exact=exact or self.tol == 0,
+                                       factor=factor)
+
+    def evaluate(self, uv, *, exact: bool = False) -> np.ndarray:
+        """Surface points at parameter points.
+
+        Parameters
+        ----------
+        uv : array_like, shape (k, 2)
+        exact : bool, default False
+            Sum over every face instead of the truncated neighbourhood.
+
+        Returns
+        -------
+        numpy.ndarray, shape (k, 3) float64
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 1], [1, 1, 2], [0, 1, 1]], [[0, 1, 2], [0, 2, 3]])
+        >>> p = geoimg.Parametrization(m.vertices[:, :2], (1, 1))
+        >>> geoimg.fit_surface(m, p, s=1).evaluate([[0.5, 0.25]]).round(12).tolist()
+        [[0.5, 0.25, 0.75]]
+        """
+        return self._points(uv, exact)[0]
+
+    def derivatives(self, uv, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """Analytic first derivatives ``(P_u, P_v)``, each of shape (k, 3)."""
+        _, pu, pv, _ = self._points(uv, exact)
+        return pu, pv
+
+    def normals(self, uv, *, exact: bool = False) -> np.ndarray:
+        """Unit normals ``orientation * (P_u x P_v) / |P_u x P_v|`` from the analytic derivatives, shape (k, 3)."""
+        pu, pv = self.derivatives(uv, exact=exact)
+        return unit(np.cross(pu, pv) * self.orientation)
+
+    # ---------------------------------------------------------------- sampling
+    def auto_resolution(self) -> int:
+        """Pixels along the longer side for a sample spacing of ``s * mean(d_i)`` (the paper's section 4.4)."""
+        spacing = self.s * float(self.faces.d.mean())
+        return max(2, self._capped(int(math.ceil(max(self.extent) / spacing)) + 1, MAX_AUTO_RESOLUTION))
+
+    def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        return planar_curvature(self, resolution)
+
+    def _s_max(self):
+        if self.s_face is not None:
+            return float(self.s_face.max())
+        return None if self.s_map is None else float(self.s_map.max)
+
+    def _sample_grid(self, shape, normals: bool):
+        """The grid kernel for truncated Gaussians, else the point kernel; ``mask`` marks pixels inside
+        the parametrized faces, or within half a pixel spacing of one, so a terrain whose border is not
+        perfectly straight keeps its outer ring (and, for locally supported weights, not in a hole)."""
+        u, v = self.domain.pixel_uv(shape)
+        H, W = shape
+        fm = self.faces
+        n_exact = 0
+        if self.weights == "gaussian" and self.tol > 0 and self.s_map is None:
+            P, Pu, Pv, ok = kernels.sample_grid_gaussian(
+                u, v, fm.centres, self.sigma, self._radius, fm.C, fm.A, fm.B, derivatives=normals, log_g_ref=self.log_g_ref)
+            status = np.zeros((H, W), np.int8)
+            if not ok.all():
+                ii, jj = np.nonzero(~ok)
+                p, pu, pv, st = self._points(np.stack([u[jj], v[ii]], axis=1), True)
+                P[ii, jj], Pu[ii, jj], Pv[ii, jj], status[ii, jj] = p, pu, pv, st
+                n_exact = len(ii)
+        else:
+            uu, vv = np.meshgrid(u, v)
+            p, pu, pv, st = self._points(np.stack([uu.ravel(), vv.ravel()], axis=1), False)
+            P, Pu, Pv = p.reshape(H, W, 3), pu.reshape(H, W, 3), pv.reshape(H, W, 3)
+            status = st.reshape(H, W)
+            n_exact = int((status == kernels.EXACT).sum())
+        holes = status == kernels.HOLE
+        eps = 0.5 * max(u[1] - u[0], v[1] - v[0])  # conservative: within half a pixel of a face
+        mask = kernels.face_coverage(u, v, self.polygons, self.sizes, eps) & ~holes
+        nrm = unit(np.cross(Pu, Pv) * self.orientation) if normals else None
+        return P, nrm, mask, n_exact, int(holes.sum())
+
+
+def fit_planar_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float, s_face, s_map, *, weights: str,
+                       n: int, tol: float, sliver_rule: str) -> PlanarSurface:
+    """Fit the surface to a mesh whose vertices have (u, v) ``coords`` (called by ``fit_surface``, which
+    has checked the settings)."""
+    fm = face_maps(mesh, coords, sliver_rule=sliver_rule)
+    if fm.n_degenerate:
+        warnings.warn(f"fit_surface: {fm.n_degenerate} faces of zero area in the parameter domain were left out",
+                      stacklevel=3)
+    s_kept = None if s_face is None else s_face[fm.face_index]
+    if weights == "gaussian":
+        sigma = (s if s_kept is None else s_kept) * fm.d
+        param_arr = 0.5 / sigma ** 2
+        if tol > 0:     # the widest Gaussian a point can give a face sets its reach
+            radius = truncation_radius(sigma * (s_map.max / s if s_map is not None else 1.0), s, tol)
+        else:
+            radius = np.full_like(sigma, np.inf)
+    else:
+        k = min(int(n), len(fm.d))
+        dist, _ = cKDTree(fm.centres).query(fm.centres, k=k)
+        radius = np.asarray(dist).reshape(len(fm.d), -1)[:, -1].copy()
+        radius = np.maximum(radius, fm.d * 1e-6)  # a lone face still covers itself
+        param_arr = np.zeros_like(radius)
+    cells = kernels.build_cells(fm.centres, np.where(np.isfinite(radius), radius, 0.0))
+    polys = coords[np.where(mesh.faces >= 0, mesh.faces, mesh.faces[:, :1])][fm.face_index]
+    return PlanarSurface(fm, domain, s, weights, int(n), float(tol), sliver_rule, polys,
+                         mesh.face_sizes[fm.face_index], radius, param_arr, cells, s_kept, s_map)
