@@ -16,11 +16,11 @@ import trimesh
 import filters
 import geoimg
 from filters.inverse import blur_taps, blur_transfer
-from geoimg.metrics import surface_distance
-from geoimg.octahedral import weld_index
+from geoimg.mesh import surface_distance
+from geoimg.parametrization._octahedral import weld_index
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "meshes"
-SAMPLES = Path(__file__).resolve().parents[1] / "samples" / "data"
+SAMPLE_MESH = Path(__file__).resolve().parents[1] / "geoimg" / "data" / "mountain.obj"
 
 
 def timed(fn, repeat=5):
@@ -83,7 +83,7 @@ def seam_and_inverse():
         out = fn(px).reshape(-1, 3)
         print(f"| {name} | {np.abs(out - out[w]).max() / np.abs(px).max():.1e} |")
 
-    mountain = geoimg.load_mesh(SAMPLES / "mountain.obj")
+    mountain = geoimg.load_mesh(SAMPLE_MESH)
     surf = geoimg.fit_surface(mountain, geoimg.parametrize(mountain, "heightfield", axis="y"), s=2)
     p = surf.sample(257).pixels
     diag = mountain.bounding_box_diagonal()

@@ -16,10 +16,10 @@ import numpy as np
 
 import geoimg
 from geoimg.animation import save_glb
-from geoimg.metrics import surface_distance
-from geoimg.morph import morph
-from geoimg.render import Renderer, save_animation
-from geoimg.terrain import grid_mesh, load_dem
+from geoimg.mesh import surface_distance
+from geoimg.animation import morph
+from geoimg.animation import Renderer, save_animation
+from geoimg.mesh import grid_mesh, load_dem
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 

@@ -16,7 +16,7 @@ from scipy.interpolate import LinearNDInterpolator
 from scipy.spatial import Delaunay
 
 import geoimg
-from geoimg.face_maps import SLIVER_RATIO, enclosing_circle_radius
+from geoimg.surface._face_maps import SLIVER_RATIO, enclosing_circle_radius
 
 HERE = Path(__file__).resolve().parent
 DEM = HERE.parents[1] / "shared" / "data" / "dem" / "msh_nad83_27_2007-07-05.tif"

@@ -14,9 +14,9 @@ from pathlib import Path
 import numpy as np
 
 import geoimg
-from geoimg.metrics import surface_distance
-from geoimg.octahedral import area_ratio
-from geoimg.topology import topology
+from geoimg.mesh import surface_distance
+from geoimg.parametrization import area_ratio
+from geoimg.mesh import topology
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "meshes"
 MESHES = ["closed_genus0/sphere.obj", "closed_genus0/bumpy.off", "closed_genus0/spot_low_resolution.obj",

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import geoimg
-from geoimg.octahedral import area_ratio
+from geoimg.parametrization import area_ratio
 
 HERE = Path(__file__).resolve().parent
 mesh = geoimg.load_mesh(HERE.parents[1] / "shared" / "data" / "meshes" / "closed_genus0" / "bunny.off")

@@ -8,9 +8,10 @@ import cv2
 import numpy as np
 
 import geoimg
-from geoimg.terrain import grid_mesh, load_dem
+from geoimg.mesh import grid_mesh, load_dem
 
 DATA = Path(__file__).resolve().parent / "data"
+MOUNTAIN = Path(geoimg.__file__).resolve().parent / "data" / "mountain.obj"   # the package's sample terrain
 CELL = 10.0     # the Mount St. Helens DEMs' 10 m cells
 
 

@@ -13,11 +13,11 @@ from pathlib import Path
 
 import geoimg
 
-from _common import DATA, caption, gray, hillshade, sample_main, save, sheet
+from _common import MOUNTAIN, caption, gray, hillshade, sample_main, save, sheet
 
 
 def run(out_dir: Path, res: int = 257) -> dict:
-    mesh = geoimg.load_mesh(DATA / "mountain.obj")
+    mesh = geoimg.load_mesh(MOUNTAIN)
     param = geoimg.parametrize(mesh, "heightfield", axis="y")
     geoimg.fit_surface(mesh, param, s=1.0).sample(9)      # compile / load the kernels first
     rows, stats = [], {}

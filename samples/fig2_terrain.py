@@ -12,8 +12,8 @@ import time
 from pathlib import Path
 
 import geoimg
-from geoimg.curvature import surface_curvature
-from geoimg.image_io import diverging_colors
+from geoimg.surface import surface_curvature
+from geoimg.image import diverging_colors
 
 from _common import caption, gray, hillshade, sample_main, save, sheet, st_helens
 

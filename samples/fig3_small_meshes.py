@@ -15,8 +15,8 @@ import numpy as np
 from scipy.spatial import Delaunay
 
 import geoimg
-from geoimg.render import Renderer
-from geoimg.terrain import load_dem
+from geoimg.animation import Renderer
+from geoimg.mesh import load_dem
 
 from _common import CELL, DATA, caption, sample_main, save, sheet, st_helens
 

@@ -15,8 +15,8 @@ import numpy as np
 
 import filters
 import geoimg
-from geoimg.regions import image_region
-from geoimg.render import Renderer
+from geoimg.image import image_region
+from geoimg.animation import Renderer
 
 from _common import DATA, caption, sample_main, save, sheet
 

@@ -13,9 +13,9 @@ from pathlib import Path
 import numpy as np
 
 import geoimg
-from geoimg.image_io import diverging_colors
-from geoimg.metrics import surface_distance
-from geoimg.morph import morph
+from geoimg.image import diverging_colors
+from geoimg.mesh import surface_distance
+from geoimg.animation import morph
 
 from _common import caption, gray, hillshade, sample_main, save, sheet, st_helens
 

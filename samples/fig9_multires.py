@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import geoimg
-from geoimg.render import Renderer
+from geoimg.animation import Renderer
 
 from _common import DATA, caption, sample_main, save, sheet
 

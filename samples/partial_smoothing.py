@@ -21,14 +21,15 @@ import numpy as np
 
 import filters
 import geoimg
-from geoimg.image_io import diverging_colors
-from geoimg.regions import ball_weights, uv_smoothness
+from geoimg.image import diverging_colors
+from geoimg.image import ball_weights
+from geoimg.surface import uv_smoothness
 
-from _common import DATA, caption, gray, hillshade, sample_main, save, sheet
+from _common import MOUNTAIN, caption, gray, hillshade, sample_main, save, sheet
 
 
 def run(out_dir: Path, res: int = 257) -> dict:
-    mesh = geoimg.load_mesh(DATA / "mountain.obj")
+    mesh = geoimg.load_mesh(MOUNTAIN)
     param = geoimg.parametrize(mesh, "heightfield", axis="y")
     diag = mesh.bounding_box_diagonal()
     centre = param.coords[np.argmax(mesh.vertices[:, 1])]           # the summit, in the parameter domain
@@ -38,7 +39,7 @@ def run(out_dir: Path, res: int = 257) -> dict:
     uv = np.stack(np.meshgrid(u, v), axis=-1)
     region = ball_weights(uv, centre, radius, feather)                # the same disk for both domains
     sigma = 6.0 * 128 / (res - 1) + 0.5
-    orientation = int(base.metadata["orientation"])
+    orientation = base.domain.orientation
 
     def surface(inside, outside):
         img = geoimg.fit_surface(mesh, param, s=uv_smoothness(centre, radius, inside, outside, feather)).sample(res)

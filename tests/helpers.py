@@ -1,21 +1,34 @@
-"""Test helpers: real meshes from ../shared/data (beside the checkout) and small synthetic meshes."""
+"""Test helpers: the bundled meshes (tests/data, samples/data, the package's sample terrain), the larger
+real meshes of ../shared/data (beside the checkout; only tests/test_shared_data.py uses them) and small
+synthetic meshes."""
 import warnings
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 import geoimg
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data"
 SAMPLES = ROOT / "samples" / "data"
+DATA = ROOT / "tests" / "data"
+MOUNTAIN = ROOT / "geoimg" / "data" / "mountain.obj"
+BUNDLED = (DATA, SAMPLES, MOUNTAIN.parent)
+
+
+def data_file(name: str) -> Path:
+    """A bundled mesh or raster by file name (tests/data, samples/data or geoimg/data)."""
+    for folder in BUNDLED:
+        if (folder / name).is_file():
+            return folder / name
+    raise FileNotFoundError(f"{name} is not bundled in {', '.join(str(f) for f in BUNDLED)}")
 
 
 def shared_file(rel: str) -> Path:
+    """A file of ../shared/data (tests/test_shared_data.py is collected only when that folder exists)."""
     path = SHARED / rel
     if not path.is_file():
-        pytest.skip(f"shared test data {path} not present")
+        raise FileNotFoundError(f"shared test data {path} not present")
     return path
 
 
@@ -26,11 +39,21 @@ def finite_differences(surface, pts, h: float = 1e-6):
     return fu, fv
 
 
-def load_shared(rel: str) -> geoimg.Mesh:
-    """A mesh of the shared data, quietly (some files warn of UV seams, which the tests do not need)."""
+def load_quietly(path) -> geoimg.Mesh:
+    """A mesh file, read without its warnings (some files warn of UV seams, which the tests do not need)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return geoimg.load_mesh(shared_file(rel))
+        return geoimg.load_mesh(path)
+
+
+def load_data(name: str) -> geoimg.Mesh:
+    """A bundled mesh by file name, quietly."""
+    return load_quietly(data_file(name))
+
+
+def load_shared(rel: str) -> geoimg.Mesh:
+    """A mesh of ../shared/data, quietly."""
+    return load_quietly(shared_file(rel))
 
 
 def mixed_mesh(seed: int = 0, n: int = 7):

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import sparse
 
-from .laplacian import corner_cotangents
+from geoimg.parametrization._laplacian import corner_cotangents
 
 __all__ = ["sample_grid_numpy", "evaluate_exact_numpy", "AreaBalanceNumpy"]
 
@@ -15,7 +15,7 @@ __all__ = ["sample_grid_numpy", "evaluate_exact_numpy", "AreaBalanceNumpy"]
 def sample_grid_numpy(u, v, centres, sigma, radius, C, A, B):
     """Truncated rational-Gaussian surface on the grid ``u`` x ``v``, one row at a time.
 
-    Same truncation box as :func:`geoimg.kernels.sample_grid_gaussian`. Returns (P (H, W, 3), S (H, W)).
+    Same truncation box as :func:`geoimg.surface._kernels.sample_grid_gaussian`. Returns (P (H, W, 3), S (H, W)).
     """
     H, W = len(v), len(u)
     P = np.zeros((H, W, 3))

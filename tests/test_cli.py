@@ -4,17 +4,18 @@ import pytest
 import geoimg
 from geoimg.cli import main
 
-from helpers import SAMPLES, shared_file
+from helpers import MOUNTAIN, data_file
+from meshes import l_hexagon, write
 
 
 def test_image_mesh_info_pipeline(tmp_path, capsys):
     exr, obj = tmp_path / "m.exr", tmp_path / "m.obj"
-    assert main(["image", str(SAMPLES / "mountain.obj"), "-o", str(exr), "--res", "64", "--s", "2",
+    assert main(["image", str(MOUNTAIN), "-o", str(exr), "--res", "64", "--s", "2",
                  "--preview", str(tmp_path / "m.png")]) == 0
     assert main(["mesh", str(exr), "-o", str(obj)]) == 0
     quads = geoimg.load_mesh(obj)
     assert quads.n_faces == 63 * 63 and np.all(quads.face_sizes == 4)
-    src = geoimg.load_mesh(SAMPLES / "mountain.obj")
+    src = geoimg.load_mesh(MOUNTAIN)
     lo, hi = src.vertices.min(axis=0), src.vertices.max(axis=0)
     qlo, qhi = quads.vertices.min(axis=0), quads.vertices.max(axis=0)
     # the x-z footprint is the terrain's exactly; heights may overshoot a little (a mean of planes
@@ -30,25 +31,26 @@ def test_image_mesh_info_pipeline(tmp_path, capsys):
 
 
 def test_errors_exit_2_with_a_message(tmp_path, capsys):
-    torus = shared_file("meshes/closed_higher_genus/torus.obj")
+    torus = data_file("torus.obj")
     assert main(["image", str(torus), "-o", str(tmp_path / "b.exr")]) == 2
     assert "1 handle would have to be cut" in capsys.readouterr().err
     assert main(["mesh", str(tmp_path / "none.exr"), "-o", str(tmp_path / "x.obj")]) == 2
     assert "no image file" in capsys.readouterr().err
     (tmp_path / "x.obj").write_text("keep")
     exr = tmp_path / "m.exr"
-    main(["image", str(SAMPLES / "mountain.obj"), "-o", str(exr), "--res", "16"])
+    main(["image", str(MOUNTAIN), "-o", str(exr), "--res", "16"])
     assert main(["mesh", str(exr), "-o", str(tmp_path / "x.obj")]) == 2
     assert "--force" in capsys.readouterr().err and (tmp_path / "x.obj").read_text() == "keep"
     assert main(["mesh", str(exr), "-o", str(tmp_path / "x.obj"), "--force"]) == 0
     with pytest.raises(SystemExit):
-        main(["image", str(SAMPLES / "mountain.obj"), "-o", str(exr), "--s", "-1"])
+        main(["image", str(MOUNTAIN), "-o", str(exr), "--s", "-1"])
 
 
 def test_demo_writes_its_files(tmp_path, capsys):
     assert main(["demo", "-o", str(tmp_path), "--res", "48"]) == 0
     out = capsys.readouterr().out
-    assert "mesh vertices to surface" in out
+    psnr = float(out.split("quad mesh to input mesh: PSNR ")[1].split(" dB")[0])
+    assert psnr > 40                                        # the 48^2 quads of the s = 2 surface are close
     names = {p.name for p in tmp_path.iterdir()}
     assert {"mountain.exr", "mountain_preview.png", "mountain_quads.obj", "mountain_mean_curvature.png"} <= names
     pictures = {"mountain_render.png", "mountain_smoothed_render.png"}
@@ -56,7 +58,7 @@ def test_demo_writes_its_files(tmp_path, capsys):
 
 
 def test_quiet_prints_nothing(tmp_path, capsys):
-    assert main(["image", str(SAMPLES / "mountain.obj"), "-o", str(tmp_path / "q.exr"), "--res", "16", "--quiet"]) == 0
+    assert main(["image", str(MOUNTAIN), "-o", str(tmp_path / "q.exr"), "--res", "16", "--quiet"]) == 0
     assert main(["mesh", str(tmp_path / "q.exr"), "-o", str(tmp_path / "q.ply"), "-q"]) == 0
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err == ""
@@ -72,6 +74,6 @@ def test_boundary_option_for_disk_meshes(tmp_path, capsys):
                      "--res", "33", "-q"]) == 0
         assert geoimg.load_image(out).shape == shape     # kept: the pentagon's 3 x 2 proportions
     capsys.readouterr()
-    ell = shared_file("meshes/polygonal/L.off")
+    ell = write(l_hexagon(), tmp_path / "L.off")
     assert main(["image", str(ell), "-o", str(tmp_path / "l.exr"), "--method", "disk", "--boundary", "keep"]) == 2
     assert "reflex" in capsys.readouterr().err

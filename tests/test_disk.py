@@ -1,32 +1,37 @@
-import warnings
-
+"""Disk parametrizations: fold-free maps of one-loop meshes onto the square."""
 import numpy as np
 import pytest
 from scipy.spatial import ConvexHull
 
 import geoimg
 from geoimg import Mesh, ParametrizationError, parametrize
-from geoimg.disk import disk_coords
+from geoimg.parametrization import disk_coords
 from geoimg.parametrization import signed_face_areas
-from geoimg.topology import boundary_loops
+from geoimg.mesh import boundary_loops, point_mesh_distance
 
-from helpers import shared_file
+import meshes
+from helpers import load_data
 
-DISKS = ["meshes/open_disk/camelhead.off", "meshes/open_disk/hemisphere.off", "meshes/open_disk/cube_no_bottom.obj",
-         "meshes/open_disk/mountain.obj", "meshes/open_disk/alligator.obj", "meshes/polygonal/L.off",
-         "meshes/polygonal/inspired_mesh_quads_Conjugate.off"]
+DISKS = {"cup": lambda: meshes.cap(135.0), "hemisphere": meshes.cap, "open box": lambda: load_data("cube_no_bottom.obj"),
+         "mountain": lambda: load_data("mountain.obj"), "L": meshes.l_hexagon, "quads": meshes.quad_disk}
 
 
-@pytest.mark.parametrize("rel", DISKS)
-def test_disk_parametrization_folds_no_face(rel):
-    mesh = geoimg.load_mesh(shared_file(rel))
+@pytest.mark.parametrize("name", DISKS)
+def test_disk_parametrization_folds_no_face(name):
+    check_disk_map(DISKS[name](), single_polygon=name == "L")
+
+
+def check_disk_map(mesh, single_polygon=False):
+    """The disk map of a one-loop mesh folds nothing, puts the loop on the square's sides (or the hull of
+    the map, when the sides bow) and leaves the mesh unchanged."""
     before = mesh.vertices.copy()
     p = parametrize(mesh, "disk")
     assert p.flipped_faces == 0 and p.degenerate_faces == 0 and np.allclose(p.extent, 1.0)
     tris, _ = mesh.triangulate()
     uv = p.coords
-    area = np.cross(uv[tris[:, 1]] - uv[tris[:, 0]], uv[tris[:, 2]] - uv[tris[:, 0]])
-    if rel.endswith("L.off"):          # one polygon: its fan is not a triangulation of the square
+    e1, e2 = uv[tris[:, 1]] - uv[tris[:, 0]], uv[tris[:, 2]] - uv[tris[:, 0]]
+    area = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    if single_polygon:                 # one polygon: its fan is not a triangulation of the square
         assert signed_face_areas(mesh, uv)[0] > 0
     else:
         assert (area > 0).all()        # every triangle of the fans, not only each polygon
@@ -41,7 +46,7 @@ def test_disk_parametrization_folds_no_face(rel):
 
 
 def test_disk_corners_sit_on_the_sharp_corners_of_an_open_box():
-    mesh = geoimg.load_mesh(shared_file("meshes/open_disk/cube_no_bottom.obj"))
+    mesh = load_data("cube_no_bottom.obj")
     _, info = disk_coords(mesh)
     corners = mesh.vertices[info["corners"]]
     loop = boundary_loops(mesh)[0]
@@ -52,9 +57,8 @@ def test_disk_corners_sit_on_the_sharp_corners_of_an_open_box():
 
 
 def test_auto_picks_disk_for_a_curved_one_loop_mesh():
-    mesh = geoimg.load_mesh(shared_file("meshes/open_disk/camelhead.off"))
-    assert parametrize(mesh).method == "disk"
-    assert parametrize(geoimg.load_mesh(shared_file("meshes/open_disk/mountain.obj"))).method == "heightfield"
+    assert parametrize(meshes.cap(135.0)).method == "disk"          # a cup: its projection folds
+    assert parametrize(load_data("mountain.obj")).method == "heightfield"
 
 
 def test_keep_boundary_keeps_a_convex_planar_outline_and_refuses_others():
@@ -62,20 +66,21 @@ def test_keep_boundary_keeps_a_convex_planar_outline_and_refuses_others():
     m = Mesh(v, [[0, 1, 5], [1, 2, 5], [2, 3, 5], [3, 4, 5], [4, 0, 5]])
     p = parametrize(m, "disk", boundary="keep")
     assert p.flipped_faces == 0 and p.extent[0] != p.extent[1]   # the pentagon's proportions, not a square
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        lshape = geoimg.load_mesh(shared_file("meshes/polygonal/L.off"))
+    lshape = meshes.l_hexagon()
     with pytest.raises(ParametrizationError, match="reflex"):
         parametrize(lshape, "disk", boundary="keep")
     with pytest.raises(ParametrizationError, match="boundary: expected"):
         parametrize(m, "disk", boundary="circle")
 
 
-def test_disk_then_surface_reproduces_a_real_mesh():
-    mesh = geoimg.load_mesh(shared_file("meshes/open_disk/camelhead.off"))
+def test_disk_then_surface_reproduces_a_curved_mesh():
+    check_disk_surface(meshes.cap(135.0, rings=16, segments=40))
+
+
+def check_disk_surface(mesh):
+    """The surface over a disk map, sampled at 129^2, lies within 1 % of the diagonal of the mesh (RMS)."""
     surf = geoimg.fit_surface(mesh, parametrize(mesh, "disk"), s=1)
     img = surf.sample(129)
     quads = img.to_mesh()
-    from geoimg.metrics import point_mesh_distance
     d = point_mesh_distance(quads.vertices, mesh)
     assert np.sqrt(np.mean(d ** 2)) < 0.01 * mesh.bounding_box_diagonal()

@@ -6,10 +6,11 @@ from filters import (bandpass, bilateral_filter, blend, composite, feather, four
                      grid_curvature, guided_filter, highpass, inverse_filter, lowpass, mean_filter, pad, paste,
                      periodic_extension, resize, unsharp_mask)
 from filters.inverse import blur_taps, blur_transfer
-from geoimg.octahedral import grid_directions, weld_index
-from geoimg.topology import topology
+from geoimg.parametrization import grid_directions
+from geoimg.parametrization._octahedral import weld_index
+from geoimg.mesh import topology
 
-from helpers import load_shared
+from helpers import load_data
 
 RNG = np.random.default_rng(7)
 NOISE = RNG.normal(size=(17, 17, 3))
@@ -33,7 +34,7 @@ MODES = ["reflect", "wrap", "octahedral"]
 
 @pytest.fixture(scope="module")
 def spot_octahedral():
-    mesh = load_shared("meshes/closed_genus0/spot_low_resolution.obj")
+    mesh = load_data("spot_low_resolution.obj")
     return geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), s=1).sample(65)
 
 

@@ -5,7 +5,8 @@ import pytest
 
 from geoimg import Mesh, MeshFileError, load_mesh, save_mesh
 
-from helpers import shared_file
+import meshes
+from meshes import write
 
 
 @pytest.fixture
@@ -76,13 +77,13 @@ def test_ascii_ply_with_tristrips(tmp_path):
     assert m.faces.tolist() == [[0, 1, 2], [2, 1, 3], [2, 3, 4]]  # alternate strip triangles flipped
 
 
-def test_real_polygonal_files_keep_their_faces():
-    L = load_mesh(shared_file("meshes/polygonal/L.off"))
+def test_polygonal_files_keep_their_faces_and_unused_vertices(tmp_path):
+    L = load_mesh(write(meshes.l_hexagon(), tmp_path / "L.off"))
     assert L.face_sizes.tolist() == [6]
-    cyl = load_mesh(shared_file("meshes/polygonal/cylinder.obj"))
+    cyl = load_mesh(write(meshes.capped_cylinder(), tmp_path / "cylinder.obj"))
     assert sorted(np.unique(cyl.face_sizes).tolist()) == [4, 20]
-    bunny = load_mesh(shared_file("meshes/open_other/stanford-bunny.obj"))
-    assert bunny.n_vertices == 35947 and int(bunny.referenced_vertices().sum()) == 34834
+    holes = load_mesh(write(meshes.holey_sphere(unreferenced=3), tmp_path / "holes.ply"))
+    assert holes.n_vertices == 165 and int(holes.referenced_vertices().sum()) == 162
 
 
 def test_missing_unknown_empty_and_corrupt_files(tmp_path):
@@ -127,7 +128,7 @@ def test_save_refuses_to_overwrite_and_writes_atomically(tmp_path, mixed):
 
 
 def test_failed_write_leaves_nothing(tmp_path, monkeypatch, mixed):
-    import geoimg.mesh_io as mio
+    import geoimg.mesh._io as mio
 
     def boom(*a):
         raise OSError("disk full")

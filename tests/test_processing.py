@@ -6,19 +6,21 @@ import pytest
 import filters
 import geoimg
 from geoimg.cli import main
-from geoimg.curvature import image_curvature, surface_curvature
-from geoimg.octahedral import weld_index
-from geoimg.regions import image_region, load_mask, smoothness_field, uv_region
-from geoimg.topology import topology
+from geoimg.image import image_curvature
+from geoimg.surface import surface_curvature
+from geoimg.parametrization._octahedral import weld_index
+from geoimg.image import image_region, load_mask, uv_region
+from geoimg.surface import smoothness_field
+from geoimg.mesh import topology
 
-from helpers import finite_differences, load_shared
+from helpers import finite_differences, load_data
 
 
 
 
 @pytest.fixture(scope="module")
 def spot():
-    mesh = load_shared("meshes/closed_genus0/spot_low_resolution.obj")
+    mesh = load_data("spot_low_resolution.obj")
     param = geoimg.parametrize(mesh, "sphere")
     surf = geoimg.fit_surface(mesh, param, s=1)
     return mesh, param, surf, surf.sample(65)
@@ -29,9 +31,9 @@ def test_apply_uses_the_domain_rule_and_keeps_glued_pixels_identical(spot):
     out = img.apply(filters.gaussian_filter, 2.0)
     flat = out.pixels.reshape(-1, 3)
     assert np.array_equal(flat, flat[weld_index(65).ravel()])
-    assert out.normals is None and out.domain == "octahedral" and img.normals is not None
+    assert out.normals is None and out.domain == img.domain and img.normals is not None
     assert out.metadata["filters"] == ["gaussian_filter(2.0, mode=octahedral)"]
-    assert np.array_equal(out.pixels, geoimg.octahedral.average_glued(filters.gaussian_filter(img.pixels, 2.0, "octahedral")))
+    assert np.array_equal(out.pixels, geoimg.OctahedralDomain().average_glued(filters.gaussian_filter(img.pixels, 2.0, "octahedral")))
     topo = topology(out.to_mesh())
     assert topo.closed and topo.genus == 0
 
@@ -116,7 +118,7 @@ def test_varying_s_on_the_sphere(spot):
     s_face = np.where(np.arange(mesh.n_faces) % 2 == 0, 1.0, 1.5)
     varied = geoimg.fit_surface(mesh, param, s=s_face)
     assert varied.s == 1.0 and varied.sample(9).metadata["s_max"] == 1.5
-    q = geoimg.octahedral.grid_directions(17).reshape(-1, 3)
+    q = geoimg.parametrization.grid_directions(17).reshape(-1, 3)
     assert np.abs(varied.evaluate_directions(q)[0] - varied.evaluate_directions(q, exact=True)[0]).max() < 1e-9
 
 
@@ -131,7 +133,7 @@ def test_bad_smoothness_is_refused(s, message):
 # --- curvature --------------------------------------------------------------------------------------
 
 def test_surface_curvature_of_a_sphere_mesh():
-    mesh = load_shared("meshes/closed_genus0/sphere.obj")
+    mesh = load_data("sphere.obj")
     surf = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), s=1)
     K, H = surface_curvature(surf, 33)
     r = np.linalg.norm(mesh.vertices, axis=1).mean()
@@ -184,7 +186,7 @@ def test_cli_filter_and_curvature(tmp_path, spot, capsys):
 
 
 def test_a_smoothness_map_keeps_a_region_sharp_and_normals_exact(mountain, mountain_surface):
-    from geoimg.regions import uv_smoothness
+    from geoimg.surface import uv_smoothness
     param = geoimg.parametrize(mountain, "heightfield", axis="y")
     smap = uv_smoothness((0.5, 0.5), 0.15, inside=2.0, outside=6.0, feather=0.1)
     varied = geoimg.fit_surface(mountain, param, s=smap)
@@ -207,7 +209,7 @@ def test_a_smoothness_map_keeps_a_region_sharp_and_normals_exact(mountain, mount
 
 
 def test_a_smoothness_map_is_refused_on_the_sphere_and_checked(spot):
-    from geoimg.regions import uv_smoothness
+    from geoimg.surface import uv_smoothness
     mesh, param, *_ = spot
     with pytest.raises(ValueError, match="planar parametrizations"):
         geoimg.fit_surface(mesh, param, s=uv_smoothness((0.5, 0.5), 0.1, 2.0))

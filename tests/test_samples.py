@@ -9,7 +9,7 @@ SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 
 @pytest.fixture(scope="module")
 def renderer_or_skip():
-    from geoimg.render import Renderer, RenderError
+    from geoimg.animation import Renderer, RenderError
     try:
         Renderer(16, 16).release()
     except RenderError as e:

@@ -1,36 +1,37 @@
 import pytest
 
 import geoimg
-from geoimg.topology import topology
+from geoimg.mesh import topology
 
-from helpers import SAMPLES, shared_file
+import meshes
+from helpers import MOUNTAIN, data_file, load_data
 
 
-@pytest.mark.parametrize("rel, components, loops, genus, closed, words", [
-    ("meshes/closed_higher_genus/bob_tri.obj", 1, 0, 1, True, "closed surface of genus 1 (torus-like)"),
-    ("meshes/closed_higher_genus/torus.obj", 1, 0, 1, True, "genus 1"),
-    ("meshes/closed_genus0/bunny.obj", 1, 0, 0, True, "genus 0 (sphere-like)"),
-    ("meshes/open_other/stanford-bunny.obj", 1, 5, 0, False, "5 boundary loops"),
-    ("meshes/polygonal/suzanne.obj", 3, 4, 0, False, "3 components"),
-    ("meshes/polygonal/chamfer-cube.off", 1, 0, 0, True, "sphere-like"),
-    ("meshes/polygonal/L.off", 1, 1, 0, False, "(a disk)"),
-    ("meshes/open_disk/camelhead.off", 1, 1, 0, False, "(a disk)"),
+@pytest.mark.parametrize("make, components, loops, genus, closed, words", [
+    (lambda: load_data("bob_tri.obj"), 1, 0, 1, True, "closed surface of genus 1 (torus-like)"),
+    (lambda: load_data("torus.obj"), 1, 0, 1, True, "genus 1"),
+    (lambda: load_data("spot.obj"), 1, 0, 0, True, "genus 0 (sphere-like)"),
+    (meshes.holey_sphere, 1, 5, 0, False, "5 boundary loops"),
+    (meshes.three_pieces, 3, 2, 0, False, "3 components"),
+    (meshes.rhombicuboctahedron, 1, 0, 0, True, "sphere-like"),
+    (meshes.l_hexagon, 1, 1, 0, False, "(a disk)"),
+    (lambda: load_data("cube_no_bottom.obj"), 1, 1, 0, False, "(a disk)"),
 ])
-def test_topology_of_real_meshes_matches_the_catalog(rel, components, loops, genus, closed, words):
-    t = topology(geoimg.load_mesh(shared_file(rel)))
+def test_topology_of_bundled_and_synthetic_meshes(make, components, loops, genus, closed, words):
+    t = topology(make())
     assert (t.components, t.boundary_loops, t.genus, t.closed) == (components, loops, genus, closed)
     assert words in t.describe()
 
 
 def test_uv_seams_do_not_split_the_topology():
     with pytest.warns(UserWarning, match="UV seams"):
-        spot = geoimg.load_mesh(shared_file("meshes/closed_genus0/spot.obj"))
+        spot = geoimg.load_mesh(data_file("spot.obj"))
     t = topology(spot)
     assert t.closed and t.genus == 0 and t.vertices == 2930 and t.faces == 5856
 
 
 def test_mountain_is_a_disk():
-    t = topology(geoimg.load_mesh(SAMPLES / "mountain.obj"))
+    t = topology(geoimg.load_mesh(MOUNTAIN))
     assert (t.boundary_loops, t.genus, t.euler) == (1, 0, 1)
 
 

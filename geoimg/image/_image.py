@@ -13,7 +13,7 @@ from .._atomic import atomic_path
 from .._raster import FLOAT, UINT16, write_raster
 from ..errors import ImageError, ImageFileError
 from ..mesh import Mesh
-from ._domain import Domain, PlanarDomain
+from ._domain import Domain
 
 __all__ = ["GeometryImage", "DEFAULT_PAD"]
 
@@ -62,7 +62,7 @@ class GeometryImage:
 
     pixels: np.ndarray
     mask: np.ndarray | None = None
-    domain: Domain = field(default_factory=PlanarDomain)
+    domain: Domain | str = "planar"
     normals: np.ndarray | None = None
     metadata: dict = field(default_factory=dict)
 
@@ -99,8 +99,11 @@ class GeometryImage:
             domain = Domain.from_metadata(domain, meta)
         elif not isinstance(domain, Domain):
             raise TypeError(f"domain: expected a geoimg Domain or a kind name, got {type(domain).__name__}")
+        own = domain.to_metadata()
         for key in Domain.METADATA_KEYS:       # the domain's own fields live in the domain
-            meta.pop(key, None)
+            if key in meta and meta.pop(key) != own[key]:
+                raise ImageError(f"metadata: {key}={self.metadata[key]!r} contradicts the domain's {own[key]!r} "
+                                 "(the domain's fields belong to the domain)")
         domain.check_shape(p.shape[:2])
         domain.check_mask(self.mask)
         object.__setattr__(self, "domain", domain)
