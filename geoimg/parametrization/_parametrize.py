@@ -24,6 +24,7 @@ PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere")
 _AXES = {"x": 0, "y": 1, "z": 2}
 AXES = tuple(_AXES)
 SNAP_DEGREES = 15.0
+COORD_DIMS = {"planar": 2, "octahedral": 3}   # a parametrization's domain kind -> per-vertex coordinates: (u, v), unit vectors
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,7 +39,7 @@ class Parametrization:
     extent : tuple of float
         Size of the parametrized rectangle; the larger side is 1 ((1, 1) for the octahedral square).
     domain : str
-        ``"planar"`` or ``"octahedral"``.
+        The kind of geometry image it leads to: ``"planar"`` or ``"octahedral"`` (see :class:`geoimg.Domain`).
     method : str
         How it was made.
     flipped_faces : int
@@ -59,9 +60,9 @@ class Parametrization:
 
     def __post_init__(self):
         c = np.array(self.coords, dtype=np.float64, copy=True)
-        if self.domain not in ("planar", "octahedral"):
-            raise ParametrizationError(f"domain: expected 'planar' or 'octahedral', got {self.domain!r}")
-        dim = 2 if self.domain == "planar" else 3
+        if self.domain not in COORD_DIMS:
+            raise ParametrizationError(f"domain: expected one of {tuple(COORD_DIMS)}, got {self.domain!r}")
+        dim = COORD_DIMS[self.domain]
         if c.ndim != 2 or c.shape[1] != dim:
             raise ParametrizationError(f"coords: expected shape (N, {dim}) for the {self.domain} domain, got {c.shape}")
         if not np.isfinite(c).all():

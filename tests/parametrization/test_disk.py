@@ -9,6 +9,7 @@ from geoimg.parametrization import disk_coords
 from geoimg.parametrization import signed_face_areas
 from geoimg.mesh import boundary_loops, point_mesh_distance
 
+from checks import check_disk_map, check_disk_surface
 import meshes
 from helpers import load_data
 
@@ -19,30 +20,6 @@ DISKS = {"cup": lambda: meshes.cap(135.0), "hemisphere": meshes.cap, "open box":
 @pytest.mark.parametrize("name", DISKS)
 def test_disk_parametrization_folds_no_face(name):
     check_disk_map(DISKS[name](), single_polygon=name == "L")
-
-
-def check_disk_map(mesh, single_polygon=False):
-    """The disk map of a one-loop mesh folds nothing, puts the loop on the square's sides (or the hull of
-    the map, when the sides bow) and leaves the mesh unchanged."""
-    before = mesh.vertices.copy()
-    p = parametrize(mesh, "disk")
-    assert p.flipped_faces == 0 and p.degenerate_faces == 0 and np.allclose(p.extent, 1.0)
-    tris, _ = mesh.triangulate()
-    uv = p.coords
-    e1, e2 = uv[tris[:, 1]] - uv[tris[:, 0]], uv[tris[:, 2]] - uv[tris[:, 0]]
-    area = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-    if single_polygon:                 # one polygon: its fan is not a triangulation of the square
-        assert signed_face_areas(mesh, uv)[0] > 0
-    else:
-        assert (area > 0).all()        # every triangle of the fans, not only each polygon
-    loop = boundary_loops(mesh)[0]
-    if p.info["side_bulge"]:   # bowed sides: every boundary vertex is a corner of the convex hull
-        assert set(loop.tolist()) <= set(np.flatnonzero(mesh.referenced_vertices())[
-            ConvexHull(uv[mesh.referenced_vertices()]).vertices].tolist())
-    else:
-        on_side = np.isclose(uv[loop], 0).any(axis=1) | np.isclose(uv[loop], 1).any(axis=1)
-        assert on_side.all()
-    assert np.array_equal(mesh.vertices, before)
 
 
 def test_disk_corners_sit_on_the_sharp_corners_of_an_open_box():
@@ -77,10 +54,3 @@ def test_disk_then_surface_reproduces_a_curved_mesh():
     check_disk_surface(meshes.cap(135.0, rings=16, segments=40))
 
 
-def check_disk_surface(mesh):
-    """The surface over a disk map, sampled at 129^2, lies within 1 % of the diagonal of the mesh (RMS)."""
-    surf = geoimg.fit_surface(mesh, parametrize(mesh, "disk"), s=1)
-    img = surf.sample(129)
-    quads = img.to_mesh()
-    d = point_mesh_distance(quads.vertices, mesh)
-    assert np.sqrt(np.mean(d ** 2)) < 0.01 * mesh.bounding_box_diagonal()

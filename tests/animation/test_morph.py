@@ -14,6 +14,7 @@ from geoimg.animation import morph
 from geoimg.animation._morph import _octahedral_sampler
 from geoimg.parametrization import grid_directions
 
+from checks import check_shared_faces_morph
 import meshes
 from helpers import MOUNTAIN, data_file, load_data
 
@@ -111,27 +112,6 @@ def test_resample_brings_keys_to_one_size(terrain, mountain_surface):
 def test_shared_faces_share_the_parametrization_and_match_vertex_interpolation():
     check_shared_faces_morph(load_data("spot_low_resolution.obj"))
 
-
-def check_shared_faces_morph(man, woman=None):
-    """Two meshes with the same faces (``woman`` by default ``man`` bent and stretched) morph through one
-    parametrization, and the mid frame is as close to the per-vertex mid mesh as the keys are to theirs."""
-    if woman is None:
-        x = man.vertices
-        woman = geoimg.Mesh(x * [1.2, 0.9, 1.0] + 0.1 * np.sin(3 * x[:, [1, 2, 0]]), man.faces)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")           # the sphere map folds nothing: nothing to warn of
-        m = morph(man, woman, frames=3, easing="linear", align="none", resolution=65)
-    assert m.report[1]["parametrization"].startswith("shared with shape 0") and m.report[1]["rotation_deg"] == 0.0
-    # the surface is linear in the vertices for a fixed parametrization, so a blend of the two images is
-    # the image of the blended mesh: the mid frame is as close to the per-vertex mid mesh as the keys are
-    truth = geoimg.Mesh(0.5 * (man.vertices + woman.vertices), man.faces)
-    key_err = [surface_distance(man, m.frame(0.0).to_mesh(), n=5000)["rms"],
-               surface_distance(woman, m.frame(1.0).to_mesh(), n=5000)["rms"]]
-    mid_err = surface_distance(truth, m.frame(0.5).to_mesh(), n=5000)["rms"]
-    assert mid_err < 1.1 * max(key_err)
-
-
-# --- files ------------------------------------------------------------------------------------------
 
 def _read_accessor(g, index):
     acc = g.accessors[index]

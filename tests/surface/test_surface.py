@@ -6,6 +6,7 @@ import geoimg
 from geoimg import Mesh, Parametrization, fit_surface, parametrize
 from reference import evaluate_exact_numpy, sample_grid_numpy
 
+from checks import surface_to_vertices_rms
 import meshes
 from helpers import data_file, finite_differences, mixed_mesh
 
@@ -70,19 +71,6 @@ def test_surface_converges_to_the_mesh_as_s_shrinks(sliver_rule):
     rms = surface_to_vertices_rms(meshes.octa_hemisphere(20), (2.0, 1.0, 0.5), sliver_rule)
     assert all(a > 1.5 * b for a, b in zip(rms, rms[1:])), rms
     assert rms[-1] < 0.3 * rms[0]
-
-
-def surface_to_vertices_rms(mesh, smoothness, sliver_rule):
-    """RMS distance of the mesh vertices to the surface over its height-field map, for each s. Below some
-    s it plateaus (each point then follows the plane of the face with the smallest |x - c_i| / d_i, not
-    always an incident one)."""
-    param = parametrize(mesh, "heightfield")
-    used = mesh.referenced_vertices()
-    rms = []
-    for s in smoothness:
-        surf = fit_surface(mesh, param, s, sliver_rule=sliver_rule)
-        rms.append(np.sqrt(np.mean(np.sum((surf.evaluate(param.coords[used]) - mesh.vertices[used]) ** 2, 1))))
-    return rms
 
 
 @pytest.mark.parametrize("weights", ["gaussian", "local"])

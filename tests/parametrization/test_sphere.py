@@ -8,6 +8,7 @@ from geoimg.parametrization._orientation import chord_orientation
 from geoimg.parametrization import sphere_coords
 from geoimg.mesh import topology
 
+from checks import check_sphere_map
 import meshes
 from helpers import load_data
 
@@ -28,21 +29,6 @@ CLOSED = {"spot": lambda: load_data("spot.obj"), "sphere": lambda: load_data("sp
 @pytest.mark.parametrize("name", CLOSED)
 def test_sphere_map_folds_nothing_and_balances_area(name):
     check_sphere_map(CLOSED[name]())
-
-
-def check_sphere_map(mesh):
-    """The sphere map folds no triangle, lowers its energy, squeezes no triangle more than the conformal
-    start did, and leaves the mesh unchanged."""
-    before = mesh.vertices.copy()
-    s, info = sphere_coords(mesh)
-    tris, _ = mesh.triangulate()
-    assert info["flipped_triangles"] == 0 and (chord_orientation(s, tris) > 0).all()
-    assert np.allclose(np.linalg.norm(s, axis=1), 1)
-    e_start, e_end = info["balance_energy"]
-    assert e_end <= e_start and np.isfinite(e_end)                         # every accepted step lowers it
-    if info["start"] != "progressive":   # nor makes the worst-squeezed triangle worse than the conformal start
-        assert info["area_ratio_min"] >= info["conformal_area_ratio_min"]
-    assert np.array_equal(mesh.vertices, before)
 
 
 def test_auto_picks_sphere_for_closed_genus_0(spot_small):
