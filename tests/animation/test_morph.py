@@ -1,5 +1,4 @@
 """Morphs, glTF morph targets, frame sequences, the renderer and the morph/render commands."""
-import warnings
 
 import numpy as np
 import pygltflib as gl
@@ -7,10 +6,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import geoimg
-from geoimg.animation import save_frames, save_glb
+from geoimg.animation import morph, save_frames, save_glb
 from geoimg.cli import main
-from geoimg.mesh import surface_distance
-from geoimg.animation import morph
 from geoimg.animation._morph import _octahedral_sampler
 from geoimg.parametrization import grid_directions
 

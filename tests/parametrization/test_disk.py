@@ -1,13 +1,10 @@
 """Disk parametrizations: fold-free maps of one-loop meshes onto the square."""
 import numpy as np
 import pytest
-from scipy.spatial import ConvexHull
 
-import geoimg
 from geoimg import Mesh, ParametrizationError, parametrize
 from geoimg.parametrization import disk_coords
-from geoimg.parametrization import signed_face_areas
-from geoimg.mesh import boundary_loops, point_mesh_distance
+from geoimg.mesh import boundary_loops
 
 from checks import check_disk_map, check_disk_surface
 import meshes

@@ -4,8 +4,6 @@ import pytest
 import geoimg
 from geoimg import ParametrizationError, parametrize
 from geoimg.parametrization._octahedral import weld_index
-from geoimg.parametrization._orientation import chord_orientation
-from geoimg.parametrization import sphere_coords
 from geoimg.mesh import topology
 
 from checks import check_sphere_map

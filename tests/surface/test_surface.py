@@ -2,7 +2,6 @@
 import numpy as np
 import pytest
 
-import geoimg
 from geoimg import Mesh, Parametrization, fit_surface, parametrize
 from reference import evaluate_exact_numpy, sample_grid_numpy
 
