@@ -24,7 +24,7 @@ from ..errors import ParametrizationError
 from ..mesh import Mesh
 from ..parametrization import signed_face_areas
 
-__all__ = ["FaceMaps", "face_maps", "fit_planes", "enclosing_circle_radius", "robust_sliver_planes", "SLIVER_RULES",
+__all__ = ["FaceMaps", "SphereFaceMaps", "face_maps", "fit_planes", "enclosing_circle_radius", "robust_sliver_planes", "SLIVER_RULES",
            "SLIVER_RATIO"]
 
 SLIVER_RULES = ("robust", "paper")
@@ -43,6 +43,16 @@ class FaceMaps:
     face_index: np.ndarray  # (F,) index of the face in the mesh
     n_slivers: int        # faces the robust rule changed
     n_degenerate: int     # faces of zero parametric size, left out
+
+
+@dataclass(frozen=True, eq=False)
+class SphereFaceMaps(FaceMaps):
+    """Per-face arrays of a mesh mapped onto the sphere: ``centres`` (F, 3) are unit directions, and each
+    face's map is affine in the frame ``(e1, e2)`` of its chord plane through ``origin``."""
+
+    origin: np.ndarray = None   # (F, 3) the chord polygon's centroid
+    e1: np.ndarray = None       # (F, 3) in-plane frame
+    e2: np.ndarray = None
 
 
 def enclosing_circle_radius(p: np.ndarray) -> np.ndarray:

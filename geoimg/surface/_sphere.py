@@ -22,7 +22,7 @@ from ..parametrization import square_jacobian, square_to_sphere
 from . import _sphere_kernels as sphere_kernels
 from ._base import Surface, truncation_radius, unit
 from ._curvature import sphere_curvature
-from ._face_maps import fit_planes, enclosing_circle_radius, robust_sliver_planes
+from ._face_maps import SphereFaceMaps, enclosing_circle_radius, fit_planes, robust_sliver_planes
 
 __all__ = ["SphereSurface", "fit_sphere_surface", "MAX_AUTO_RESOLUTION"]
 
@@ -41,7 +41,7 @@ def _tangent_frame(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return t1, np.cross(q, t1)
 
 
-def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
+def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str) -> SphereFaceMaps:
     f, k = mesh.faces, mesh.face_sizes
     valid = f >= 0
     idx = np.where(valid, f, f[:, :1])
@@ -92,8 +92,7 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str):
 
         d, n_slivers = robust_sliver_planes(mesh, face_index, d, area, C, A, B, ring_coords)
     centre = origin / np.linalg.norm(origin, axis=1, keepdims=True)
-    return dict(centre=centre, origin=origin, e1=e1, e2=e2, C=C, A=A, B=B, d=d,
-                face_index=face_index, n_slivers=n_slivers, n_degenerate=int((~keep).sum()))
+    return SphereFaceMaps(centre, d, C, A, B, face_index, n_slivers, int((~keep).sum()), origin, e1, e2)
 
 
 @dataclass(frozen=True, eq=False)
@@ -187,15 +186,15 @@ def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float,
         raise ValueError("weights: the octahedral (spherical) domain supports only 'gaussian' weights")
     s = s if s_face is None else s_face
     fm = _sphere_face_maps(mesh, coords, sliver_rule)
-    if fm["n_degenerate"]:
-        warnings.warn(f"fit_surface: {fm['n_degenerate']} faces of zero area on the sphere were left out",
+    if fm.n_degenerate:
+        warnings.warn(f"fit_surface: {fm.n_degenerate} faces of zero area on the sphere were left out",
                       stacklevel=4)
-    s_face = None if np.ndim(s) == 0 else np.asarray(s, np.float64)[fm["face_index"]]
+    s_face = None if np.ndim(s) == 0 else np.asarray(s, np.float64)[fm.face_index]
     s = float(np.min(s))
-    sigma = (s if s_face is None else s_face) * fm["d"]
+    sigma = (s if s_face is None else s_face) * fm.d
     radius = truncation_radius(sigma, s, tol) if tol > 0 else np.full_like(sigma, 4.0)
     faces = tuple(np.ascontiguousarray(a, np.float64) for a in (
-        fm["centre"], 0.5 / sigma ** 2, radius, fm["origin"], fm["e1"], fm["e2"], fm["C"], fm["A"], fm["B"]))
-    cells = sphere_kernels.build_cells_3d(fm["centre"], np.minimum(radius, 4.0))
-    return SphereSurface(domain, s, float(tol), sliver_rule, fm["d"], fm["face_index"], fm["n_slivers"],
-                         fm["n_degenerate"], faces, cells, s_face=s_face)
+        fm.centres, 0.5 / sigma ** 2, radius, fm.origin, fm.e1, fm.e2, fm.C, fm.A, fm.B))
+    cells = sphere_kernels.build_cells_3d(fm.centres, np.minimum(radius, 4.0))
+    return SphereSurface(domain, s, float(tol), sliver_rule, fm.d, fm.face_index, fm.n_slivers, fm.n_degenerate,
+                         faces, cells, s_face=s_face)
