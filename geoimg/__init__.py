@@ -15,16 +15,16 @@ surface) -> :mod:`geoimg.image` (geometry images, their domains, files, regions)
 from .errors import GeoimgError, ImageError, ImageFileError, MeshError, MeshFileError, ParametrizationError
 from .mesh import Mesh, grid_mesh, load_mesh, save_mesh
 from .parametrization import Parametrization, parametrize
-from .image import (Domain, GeometryImage, OctahedralDomain, PlanarDomain, grid_normals, load_image, save_image,
+from .image import (CutDomain, Domain, GeometryImage, OctahedralDomain, PlanarDomain, grid_normals, load_image, save_image,
                     save_preview)
 from .surface import Surface, fit_surface
-from ._convert import mesh_to_image
+from ._convert import mesh_to_image, mesh_to_images
 
 __version__ = "0.1.0"
 
 __all__ = [
     "GeoimgError", "ImageError", "ImageFileError", "MeshError", "MeshFileError", "ParametrizationError",
     "Mesh", "grid_mesh", "load_mesh", "save_mesh", "Parametrization", "parametrize",
-    "Domain", "GeometryImage", "OctahedralDomain", "PlanarDomain", "grid_normals", "load_image", "save_image",
-    "save_preview", "Surface", "fit_surface", "mesh_to_image",
+    "CutDomain", "Domain", "GeometryImage", "OctahedralDomain", "PlanarDomain", "grid_normals", "load_image", "save_image",
+    "save_preview", "Surface", "fit_surface", "mesh_to_image", "mesh_to_images",
 ]

@@ -1,14 +1,66 @@
-"""Mesh to geometry image in one call: load, parametrize, fit the weighted-mean surface, sample."""
+"""Mesh to geometry image in one call: load, repair, parametrize, fit the weighted-mean surface, sample."""
 from __future__ import annotations
 
 from pathlib import Path
 
+from .errors import MeshError
 from .image import GeometryImage
-from .mesh import Mesh, load_mesh
+from .mesh import Mesh, load_mesh, repair
 from .parametrization import Parametrization, parametrize
 from .surface import fit_surface
 
-__all__ = ["mesh_to_image"]
+__all__ = ["mesh_to_image", "mesh_to_images", "COMPONENT_CHOICES"]
+
+COMPONENT_CHOICES = ("all", "largest")
+
+
+def _load(mesh_or_path, say) -> tuple[Mesh, str]:
+    if isinstance(mesh_or_path, Mesh):
+        return mesh_or_path, ""
+    if isinstance(mesh_or_path, (str, Path)):
+        say(f"loading {mesh_or_path}")
+        return load_mesh(mesh_or_path), Path(mesh_or_path).name
+    raise TypeError(f"mesh_or_path: expected a geoimg.Mesh or a file path, got {type(mesh_or_path).__name__}")
+
+
+def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: str = "auto", *, component="all",
+                   progress=None, **options) -> list[GeometryImage]:
+    """The geometry images of a mesh's pieces, largest first, after the repairs of
+    :func:`geoimg.mesh.repair` (pinch vertices split, non-manifold edges separated, faces oriented, each
+    announced with a warning): one image per piece, or only the ``"largest"`` or the ``K``-th
+    (``component``). The options are :func:`mesh_to_image`'s; ``metadata["component"]`` is the piece's
+    number and ``metadata["components"]`` how many there were.
+
+    Examples
+    --------
+    >>> import geoimg, warnings
+    >>> quad = [[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]
+    >>> m = geoimg.Mesh(quad + [[x + 3, y, z] for x, y, z in quad], [[0, 1, 2, 3], [4, 5, 6, 7]])
+    >>> with warnings.catch_warnings(record=True):
+    ...     images = mesh_to_images(m, 5, s=2.0, method="heightfield", axis="z")
+    >>> [img.metadata["component"] for img in images], images[1].pixels[0, 0, 0].item()
+    ([0, 1], 3.0)
+    """
+    say = progress or (lambda message: None)
+    mesh, source = _load(mesh_or_path, say)
+    pieces = repair(mesh)
+    if component == "largest":
+        chosen = [0]
+    elif component == "all":
+        chosen = list(range(len(pieces)))
+    elif isinstance(component, int) and not isinstance(component, bool) and 0 <= component < len(pieces):
+        chosen = [component]
+    else:
+        raise MeshError(f"component: expected 'all', 'largest' or a piece number from 0 to {len(pieces) - 1}, "
+                        f"got {component!r}")
+    images = []
+    for k in chosen:
+        if len(pieces) > 1:
+            say(f"piece {k} of {len(pieces)}: {pieces[k].mesh.n_faces} faces")
+        image = mesh_to_image(pieces[k].mesh, resolution, s, method, progress=progress, **options)
+        image.metadata.update(source=source, component=k, components=len(pieces))
+        images.append(image)
+    return images
 
 
 def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: str = "auto", *,
@@ -16,14 +68,17 @@ def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: st
                   tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True,
                   parametrization: Parametrization | None = None, progress=None) -> GeometryImage:
     """The geometry image of a mesh: :func:`~geoimg.parametrize`, :func:`~geoimg.fit_surface` and
-    :meth:`~geoimg.Surface.sample` in one call.
+    :meth:`~geoimg.Surface.sample` in one call. A mesh of several pieces, or one that needs repairs
+    before it can be parametrized, goes through :func:`mesh_to_images`.
 
     Parameters
     ----------
     mesh_or_path : Mesh or str or path-like
         A mesh, or a mesh file (see :func:`geoimg.load_mesh`).
     resolution : int, optional
-        Pixels along the longer side; default from ``s`` (:meth:`~geoimg.Surface.auto_resolution`).
+        Pixels along the longer side; default from ``s`` (:meth:`~geoimg.Surface.auto_resolution`). A
+        cut-open image (meshes with handles or several boundary loops) needs N - 1 a multiple of 64
+        (65, 129, 257, 513, ...).
     s : float, per-face values or SmoothnessMap; default 1.0
         Smoothness (see :func:`geoimg.fit_surface`).
     method, axis, boundary
@@ -51,14 +106,7 @@ def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: st
     ((9, 9), 'heightfield')
     """
     say = progress or (lambda message: None)
-    source = ""
-    if isinstance(mesh_or_path, Mesh):
-        mesh = mesh_or_path
-    elif isinstance(mesh_or_path, (str, Path)):
-        say(f"loading {mesh_or_path}")
-        mesh, source = load_mesh(mesh_or_path), Path(mesh_or_path).name
-    else:
-        raise TypeError(f"mesh_or_path: expected a geoimg.Mesh or a file path, got {type(mesh_or_path).__name__}")
+    mesh, source = _load(mesh_or_path, say)
     if parametrization is None:
         say(f"{mesh.n_vertices} vertices, {mesh.n_faces} faces; parametrizing ({method})")
         parametrization = parametrize(mesh, method, axis=axis, boundary=boundary, progress=progress)

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 import filters
-from ._convert import mesh_to_image
+from ._convert import COMPONENT_CHOICES, mesh_to_image, mesh_to_images
 from ._optional import MissingDependency
 from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, morph, save_animation, \
     save_frames, save_glb, save_png
@@ -60,24 +60,44 @@ def _load_shape(path):
     return load_image(path) if Path(path).suffix.lower() == ".exr" else load_mesh(path)
 
 
-def _image_of(args, mesh, progress):
-    """The geometry image of a mesh (or mesh file) with the ``geoimg image`` options."""
-    return mesh_to_image(mesh, args.res, args.s, args.method, axis=args.axis, boundary=args.boundary,
-                         weights=args.weights, n=args.n, tol=args.tol, sliver_rule=args.sliver_rule,
-                         progress=progress)
+def _numbered(path, k: int, many: bool) -> Path | None:
+    """``NAME.ext`` for a single image, ``NAME_K.ext`` for piece K of several."""
+    if path is None:
+        return None
+    path = Path(path)
+    return path.with_name(f"{path.stem}_{k}{path.suffix}") if many else path
 
 
 def cmd_image(args) -> int:
     progress = Progress(args.quiet)
-    image = _image_of(args, args.mesh, progress)
-    out = image.save(args.output, overwrite=args.force)
-    if args.preview:
-        image.preview(args.preview, overwrite=args.force)
-    if not args.quiet:
-        H, W = image.shape
-        print(f"wrote {out}: {W} x {H} geometry image, {int(image.valid.sum())} valid pixels "
-              f"({image.metadata['exact_pixels']} evaluated exactly)")
+    component = args.component if args.component in COMPONENT_CHOICES else _piece_number(args.component)
+    images = mesh_to_images(args.mesh, args.res, args.s, args.method, component=component, axis=args.axis,
+                            boundary=args.boundary, weights=args.weights, n=args.n, tol=args.tol,
+                            sliver_rule=args.sliver_rule, progress=progress)
+    many = len(images) > 1
+    outputs = [(img, _numbered(args.output, img.metadata["component"], many),
+                _numbered(args.preview, img.metadata["component"], many)) for img in images]
+    if not args.force:                                   # refuse before writing anything
+        for path in [p for _, out, pre in outputs for p in (out, pre) if p is not None]:
+            if path.exists():
+                raise FileExistsError(f"{path} exists (use --force to overwrite)")
+    for image, out, preview in outputs:
+        image.save(out, overwrite=args.force)
+        if preview:
+            image.preview(preview, overwrite=args.force)
+        if not args.quiet:
+            H, W = image.shape
+            piece = f" (piece {image.metadata['component']} of {image.metadata['components']})" if many else ""
+            print(f"wrote {out}: {W} x {H} {image.domain.kind} geometry image{piece}, {int(image.valid.sum())} "
+                  f"valid pixels ({image.metadata['exact_pixels']} evaluated exactly)")
     return 0
+
+
+def _piece_number(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise ValueError(f"--component: expected all, largest or a piece number, got {text!r}") from None
 
 
 def cmd_mesh(args) -> int:
@@ -341,6 +361,8 @@ def build_parser() -> argparse.ArgumentParser:
     im.add_argument("--n", type=int, default=10, help="face centres per local weight (--weights local)")
     im.add_argument("--tol", type=float, default=1e-10, help="truncation tolerance; 0 = exact sum")
     im.add_argument("--sliver-rule", choices=SLIVER_RULES, default="robust")
+    im.add_argument("--component", default="all", metavar="all|largest|K",
+                    help="a mesh of several pieces gives NAME_0.exr, NAME_1.exr, ... (largest first); or keep one")
     im.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")
     im.add_argument("--force", action="store_true", help="overwrite existing files")
     im.set_defaults(func=cmd_image)

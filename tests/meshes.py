@@ -169,3 +169,30 @@ def write(mesh: geoimg.Mesh, path) -> str:
     """Save a mesh to ``path`` (any writable format) and return the path as a string."""
     geoimg.save_mesh(mesh, path, overwrite=True)
     return str(path)
+
+
+def mobius(segments: int = 12) -> geoimg.Mesh:
+    """A Moebius strip: one side only, so no consistent orientation exists."""
+    t = np.linspace(0, 2 * np.pi, segments, endpoint=False)
+    v = []
+    for a in t:
+        for s in (-1, 1):
+            r = 1 + 0.3 * s * np.cos(a / 2)
+            v.append([r * np.cos(a), r * np.sin(a), 0.3 * s * np.sin(a / 2)])
+    f = []
+    for i in range(segments):
+        j = (i + 1) % segments
+        b0, b1 = (2 * j, 2 * j + 1) if j else (1, 0)        # the strip's half-turn: the sides swap
+        f += [[2 * i, b0, b1], [2 * i, b1, 2 * i + 1]]
+    return geoimg.Mesh(np.array(v), f)
+
+
+def torus_grid(n_major: int = 24, n_minor: int = 12, R: float = 1.0, r: float = 0.4) -> geoimg.Mesh:
+    """A torus of n_major x n_minor quads split into triangles, outward-facing (genus 1)."""
+    T, P = np.meshgrid(np.linspace(0, 2 * np.pi, n_major, endpoint=False),
+                       np.linspace(0, 2 * np.pi, n_minor, endpoint=False), indexing="ij")
+    v = np.stack([(R + r * np.cos(P)) * np.cos(T), (R + r * np.cos(P)) * np.sin(T), r * np.sin(P)], -1).reshape(-1, 3)
+    i = np.arange(n_major * n_minor).reshape(n_major, n_minor)
+    a, b, c, d = i, np.roll(i, -1, 0), np.roll(np.roll(i, -1, 0), -1, 1), np.roll(i, -1, 1)
+    faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+    return geoimg.Mesh(v, faces)

@@ -5,7 +5,7 @@ import geoimg
 from geoimg.cli import main
 
 from helpers import MOUNTAIN, data_file
-from meshes import l_hexagon, write
+from meshes import l_hexagon, mobius, write
 
 
 def test_image_mesh_info_pipeline(tmp_path, capsys):
@@ -31,9 +31,9 @@ def test_image_mesh_info_pipeline(tmp_path, capsys):
 
 
 def test_errors_exit_2_with_a_message(tmp_path, capsys):
-    torus = data_file("torus.obj")
-    assert main(["image", str(torus), "-o", str(tmp_path / "b.exr")]) == 2
-    assert "1 handle would have to be cut" in capsys.readouterr().err
+    strip = write(mobius(), tmp_path / "mobius.obj")
+    assert main(["image", strip, "-o", str(tmp_path / "b.exr")]) == 2
+    assert "not orientable" in capsys.readouterr().err and not (tmp_path / "b.exr").exists()
     assert main(["mesh", str(tmp_path / "none.exr"), "-o", str(tmp_path / "x.obj")]) == 2
     assert "no image file" in capsys.readouterr().err
     (tmp_path / "x.obj").write_text("keep")

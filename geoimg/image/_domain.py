@@ -16,14 +16,16 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
+from scipy import sparse
+from scipy.sparse.csgraph import connected_components
 
 import filters
 from ..errors import GeoimgError, ImageError
 from ..mesh import Mesh
-from ..parametrization import grid_directions
+from ..parametrization import grid_directions, perimeter_point
 from ..parametrization._octahedral import check_size, glued_groups, group_means
 
-__all__ = ["Domain", "PlanarDomain", "OctahedralDomain", "grid_normals", "DOMAIN_KINDS"]
+__all__ = ["Domain", "PlanarDomain", "OctahedralDomain", "CutDomain", "grid_normals", "DOMAIN_KINDS"]
 
 DOMAIN_KINDS: dict = {}      # kind name -> Domain subclass, filled as subclasses are defined
 
@@ -62,9 +64,10 @@ class Domain(ABC):
         else -1: quads of the quad mesh are wound to match.
     kind : str (class attribute)
         The name written to files (``geoimg:domain``).
-    boundary : str (class attribute)
+    boundary : str or None (class attribute)
         The :mod:`filters` boundary rule (``mode=``) for this kind of image: what filters and Fourier
-        operations see beyond the image's edges.
+        operations see beyond the image's edges; None when no rule of :mod:`filters` fits and the domain
+        pads images itself (:meth:`pad`).
     extension : str (class attribute)
         The rule that continues the surface smoothly beyond the edges, for derivatives and
         interpolation (curvature from the grid, resizing).
@@ -144,6 +147,10 @@ class Domain(ABC):
     def grid_shape(self, resolution) -> tuple[int, int]:
         """(H, W) of an image with ``resolution`` pixels along its longer side."""
 
+    def round_resolution(self, resolution: int) -> int:
+        """The nearest resolution at or above ``resolution`` that this kind of image can have."""
+        return int(resolution)
+
     def pixel_uv(self, shape) -> tuple[np.ndarray, np.ndarray]:
         """Image coordinates of the columns (u) and rows (v), from 0 to the extent."""
         h, w = shape
@@ -183,6 +190,13 @@ class Domain(ABC):
     def estimate_normals(self, pixels: np.ndarray) -> np.ndarray | None:
         """Normals from the grid for a quad mesh, where the image carries no exact ones (None: none)."""
         return grid_normals(pixels, self.orientation)
+
+    def ghosts(self, centres: np.ndarray, reach: np.ndarray) -> list:
+        """Faces that a surface over this domain sees beyond the image's edges, as
+        ``(face indices, R (2, 2), b (2,))``: copies of those faces (by their parametric ``centres``
+        (F, 2)) with parameters ``R uv + b``, for faces whose weights reach an edge within ``reach`` (F,).
+        None for a domain whose edges are the surface's own."""
+        return []
 
     # ------------------------------------------------------------------ quad mesh
     def quad_mesh(self, pixels: np.ndarray, valid: np.ndarray, normals: np.ndarray | None) -> Mesh:
@@ -313,6 +327,9 @@ class OctahedralDomain(Domain):
         n = check_size(resolution)
         return n, n
 
+    def round_resolution(self, resolution: int) -> int:
+        return int(resolution) + 1 - int(resolution) % 2
+
     def directions(self, n: int) -> np.ndarray:
         """Unit directions (n, n, 3) of the pixels, computed so that glued pixels get identical ones."""
         return grid_directions(n)
@@ -323,3 +340,181 @@ class OctahedralDomain(Domain):
 
     def estimate_normals(self, pixels):
         return None
+
+
+@dataclass(frozen=True)
+class CutDomain(Domain):
+    """The unit square whose boundary is glued to itself along a cut (Gu, Gortler & Hoppe 2002): the
+    image of a mesh of any genus and any number of boundary loops, cut open into one disk (see
+    :mod:`geoimg.parametrization._cut`).
+
+    The perimeter, counter-clockwise from pixel (0, 0) along row 0, is laid out in ``4 * quantum``
+    quanta: ``segments`` are ``(start, length, twin)`` in quanta, ``twin`` the segment on the other side
+    of the cut (-1: the mesh's own boundary, left open). Offset ``j`` along a segment is offset
+    ``length - j`` along its twin, so on an ``N x N`` image with ``N - 1`` a multiple of ``quantum`` every
+    boundary pixel on one side of a cut has an exact twin. Twins are glued (averaged after filters, welded
+    in the quad mesh, which then has the mesh's genus and boundary loops), and filters see across a cut
+    the twin's side of it.
+
+    Examples
+    --------
+    >>> d = CutDomain(quantum=4, segments=((0, 4, 2), (4, 4, 3), (8, 4, 0), (12, 4, 1)))   # a torus
+    >>> reps, group = d.glue((5, 5))
+    >>> len(reps), int(group[0]) == int(group[4]) == int(group[20]) == int(group[24])    # 4 x 4 quads + 0
+    (16, True)
+    """
+
+    quantum: int = 64
+    segments: tuple = ()
+
+    kind: ClassVar[str] = "cut"
+    boundary: ClassVar[str | None] = None        # no filters rule: the domain pads itself (pad)
+
+    def __post_init__(self):
+        super().__post_init__()
+        q = self.quantum
+        if isinstance(q, bool) or not isinstance(q, (int, np.integer)) or q < 1:
+            raise ImageError(f"quantum: expected a positive integer, got {q!r}")
+        try:
+            segs = tuple((int(a), int(n), int(t)) for a, n, t in self.segments)
+        except (TypeError, ValueError):
+            raise ImageError(f"segments: expected (start, length, twin) triples, got {self.segments!r:.80}") from None
+        total = 4 * int(q)
+        ok = len(segs) > 0 and segs[0][0] == 0 and all(n >= 1 for _, n, _ in segs) \
+            and all(a + n == b for (a, n, _), (b, _, _) in zip(segs, segs[1:])) and segs[-1][0] + segs[-1][1] == total
+        ok = ok and all(t == -1 or (0 <= t < len(segs) and segs[t][2] == i and segs[t][1] == n)
+                        for i, (_, n, t) in enumerate(segs))
+        if not ok:
+            raise ImageError("segments: expected consecutive (start, length, twin) segments from 0 around the "
+                             f"{total} quanta of the perimeter, twins of equal length naming each other")
+        object.__setattr__(self, "quantum", int(q))
+        object.__setattr__(self, "segments", segs)
+
+    @classmethod
+    def _from_fields(cls, metadata: dict) -> "CutDomain":
+        return cls(orientation=metadata.get("orientation", 1), quantum=metadata.get("quantum", 64),
+                   segments=tuple(tuple(s) for s in metadata.get("segments", ())))
+
+    def to_metadata(self) -> dict:
+        return {**super().to_metadata(), "quantum": self.quantum, "segments": [list(s) for s in self.segments]}
+
+    METADATA_KEYS: ClassVar[tuple] = Domain.METADATA_KEYS + ("quantum", "segments")
+
+    def check_shape(self, shape) -> None:
+        h, w = shape
+        if h != w or (h - 1) % self.quantum:
+            raise ImageError(f"pixels: a cut-open image is N x N with N - 1 a multiple of {self.quantum} (so that "
+                             f"the two sides of the cut pair up pixel for pixel, e.g. "
+                             f"{self.round_resolution(max(h, w))}), got {h} x {w}")
+
+    def grid_shape(self, resolution) -> tuple[int, int]:
+        if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 2:
+            raise ImageError(f"resolution: expected an integer >= 2, got {resolution!r}")
+        self.check_shape((resolution, resolution))
+        return int(resolution), int(resolution)
+
+    def round_resolution(self, resolution: int) -> int:
+        q = self.quantum
+        return int(-(-(max(int(resolution), 2) - 1) // q) * q + 1)
+
+    def _perimeter_pixels(self, n: int) -> np.ndarray:
+        """Flat pixel index of each perimeter position 0 .. 4 (n - 1) (the last one is pixel 0 again)."""
+        m = n - 1
+        t = np.arange(4 * m + 1)
+        side, f = np.minimum(t // m, 3), t - np.minimum(t // m, 3) * m
+        row = np.choose(side, [np.zeros_like(f), f, np.full_like(f, m), m - f])
+        col = np.choose(side, [f, np.full_like(f, m), m - f, np.zeros_like(f)])
+        return row * n + col
+
+    def _twin_pairs(self, n: int):
+        """Perimeter positions ``(p, p')`` of twin pixels (both directions), in pixels."""
+        scale = (n - 1) // self.quantum
+        ps, qs = [], []
+        for a, length, t in self.segments:
+            if t < 0:
+                continue
+            j = np.arange(length * scale + 1)
+            ps.append(a * scale + j)
+            qs.append(self.segments[t][0] * scale + length * scale - j)
+        if not ps:
+            return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        return np.concatenate(ps), np.concatenate(qs)
+
+    def glue(self, shape):
+        self.check_shape(shape)
+        n = shape[0]
+        per = self._perimeter_pixels(n)
+        p, q = self._twin_pairs(n)
+        rows, cols = per[p], per[q]
+        graph = sparse.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n * n, n * n))
+        _, label = connected_components(graph, directed=False)
+        first = np.full(label.max() + 1, n * n, np.int64)
+        np.minimum.at(first, label, np.arange(n * n))
+        return np.unique(first[label], return_inverse=True)
+
+    def _pieces(self):
+        """Straight pieces of the twinned segments: ``(a, b, a', b')`` perimeter positions (quanta) of a
+        piece on one side of a cut and of its twin on the other (``a`` pairs with ``a'``)."""
+        q = self.quantum
+        corners = np.arange(0, 4 * q + 1, q)
+        out = []
+        for start, length, t in self.segments:
+            if t < 0:
+                continue
+            tstart = self.segments[t][0]
+            cuts = {0, length}
+            cuts.update(int(c - start) for c in corners if start < c < start + length)
+            cuts.update(int(tstart + length - c) for c in corners if tstart < c < tstart + length)
+            cuts = sorted(cuts)
+            for o1, o2 in zip(cuts[:-1], cuts[1:]):
+                out.append((start + o1, start + o2, tstart + length - o1, tstart + length - o2))
+        return out
+
+    def ghosts(self, centres, reach):
+        """Across each cut, the faces near its other side, turned and moved rigidly onto this side's
+        outside: the weighted mean at a cut then sees the surface continue, as inside."""
+        c = np.asarray(centres, np.float64)
+        reach = np.minimum(np.asarray(reach, np.float64), 0.5)
+        out = []
+        for a, b, ta, tb in self._pieces():
+            (p0, p1), (q0, q1) = perimeter_point([a, b], self.quantum), perimeter_point([ta, tb], self.quantum)
+            ds, dt = p1 - p0, q1 - q0
+            length = float(np.hypot(*dt))
+            if length == 0:
+                continue
+            # faces whose weights reach the twin piece
+            rel = c - q0
+            along = rel @ dt / length ** 2
+            dist = np.abs(rel[:, 0] * dt[1] - rel[:, 1] * dt[0]) / length
+            near = (dist < reach) & (along > -reach / length) & (along < 1 + reach / length)
+            if not near.any():
+                continue
+            cos, sin = (dt @ ds) / length ** 2, (dt[0] * ds[1] - dt[1] * ds[0]) / length ** 2
+            R = np.array([[cos, -sin], [sin, cos]])
+            out.append((np.flatnonzero(near), R, p0 - R @ q0))
+        return out
+
+    def pad(self, array: np.ndarray, width: int) -> np.ndarray:
+        """Reflected at the mesh's own boundary; across a cut, the pixels inward of the twin, so a filter
+        sees the surface continue (exact along straight stretches of a side, approximate at the corners)."""
+        a = np.asarray(array)
+        out = filters.pad(a, width, "reflect")
+        if width == 0:
+            return out
+        n = a.shape[0]
+        m = n - 1
+        p, q = self._twin_pairs(n)
+        inward = np.array([[1, 0], [0, -1], [-1, 0], [0, 1]])     # (row, col) steps into the image, by side
+        per = self._perimeter_pixels(n)
+        side_p, side_q = np.minimum(p // m, 3), np.minimum(q // m, 3)
+        keep = (p % m != 0) & (q % m != 0)          # corners have two sides: leave them reflected
+        p, q, side_p, side_q = p[keep], q[keep], side_p[keep], side_q[keep]
+        rp, cp = per[p] // n, per[p] % n
+        rq, cq = per[q] // n, per[q] % n
+        for k in range(1, width + 1):
+            src_r = np.clip(rq + k * inward[side_q, 0], 0, m)
+            src_c = np.clip(cq + k * inward[side_q, 1], 0, m)
+            dst_r = rp - k * inward[side_p, 0] + width
+            dst_c = cp - k * inward[side_p, 1] + width
+            out[dst_r, dst_c] = a[src_r, src_c]
+        return out

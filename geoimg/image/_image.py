@@ -151,8 +151,9 @@ class GeometryImage:
                              metadata=dict(self.metadata) if metadata is None else metadata)
 
     @property
-    def boundary_mode(self) -> str:
-        """The :mod:`filters` boundary rule of the image's domain (``reflect``, ``octahedral``)."""
+    def boundary_mode(self) -> str | None:
+        """The :mod:`filters` boundary rule of the image's domain (``reflect``, ``octahedral``; None for a
+        domain that pads images itself)."""
         return self.domain.boundary
 
     def apply(self, op, *args, pad: int | None = None, **kwargs) -> "GeometryImage":
@@ -161,7 +162,8 @@ class GeometryImage:
         Two kinds of operation are accepted:
 
         - a :mod:`filters` function (array first, array out, the boundary rule as ``mode=``): it gets
-          ``mode=`` the domain's rule unless the call gives one;
+          ``mode=`` the domain's rule unless the call gives one (on a domain without a :mod:`filters`
+          rule, such as a cut-open image, it is padded as below);
         - any other callable on an (H, W, 3) array returning an array of the same shape, e.g.
           ``cv2.GaussianBlur``, ``scipy.ndimage.median_filter`` or
           ``skimage.restoration.denoise_tv_chambolle``: it runs on the pixels padded by ``pad`` pixels
@@ -188,8 +190,9 @@ class GeometryImage:
         True
         """
         params = _boundary_aware(op)
+        direct = params is not None and self.domain.boundary is not None    # a filters function, given mode=
         width = 0
-        if params is None:
+        if not direct:
             width = DEFAULT_PAD if pad is None else int(filters.positive(pad, "pad", integer=True, allow_zero=True))
         elif pad is not None:
             raise ImageError(f"pad: {getattr(op, '__name__', op)} meets the image's edges through its mode; "
@@ -200,48 +203,44 @@ class GeometryImage:
                 if not x.domain.same_kind(self.domain) or x.shape != self.shape:
                     raise ImageError(f"image: expected a {self.domain.kind} {self.shape} geometry image, got a "
                                      f"{x.domain.kind} {x.shape} one (resample it with filters.resize first)")
-                return x.pixels if params is not None else self.domain.pad(x.pixels, width)
+                return x.pixels if direct else self.domain.pad(x.pixels, width)
             return x
 
         args = [pixels_of(a) for a in args]
         kwargs = {k: pixels_of(v) for k, v in kwargs.items()}
-        if params is not None and "mode" not in kwargs:
-            kwargs["mode"] = self.boundary_mode
+        if params is not None and "mode" not in kwargs:     # on a padded image, the rule beyond the pad
+            kwargs["mode"] = self.boundary_mode if direct else "reflect"
         mask, feather = kwargs.get("mask"), kwargs.get("feather", 0.0)
         if mask is not None:
             mask = kwargs["mask"] = self.domain.symmetric_mask(filters.as_weights(mask, self.shape))
-        if mask is not None and (params is None or "mask" not in params):   # any operation can be masked
+        if mask is not None and not (direct and "mask" in params):   # any operation can be masked
             kwargs.pop("mask")
             kwargs.pop("feather", None)
-            weights = filters.feather(mask, feather, kwargs.get("mode", self.boundary_mode))
-            out = filters.apply_masked(self.pixels, self._run(op, args, kwargs, params, width), weights)
+            weights = filters.feather(mask, feather, kwargs.get("mode", self.boundary_mode or "reflect"))
+            out = filters.apply_masked(self.pixels, self._run(op, args, kwargs, direct, width), weights)
             kwargs.update(mask=mask, feather=feather)
         else:
-            out = self._run(op, args, kwargs, params, width)
+            out = self._run(op, args, kwargs, direct, width)
         out = self.domain.average_glued(out)
         shown = [repr(a) if np.ndim(a) == 0 else f"<array {np.shape(a)}>" for a in args]
         shown += [f"{k}={v}" if isinstance(v, str) or np.ndim(v) == 0 else f"{k}=<array>" for k, v in kwargs.items()]
-        if params is None:
+        if not direct:
             shown.append(f"pad={width}")
         meta = dict(self.metadata)
         meta["filters"] = list(meta.get("filters", [])) + [f"{getattr(op, '__name__', 'op')}({', '.join(shown)})"]
         return self.with_pixels(out.astype(self.pixels.dtype), metadata=meta)
 
-    def _run(self, op, args, kwargs, params, width) -> np.ndarray:
-        """``op`` on the pixels: directly for a filters function, else padded by the domain's rule and
-        cropped back."""
+    def _run(self, op, args, kwargs, direct: bool, width: int) -> np.ndarray:
+        """``op`` on the pixels: directly for a filters function with the domain's mode, else padded by the
+        domain's rule and cropped back."""
         name = getattr(op, "__name__", op)
-        if params is not None:
-            out = op(self.pixels, *args, **kwargs)
-        else:
-            out = op(self.domain.pad(self.pixels, width), *args, **kwargs)
+        out = op(self.pixels if direct else self.domain.pad(self.pixels, width), *args, **kwargs)
         out = np.asarray(out[0] if isinstance(out, tuple) else out)
         H, W = self.shape
-        expected = self.pixels.shape if params is not None else (H + 2 * width, W + 2 * width, 3)
+        expected = (H + 2 * width, W + 2 * width, 3)
         if out.shape != expected:
             raise ImageError(f"{name}: returned shape {out.shape}, expected {expected} (an array like its input)")
-        if params is None:
-            out = out[width:width + H, width:width + W]
+        out = out[width:width + H, width:width + W]
         if not np.isfinite(out).all():
             raise ImageError(f"{name}: returned NaN or infinite values")
         return out

@@ -9,7 +9,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ._mesh import Mesh
 
-__all__ = ["Topology", "topology", "boundary_loops"]
+__all__ = ["Topology", "topology", "boundary_loops", "corner_fans"]
 
 
 @dataclass(frozen=True)
@@ -93,9 +93,11 @@ def topology(mesh: Mesh) -> Topology:
     return Topology(V, E, F, components, loops, len(bnd), nonmanifold, euler, genus, pinches)
 
 
-def _pinch_vertices(mesh: Mesh) -> int:
-    """Vertices whose incident faces fall into more than one fan (faces joined across the edges at the
-    vertex): the pinch points of an edge-manifold mesh."""
+def corner_fans(mesh: Mesh, *, across_nonmanifold: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """The fan of every face corner: corners at one vertex are in one fan when their faces are joined
+    across the edges at that vertex. Returns each valid corner's vertex (in ``mesh.faces[mesh.faces >= 0]``
+    order) and its fan label. ``across_nonmanifold=False`` does not join faces across an edge that more
+    than two faces share, so each of those faces starts a fan of its own there."""
     f = mesh.faces
     valid = f >= 0
     corner_v = f[valid]
@@ -112,9 +114,21 @@ def _pinch_vertices(mesh: Mesh) -> int:
     order = np.argsort(keys, kind="stable")
     keys, owner = keys[order], owner[order]
     same = keys[1:] == keys[:-1]
+    if not across_nonmanifold:
+        _, counts = np.unique(keys, return_counts=True)
+        run = np.repeat(counts, counts)
+        same &= run[1:] == 2
     adj = sparse.coo_matrix((np.ones(int(same.sum())), (owner[:-1][same], owner[1:][same])),
                             shape=(n_corners, n_corners))
     _, label = connected_components(adj, directed=False)
+    return corner_v, label
+
+
+def _pinch_vertices(mesh: Mesh) -> int:
+    """Vertices whose incident faces fall into more than one fan (faces joined across the edges at the
+    vertex): the pinch points of an edge-manifold mesh."""
+    corner_v, label = corner_fans(mesh)
+    n_corners = len(corner_v)
     fans = np.unique(corner_v.astype(np.int64) * n_corners + label)
     per_vertex = np.bincount(fans // n_corners, minlength=mesh.n_vertices)
     return int((per_vertex > 1).sum())

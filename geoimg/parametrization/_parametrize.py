@@ -15,16 +15,17 @@ import numpy as np
 
 from ..errors import ParametrizationError
 from ..mesh import Mesh, topology
+from ._cut import cut_coords
 from ._disk import disk_coords
 from ._sphere import sphere_coords
 
 __all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATION_METHODS", "AXES"]
 
-PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere")
+PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere", "cut")
 _AXES = {"x": 0, "y": 1, "z": 2}
 AXES = tuple(_AXES)
 SNAP_DEGREES = 15.0
-COORD_DIMS = {"planar": 2, "octahedral": 3}   # a parametrization's domain kind -> per-vertex coordinates: (u, v), unit vectors
+COORD_DIMS = {"planar": 2, "octahedral": 3, "cut": 2}   # a parametrization's domain kind -> per-vertex coordinates: (u, v), unit vectors
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,7 +40,8 @@ class Parametrization:
     extent : tuple of float
         Size of the parametrized rectangle; the larger side is 1 ((1, 1) for the octahedral square).
     domain : str
-        The kind of geometry image it leads to: ``"planar"`` or ``"octahedral"`` (see :class:`geoimg.Domain`).
+        The kind of geometry image it leads to: ``"planar"``, ``"octahedral"`` or ``"cut"`` (see
+        :class:`geoimg.Domain`).
     method : str
         How it was made.
     flipped_faces : int
@@ -48,6 +50,17 @@ class Parametrization:
         Faces of zero area in (u, v).
     info : dict
         Method details (projection axes, scale).
+    mesh : Mesh or None
+        The mesh the coordinates belong to, when the method had to change the input (``cut``: the input
+        cut open into a disk, vertices along the cut copied); None when they are the input's.
+    source : numpy.ndarray (N, 2) or None
+        With ``mesh``: the input edge ``(a, b)`` each of its vertices lies on (``a == b`` for a copy of an
+        input vertex) ...
+    source_weight : numpy.ndarray (N,) or None
+        ... and the weight ``w`` along it: the vertex is ``(1 - w) p_a + w p_b``.
+    domain_fields : dict
+        Fields of the image's :class:`~geoimg.Domain` that the method sets (``cut``: the layout of the cut
+        on the square).
     """
 
     coords: np.ndarray
@@ -57,6 +70,10 @@ class Parametrization:
     flipped_faces: int = 0
     degenerate_faces: int = 0
     info: dict = field(default_factory=dict)
+    mesh: Mesh | None = field(default=None, repr=False)
+    source: np.ndarray | None = field(default=None, repr=False)
+    source_weight: np.ndarray | None = field(default=None, repr=False)
+    domain_fields: dict = field(default_factory=dict, repr=False)
 
     def __post_init__(self):
         c = np.array(self.coords, dtype=np.float64, copy=True)
@@ -125,9 +142,12 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
         ``heightfield`` projects the vertices onto the best-fitting plane (or the plane normal to
         ``axis``), for terrains; ``uv`` uses ``mesh.uv``; ``disk`` maps a mesh with one boundary loop
         onto the square (mean-value coordinates); ``sphere`` maps a closed genus-0 mesh onto the sphere
-        (octahedral domain). ``auto`` takes the mesh's UVs when they fold nothing, else a height field
-        that folds no face, else ``disk`` for one boundary loop or ``sphere`` for a closed genus-0
-        mesh, else fails saying what it found and what to do.
+        (octahedral domain); ``cut`` cuts any other manifold piece (handles, several boundary loops) open
+        into a disk and maps that onto the square (cut domain; see :mod:`geoimg.parametrization._cut`);
+        the returned parametrization then carries the cut-open mesh. ``auto`` takes the mesh's UVs when
+        they fold nothing, else a height field that folds no face, else ``disk`` for one boundary loop,
+        ``sphere`` for a closed genus-0 mesh, ``cut`` for any other manifold piece, else fails saying
+        what it found and what to do.
     axis : {"x", "y", "z"}, optional
         For ``heightfield``: the up axis (for example ``"y"`` for a y-up terrain). Default: the normal
         of the least-squares plane through the vertices, or the coordinate axis nearest to it when the
@@ -167,6 +187,8 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
             warnings.warn(f"parametrize('sphere'): {info['flipped_triangles']} triangles are folded over on the "
                           "sphere; the map is not one-to-one there", stacklevel=2)
         return Parametrization(coords, (1.0, 1.0), "octahedral", "sphere", info["flipped_triangles"], 0, info)
+    if method == "cut":
+        return _cut(mesh)
     if method == "disk":
         raw, info = disk_coords(mesh, boundary)
     elif method == "uv":
@@ -218,6 +240,23 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
     return Parametrization(coords, extent, "planar", method, flipped, degenerate, info)
 
 
+def _cut(mesh: Mesh) -> Parametrization:
+    topo = topology(mesh)
+    if not (topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0):
+        raise ParametrizationError(f"method='cut' needs one manifold piece; the mesh is a {topo.describe()}: "
+                                   "geoimg.mesh.repair splits it (geoimg.mesh_to_images does so itself)")
+    if topo.closed and topo.genus == 0:
+        raise ParametrizationError("method='cut': a closed genus-0 mesh has nothing to cut; use method='sphere'")
+    disk, coords, (source, weight), layout, info = cut_coords(mesh)
+    flipped, degenerate, majority = _orientation_report(disk, coords)
+    info.update(orientation=majority, genus=topo.genus, boundary_loops=topo.boundary_loops)
+    if flipped:
+        warnings.warn(f"parametrize('cut'): {flipped} of {disk.n_faces} faces are folded over in (u, v); the map "
+                      "is not one-to-one there", stacklevel=3)
+    return Parametrization(coords, (1.0, 1.0), "cut", "cut", flipped, degenerate, info, mesh=disk, source=source,
+                           source_weight=weight, domain_fields=layout)
+
+
 def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrization:
     tried = []
     candidates = (["uv"] if mesh.uv is not None and axis is None else []) + ["heightfield"]
@@ -240,13 +279,18 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrizat
         return parametrize(mesh, "disk", boundary=boundary)
     if single and topo.closed and axis is None:
         return parametrize(mesh, "sphere", progress=progress)
+    manifold = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0
+    if manifold and axis is None and topo.genus is not None:
+        return _cut(mesh)
     if topo.components > 1:
-        advice = (f"geoimg needs one piece: split the {topo.components} components (e.g. trimesh's "
-                  "mesh.split()) and convert each")
+        advice = (f"a parametrization is of one piece: split the {topo.components} components "
+                  "(geoimg.mesh.repair; geoimg.mesh_to_images converts each)")
     elif topo.nonmanifold_edges:
-        advice = "geoimg needs a manifold mesh: repair the edges shared by more than two faces first"
+        advice = ("a parametrization needs a manifold mesh: separate the edges shared by more than two faces "
+                  "(geoimg.mesh.repair; geoimg.mesh_to_images does so itself)")
     elif topo.nonmanifold_vertices:
-        advice = ("geoimg needs a manifold mesh: split the pinch vertices (one copy per fan of faces) first")
+        advice = ("a parametrization needs a manifold mesh: split the pinch vertices, one copy per fan of faces "
+                  "(geoimg.mesh.repair; geoimg.mesh_to_images does so itself)")
     elif topo.genus is not None and topo.genus > 0:
         advice = (f"geoimg needs genus 0: {topo.genus} handle{'s' if topo.genus > 1 else ''} would have to be "
                   "cut first")

@@ -152,8 +152,13 @@ class Surface(ABC):
         return GeometryImage(P.astype(np.float32), mask, self.domain,
                              normals=None if nrm is None else nrm.astype(np.float32), metadata=meta)
 
-    @staticmethod
-    def _capped(resolution: int, cap: int) -> int:
-        if resolution > cap:
-            warnings.warn(f"automatic resolution {resolution} capped at {cap}", stacklevel=4)
-        return min(resolution, cap)
+    def _capped(self, resolution: int, cap: int) -> int:
+        """``resolution`` made one the domain allows, and at most ``cap`` (with a warning when capped)."""
+        res = self.domain.round_resolution(resolution)
+        if res > cap:
+            warnings.warn(f"automatic resolution {res} capped at {cap}", stacklevel=4)
+            res = cap
+            while self.domain.round_resolution(res) > cap:
+                res -= 1
+            res = self.domain.round_resolution(res)
+        return res

@@ -37,6 +37,22 @@ def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None, object]:
     return float(arr.min()), arr, None
 
 
+def _parametrized_mesh(mesh: Mesh, param: Parametrization) -> Mesh:
+    """The mesh whose vertices ``param`` gives coordinates to: the input, or the one the parametrization
+    made of it (cut open), checked to come from the input."""
+    if param.mesh is None:
+        if param.coords.shape[0] != mesh.n_vertices:
+            raise ValueError(f"param: has {param.coords.shape[0]} points but the mesh has {mesh.n_vertices} vertices")
+        return mesh
+    src, w, made = param.source, param.source_weight, param.mesh
+    if src is None or w is None or src.shape != (made.n_vertices, 2) or w.shape != (made.n_vertices,) or \
+            src.min() < 0 or src.max() >= mesh.n_vertices or \
+            not np.allclose(made.vertices, (1 - w)[:, None] * mesh.vertices[src[:, 0]] + w[:, None] * mesh.vertices[src[:, 1]],
+                            rtol=0, atol=1e-9 * max(mesh.bounding_box_diagonal(), 1e-300)):
+        raise ValueError("param: was made for another mesh (its cut-open mesh does not come from this one)")
+    return made
+
+
 def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: str = "gaussian", n: int = 10,
                 tol: float = 1e-10, sliver_rule: str = "robust") -> Surface:
     """Fit the weighted-mean surface of a parametrized mesh.
@@ -86,8 +102,7 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         raise TypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
     if not isinstance(param, Parametrization):
         raise TypeError(f"param: expected a geoimg.Parametrization, got {type(param).__name__}")
-    if param.coords.shape[0] != mesh.n_vertices:
-        raise ValueError(f"param: has {param.coords.shape[0]} points but the mesh has {mesh.n_vertices} vertices")
+    mesh = _parametrized_mesh(mesh, param)
     if weights not in WEIGHTS:
         raise ValueError(f"weights: expected one of {WEIGHTS}, got {weights!r}")
     s, s_face, s_map = _smoothness(s, mesh.n_faces)
@@ -97,7 +112,7 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         raise ValueError(f"n: expected an integer >= 2, got {n!r}")
     if sliver_rule not in SLIVER_RULES:
         raise ValueError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
-    domain = Domain.from_metadata(param.domain, {"extent": param.extent,
+    domain = Domain.from_metadata(param.domain, {"extent": param.extent, **param.domain_fields,
                                                  "orientation": int(param.info.get("orientation", 1))})
     fit = _FITTERS[domain.parameter_dim]
     return fit(mesh, param.coords, domain, s, s_face, s_map, weights=weights, n=int(n), tol=float(tol),

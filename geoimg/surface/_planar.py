@@ -163,11 +163,29 @@ class PlanarSurface(Surface):
 def fit_planar_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float, s_face, s_map, *, weights: str,
                        n: int, tol: float, sliver_rule: str) -> PlanarSurface:
     """Fit the surface to a mesh whose vertices have (u, v) ``coords`` (called by ``fit_surface``, which
-    has checked the settings)."""
+    has checked the settings). Faces the domain glues across its edges (a cut) are added as copies
+    beyond the edges (:meth:`~geoimg.Domain.ghosts`), so the weighted mean sees the surface continue."""
     fm = face_maps(mesh, coords, sliver_rule=sliver_rule)
     if fm.n_degenerate:
         warnings.warn(f"fit_surface: {fm.n_degenerate} faces of zero area in the parameter domain were left out",
                       stacklevel=3)
+    polys = coords[np.where(mesh.faces >= 0, mesh.faces, mesh.faces[:, :1])][fm.face_index]
+    sizes = mesh.face_sizes[fm.face_index]
+    ghosts = domain.ghosts(fm.centres, _reach(fm, s, s_face, s_map, weights, n, tol)[0])
+    if ghosts:
+        mesh, coords, source = _with_ghosts(mesh, coords, fm.face_index, ghosts)
+        fm = face_maps(mesh, coords, sliver_rule=sliver_rule)
+        if s_face is not None:
+            s_face = s_face[source]
+    radius, param_arr, s_kept = _reach(fm, s, s_face, s_map, weights, n, tol)
+    cells = kernels.build_cells(fm.centres, np.where(np.isfinite(radius), radius, 0.0))
+    return PlanarSurface(fm, domain, s, weights, int(n), float(tol), sliver_rule, polys, sizes, radius, param_arr,
+                         cells, s_kept, s_map)
+
+
+def _reach(fm, s, s_face, s_map, weights, n, tol):
+    """Each face's reach (the truncation radius, or the local weight's support), the kernel parameter
+    ``1 / 2 sigma^2`` (0 for local weights) and the per-face s of the kept faces."""
     s_kept = None if s_face is None else s_face[fm.face_index]
     if weights == "gaussian":
         sigma = (s if s_kept is None else s_kept) * fm.d
@@ -182,7 +200,22 @@ def fit_planar_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float,
         radius = np.asarray(dist).reshape(len(fm.d), -1)[:, -1].copy()
         radius = np.maximum(radius, fm.d * 1e-6)  # a lone face still covers itself
         param_arr = np.zeros_like(radius)
-    cells = kernels.build_cells(fm.centres, np.where(np.isfinite(radius), radius, 0.0))
-    polys = coords[np.where(mesh.faces >= 0, mesh.faces, mesh.faces[:, :1])][fm.face_index]
-    return PlanarSurface(fm, domain, s, weights, int(n), float(tol), sliver_rule, polys,
-                         mesh.face_sizes[fm.face_index], radius, param_arr, cells, s_kept, s_map)
+    return radius, param_arr, s_kept
+
+
+def _with_ghosts(mesh: Mesh, coords: np.ndarray, face_index: np.ndarray, ghosts: list):
+    """The mesh with copies of faces (vertices copied too) at moved parameters appended; returns the mesh,
+    its coordinates and, per face, the face of the input it copies."""
+    verts, uvs, faces, source = [mesh.vertices], [coords], [mesh.faces], [np.arange(mesh.n_faces)]
+    base = mesh.n_vertices
+    for kept, R, b in ghosts:
+        f = mesh.faces[face_index[kept]]
+        used, inv = np.unique(f[f >= 0], return_inverse=True)
+        local = np.full(f.shape, -1, np.int64)
+        local[f >= 0] = inv + base
+        verts.append(mesh.vertices[used])
+        uvs.append(coords[used] @ R.T + b)
+        faces.append(local)
+        source.append(face_index[kept])
+        base += len(used)
+    return (Mesh(np.vstack(verts), np.vstack(faces)), np.vstack(uvs), np.concatenate(source))

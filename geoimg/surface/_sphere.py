@@ -160,7 +160,6 @@ class SphereSurface(Surface):
         """Odd side whose pixels cover about ``(s * mean d)^2`` of the sphere each, on average."""
         spacing = self.s * float(self.d.mean())
         side = int(math.ceil(math.sqrt(4.0 * math.pi) / spacing)) + 1
-        side += 1 - side % 2
         return max(3, self._capped(side, MAX_AUTO_RESOLUTION))
 
     def _s_max(self):

@@ -46,16 +46,22 @@ def test_uv_method_uses_mesh_uv_and_normalizes():
 
 
 @pytest.mark.parametrize("make, words", [
-    (lambda: load_data("torus.obj"), "genus 1 .torus-like.*1 handle would have to be cut"),
-    (lambda: load_data("bob_tri.obj"), "genus 1 .torus-like.*1 handle would have to be cut"),
-    (meshes.holey_sphere, "5 boundary loops.*fill 4 of the 5 holes"),
-    (meshes.three_pieces, "3 components.*split the 3 components"),
+    (meshes.three_pieces, "3 components.*split the 3 components .geoimg.mesh.repair; geoimg.mesh_to_images"),
+    (lambda: geoimg.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [-1, 0, 0], [0, -1, 0], [0, 0, -1]],
+                         [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [0, 5, 4], [0, 4, 6], [0, 6, 5], [4, 5, 6]]),
+     "split the pinch vertices"),
 ])
-def test_auto_refuses_unsupported_meshes_and_says_why(make, words):
-    mesh = make()
+def test_auto_refuses_what_no_parametrization_takes_and_says_why(make, words):
     with pytest.raises(ParametrizationError, match=words) as err:
-        parametrize(mesh, "auto")
-    assert "heightfield: " in str(err.value) and "faces fold over" in str(err.value)
+        parametrize(make(), "auto")
+    assert "heightfield: " in str(err.value)
+
+
+@pytest.mark.parametrize("make", [lambda: load_data("torus.obj"), lambda: load_data("bob_tri.obj"),
+                                  meshes.holey_sphere])
+def test_auto_cuts_open_what_is_neither_a_disk_nor_a_sphere(make):
+    p = parametrize(make(), "auto")
+    assert p.method == "cut" and p.domain == "cut" and p.flipped_faces == 0 and p.mesh is not None
 
 
 def test_errors():

@@ -1,0 +1,353 @@
+"""Cut-open parametrization (after Gu, Gortler & Hoppe 2002, "Geometry images"): a manifold mesh of any
+genus and any number of boundary loops is cut into one topological disk, and the disk is mapped one to
+one onto the unit square.
+
+1. The cut graph is libigl's ``cut_to_disk`` (Gu et al.'s triangle deletion: 2g loops for genus g, paths
+   joining the boundary loops); libigl's ``cut_mesh`` copies the vertices along it.
+2. The disk's boundary runs along the cut, each cut path twice (its two sides, in opposite directions),
+   and along the mesh's own boundary loops once. It is split into segments at the nodes (the cut
+   graph's vertices of degree other than 2). Every segment gets a whole number of "quanta" of the
+   square's perimeter (4 Q quanta), in proportion to its length, a cut path's two sides the same number;
+   within a segment the vertices follow their arc length. So the two sides of a cut have the same
+   positions in reverse, and on an image whose side N has N - 1 a multiple of Q, every boundary pixel on
+   one side of a cut has an exact twin pixel on the other (see :class:`geoimg.image.CutDomain`).
+3. Edges that join two boundary vertices across the disk's interior would lie along a side of the
+   square and flatten their faces: they are split at their midpoints (the new vertices are interior).
+4. The interior follows from Floater's mean-value coordinates (positive weights and a convex boundary,
+   so no triangle folds over), then from libigl's SLIM, which lowers the distortion (the symmetric
+   Dirichlet energy) and keeps every triangle the right way round, the boundary held in place.
+"""
+from __future__ import annotations
+
+import igl
+import numpy as np
+
+from ..errors import ParametrizationError
+from ..mesh import Mesh, boundary_loops, topology
+from ._laplacian import mean_value_weights, solve_free
+
+__all__ = ["cut_coords", "perimeter_point", "QUANTA_PER_SIDE"]
+
+QUANTA_PER_SIDE = 64
+SLIM_BUDGET = 150_000        # SLIM steps x faces: 20 steps up to 7,500 faces, fewer above (about 1 s a step
+SLIM_MAX_STEPS = 20          # per 70,000 faces on this project's machines)
+SLIM_STIFFNESS = 1e11
+
+
+def _cut_open(vertices: np.ndarray, tris: np.ndarray):
+    """The disk mesh (vertices copied along the cut) and each disk vertex's source vertex."""
+    tris = np.ascontiguousarray(tris, np.int64)
+    cuts = igl.cut_to_disk(tris)
+    n = len(vertices)
+    keys = set()
+    for c in cuts:
+        c = np.asarray(c, np.int64)
+        keys.update((np.minimum(c[:-1], c[1:]) * n + np.maximum(c[:-1], c[1:])).tolist())
+    cut = np.zeros(tris.shape, bool)
+    for k in range(3):
+        a, b = tris[:, k], tris[:, (k + 1) % 3]
+        cut[:, k] = np.isin(np.minimum(a, b) * n + np.maximum(a, b), list(keys)) if keys else False
+    v, f, source = igl.cut_mesh(np.ascontiguousarray(vertices, np.float64), tris, cut)
+    return np.asarray(v), np.asarray(f, np.int64), np.asarray(source, np.int64), cuts
+
+
+def _split_chords(v: np.ndarray, f: np.ndarray, source: np.ndarray, on_boundary: np.ndarray):
+    """Split every interior edge whose two ends are on the boundary at its midpoint (repeated until none
+    is left). Returns vertices, faces, source vertex pairs (a, b) per vertex (a == b for originals) and the
+    number of edges split."""
+    src = np.stack([source, source], axis=1) if source.ndim == 1 else source
+    split = 0
+    for _ in range(8):
+        a, b = f, np.roll(f, -1, axis=1)
+        lo, hi = np.minimum(a, b), np.maximum(a, b)
+        key = lo * len(v) + hi
+        _, inv, counts = np.unique(key.ravel(), return_inverse=True, return_counts=True)
+        interior = counts[inv].reshape(f.shape) == 2
+        chord = interior & on_boundary[a] & on_boundary[b]
+        if not chord.any():
+            break
+        chord_keys = np.unique(key[chord])
+        mid = len(v) + np.arange(len(chord_keys))
+        ca, cb = chord_keys // len(v), chord_keys % len(v)
+        v = np.vstack([v, 0.5 * (v[ca] + v[cb])])
+        src = np.vstack([src, np.stack([src[ca, 0], src[cb, 0]], axis=1)])
+        on_boundary = np.concatenate([on_boundary, np.zeros(len(mid), bool)])
+        # every face with chords is split at all of them at once, so neighbours agree
+        pos = np.searchsorted(chord_keys, key)
+        hit = np.where(chord, mid[np.minimum(pos, len(mid) - 1)], -1)
+        done = chord.any(axis=1)
+        new_faces = [_split_triangle(f[i], hit[i]) for i in np.flatnonzero(done)]
+        new_faces = [t for group in new_faces for t in group]
+        f = np.vstack([f[~done], np.array(new_faces, np.int64)])
+        split += len(chord_keys)
+    return v, f, src, split
+
+
+def _split_triangle(tri, mids) -> list:
+    """Triangle ``tri`` (3,) split at the midpoints ``mids`` (3,) of its edges (edge k runs from corner k to
+    corner k + 1; -1 where an edge is not split), the pieces wound like the triangle."""
+    v, m = [int(x) for x in tri], [int(x) for x in mids]
+    split = [k for k in range(3) if m[k] >= 0]
+    if len(split) == 3:
+        return [[v[0], m[0], m[2]], [m[0], v[1], m[1]], [m[2], m[1], v[2]], [m[0], m[1], m[2]]]
+    if len(split) == 1:
+        k = split[0]
+        return [[v[k], m[k], v[(k + 2) % 3]], [m[k], v[(k + 1) % 3], v[(k + 2) % 3]]]
+    j = ({0, 1, 2} - set(split)).pop()            # the edge left whole
+    a, b, c = v[j], v[(j + 1) % 3], v[(j + 2) % 3]
+    mbc, mca = m[(j + 1) % 3], m[(j + 2) % 3]
+    return [[c, mca, mbc], [a, b, mbc], [a, mbc, mca]]
+
+
+def _split_at_corners(v, f, src, weight, loop, t, quanta_per_side):
+    """Put a vertex at each corner of the square: a boundary edge running round a corner is split there
+    (and its twin on the other side of the cut at the same point), its face in two. Returns the updated
+    arrays and the number of corners split."""
+    total = 4 * quanta_per_side
+    split = 0
+    for c in (quanta_per_side, 2 * quanta_per_side, 3 * quanta_per_side):
+        n = len(loop)
+        ends = np.roll(t, -1)
+        ends = np.where(ends <= t, ends + total, ends)
+        hit = np.flatnonzero((t < c) & (c < ends))
+        if not len(hit):
+            continue
+        i = int(hit[0])
+        alpha = (c - t[i]) / (ends[i] - t[i])
+        a, b = loop[i], loop[(i + 1) % n]
+        jobs = [(i, alpha, c)]
+        for j in range(n):                                  # the other side of the cut, if any
+            if j != i and _same_point(src, weight, loop[j], b) and _same_point(src, weight, loop[(j + 1) % n], a):
+                jobs.append((j, 1.0 - alpha, t[j] + (1.0 - alpha) * (ends[j] - t[j])))
+                break
+        for j, frac, pos in sorted(jobs, reverse=True):      # from the back, so indices stay valid
+            p, q = loop[j], loop[(j + 1) % len(loop)]
+            x = len(v)
+            v = np.vstack([v, (1 - frac) * v[p] + frac * v[q]])
+            pa, pw = _on_edge(src, weight, p, q)
+            src = np.vstack([src, pa])
+            weight = np.append(weight, pw[0] + frac * (pw[1] - pw[0]))
+            row = np.flatnonzero(((f == p) & (np.roll(f, -1, axis=1) == q)).any(axis=1))[0]
+            k = int(np.flatnonzero((f[row] == p) & (np.roll(f[row], -1) == q))[0])
+            r = f[row, (k + 2) % 3]
+            f = np.vstack([np.delete(f, row, axis=0), [[p, x, r], [x, q, r]]])
+            loop = np.insert(loop, j + 1, x)
+            t = np.insert(t, j + 1, pos % total)
+            split += 1
+    return v, f, src, weight, loop, t, split
+
+
+def _same_point(src, weight, p, q) -> bool:
+    """Whether disk vertices p and q are copies of one point of the input (by source indices)."""
+    if src[p, 0] == src[p, 1] and src[q, 0] == src[q, 1]:
+        return src[p, 0] == src[q, 0]
+    return {int(src[p, 0]), int(src[p, 1])} == {int(src[q, 0]), int(src[q, 1])} and \
+        np.isclose(weight[p] if src[p, 0] == src[q, 0] else 1 - weight[p], weight[q])
+
+
+def _on_edge(src, weight, p, q):
+    """The input edge (A, B) that boundary vertices p and q lie on, and their weights along it."""
+    ids = []
+    for x in (p, q):
+        for y in src[x]:
+            if int(y) not in ids:
+                ids.append(int(y))
+    A, B = ids[0], ids[-1]
+
+    def w(x):
+        a, b = int(src[x, 0]), int(src[x, 1])
+        if a == b:
+            return 0.0 if a == A else 1.0
+        return float(weight[x]) if a == A else 1.0 - float(weight[x])
+
+    return np.array([A, B]), (w(p), w(q))
+
+
+def _relax(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray):
+    """Lower the map's distortion with libigl's SLIM (symmetric Dirichlet energy, Rabinovich et al. 2017),
+    the boundary held where it is: every step keeps every triangle the right way round. The boundary,
+    held by a stiff penalty, is put back exactly afterwards; if that would turn a triangle over (it moves
+    by about 1e-5), the mean-value map is kept. Returns the coordinates and the steps taken."""
+    a3 = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1).sum()
+    steps = int(min(SLIM_MAX_STEPS, max(1, SLIM_BUDGET // max(len(f), 1))))
+    if not a3 > 0:
+        return coords, 0
+    data = igl.slim_precompute(np.asfortranarray(v / np.sqrt(a3)), np.asfortranarray(f, np.int32),
+                               np.asfortranarray(coords), igl.MappingEnergyType.SYMMETRIC_DIRICHLET,
+                               np.ascontiguousarray(loop, np.int32), np.asfortranarray(coords[loop]), SLIM_STIFFNESS)
+    out = np.array(igl.slim_solve(data, steps), dtype=np.float64)[:, :2]
+    out[loop] = coords[loop]
+    e1, e2 = out[f[:, 1]] - out[f[:, 0]], out[f[:, 2]] - out[f[:, 0]]
+    before = coords[f[:, 1]] - coords[f[:, 0]], coords[f[:, 2]] - coords[f[:, 0]]
+    sign = np.sign(before[0][:, 0] * before[1][:, 1] - before[0][:, 1] * before[1][:, 0])
+    if not np.isfinite(out).all() or np.any((e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) * sign <= 0):
+        return coords, 0
+    return out, steps
+
+
+def _segments(loop: np.ndarray, source: np.ndarray, lengths: np.ndarray):
+    """Split the disk's boundary loop into segments between nodes. Returns the node positions (loop
+    indices where segments start) and each segment's twin (or -1 for the mesh's own boundary)."""
+    n = len(loop)
+    s_from, s_to = source[loop], source[np.roll(loop, -1)]
+    edge_key = {}
+    for i, (a, b) in enumerate(zip(s_from.tolist(), s_to.tolist())):
+        edge_key.setdefault((min(a, b), max(a, b)), []).append(i)
+    twin_edge = np.full(n, -1, np.int64)
+    for ids in edge_key.values():
+        if len(ids) == 2:
+            twin_edge[ids[0]], twin_edge[ids[1]] = ids[1], ids[0]
+    # node: where the boundary does not continue as the mirror of its twin (or changes between cut and rim)
+    starts = []
+    for i in range(n):
+        j = (i - 1) % n                      # the edge before position i
+        ti, tj = twin_edge[i], twin_edge[j]
+        continuous = (ti < 0 and tj < 0) or (ti >= 0 and tj >= 0 and ti == (tj - 1) % n)
+        if not continuous:
+            starts.append(i)
+    if not starts:                           # one closed run (never both sides of a cut): start anywhere
+        starts = [0]
+    starts = np.array(starts)
+    seg_of_edge = np.searchsorted(starts, np.arange(n), side="right") - 1
+    seg_of_edge[seg_of_edge < 0] = len(starts) - 1
+    twin = np.full(len(starts), -1, np.int64)
+    for s in range(len(starts)):
+        e = starts[s]
+        if twin_edge[e] >= 0:
+            twin[s] = seg_of_edge[twin_edge[e]]
+    seg_len = np.bincount(seg_of_edge, lengths, minlength=len(starts))
+    return starts, twin, seg_len, seg_of_edge
+
+
+def _quantize(seg_len: np.ndarray, twin: np.ndarray, quanta: int) -> np.ndarray:
+    """Whole numbers of quanta per segment, at least 1, twins equal, summing to ``quanta``, near the
+    segments' shares of the total length (largest remainders)."""
+    n = len(seg_len)
+    if n > quanta:
+        raise ParametrizationError(f"method='cut': the boundary has {n} segments, more than the {quanta} the layout "
+                                   "holds")
+    # pair twins into units (a pair counts twice)
+    unit_of = np.full(n, -1)
+    units = []
+    for s in range(n):
+        if unit_of[s] < 0:
+            members = [s] if twin[s] < 0 or twin[s] == s else [s, int(twin[s])]
+            for m in members:
+                unit_of[m] = len(units)
+            units.append(members)
+    size = np.array([len(u) for u in units])
+    length = np.array([seg_len[u[0]] for u in units])
+    total = float((length * size).sum())
+    share = length / max(total, 1e-300) * quanta
+    q = np.maximum(1, np.floor(share)).astype(int)
+    while (q * size).sum() > quanta:                 # too many: take from the largest
+        i = int(np.argmax(np.where(q > 1, q - share, -np.inf)))
+        q[i] -= 1
+    left = quanta - int((q * size).sum())
+    while left > 0:                                 # hand out the rest, pairs only where two fit
+        fits = size <= left
+        if not fits.any():
+            break
+        i = int(np.argmax(np.where(fits, share - q, -np.inf)))
+        q[i] += 1
+        left -= size[i]
+    if left:                                        # an odd quantum left and only pairs: give it to a rim
+        raise ParametrizationError("method='cut': could not lay the boundary out on the square evenly")
+    return q[unit_of]
+
+
+def perimeter_point(t, quanta_per_side: int) -> np.ndarray:
+    """(u, v) on the unit square's outline at perimeter positions ``t`` (in quanta, 0 to 4 Q):
+    counter-clockwise from (0, 0) in (u, v), i.e. along row 0, down the last column, back along the last
+    row, up column 0.
+
+    Examples
+    --------
+    >>> perimeter_point([0, 2, 5, 7.5], 2).tolist()
+    [[0.0, 0.0], [1.0, 0.0], [0.5, 1.0], [0.0, 0.25]]
+    """
+    s = np.asarray(t, np.float64) / quanta_per_side
+    side = np.clip(np.floor(s).astype(int), 0, 3)
+    f = s - side
+    u = np.choose(side, [f, np.ones_like(f), 1 - f, np.zeros_like(f)])
+    v = np.choose(side, [np.zeros_like(f), f, np.ones_like(f), 1 - f])
+    return np.stack([u, v], axis=1)
+
+
+def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE):
+    """Cut a manifold, oriented, connected mesh into a disk and map it onto the unit square.
+
+    Returns
+    -------
+    disk : Mesh
+        Triangles; vertices along the cut appear once per side (copies of the same position), chords
+        split at midpoints.
+    coords : (N, 2) float64
+        (u, v) of the disk's vertices in the unit square.
+    source : tuple of (N, 2) int64 and (N,) float64
+        The input edge ``(a, b)`` each disk vertex lies on and its weight ``w`` along it: the vertex is
+        ``(1 - w) p_a + w p_b`` (``a == b`` for copies of input vertices).
+    layout : dict
+        ``quantum`` (quanta per side) and ``segments``: ``[start, length, twin]`` in quanta along the
+        perimeter, counter-clockwise from (0, 0); ``twin`` is the segment on the other side of the cut, -1
+        for the mesh's own boundary.
+    info : dict
+        ``cut_paths``, ``cut_length`` (3-D), ``chords_split``, ``segments``.
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> t = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    >>> T, P = np.meshgrid(t, t)
+    >>> v = np.stack([(2 + np.cos(P)) * np.cos(T), (2 + np.cos(P)) * np.sin(T), np.sin(P)], -1).reshape(-1, 3)
+    >>> i = np.arange(64).reshape(8, 8)
+    >>> a, b, c, d = i, np.roll(i, -1, 1), np.roll(np.roll(i, -1, 0), -1, 1), np.roll(i, -1, 0)
+    >>> torus = geoimg.Mesh(v, np.concatenate([np.stack([a, b, c], -1), np.stack([a, c, d], -1)]).reshape(-1, 3))
+    >>> disk, uv, source, layout, info = cut_coords(torus)
+    >>> info["cut_paths"], all(tw >= 0 for _, _, tw in layout["segments"]), float(uv.min()), float(uv.max())
+    (2, True, 0.0, 1.0)
+    """
+    tris, _ = mesh.triangulate()
+    used = np.unique(tris)
+    remap = np.full(mesh.n_vertices, -1, np.int64)
+    remap[used] = np.arange(len(used))
+    v, f, src, cuts = _cut_open(mesh.vertices[used], remap[tris])
+    src = used[src]
+    disk = Mesh(v, f)
+    loops = boundary_loops(disk)
+    if len(loops) != 1:
+        raise ParametrizationError(f"method='cut': cutting gave {topology(disk).describe()}, not one disk")
+    loop = loops[0]
+    on_boundary = np.zeros(len(v), bool)
+    on_boundary[loop] = True
+    v, f, source, n_chords = _split_chords(v, f, src, on_boundary)
+    weight = np.where(source[:, 0] == source[:, 1], 0.0, 0.5)
+    lengths = np.linalg.norm(v[np.roll(loop, -1)] - v[loop], axis=1)
+    starts, twin, seg_len, seg_of_edge = _segments(loop, source[:, 0], lengths)
+    quanta = _quantize(seg_len, twin, 4 * quanta_per_side)
+    seg_start = np.concatenate([[0], np.cumsum(quanta)[:-1]])
+    # positions along each segment by arc length; a segment and its twin share them, reversed
+    arc = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
+    t = np.empty(len(loop))
+    for s in range(len(starts)):
+        edges = np.flatnonzero(seg_of_edge == s)
+        first = starts[s]
+        rel = (arc[edges] - arc[first]) % max(float(lengths.sum()), 1e-300)
+        span = seg_len[s] if seg_len[s] > 0 else 1.0
+        t[edges] = seg_start[s] + quanta[s] * rel / span
+    v, f, source, weight, loop, t, n_corners = _split_at_corners(v, f, source, weight, loop, t, quanta_per_side)
+    disk = Mesh(v, f)
+    coords = np.zeros((len(v), 2))
+    coords[loop] = perimeter_point(t, quanta_per_side)
+    free = np.setdiff1d(np.arange(len(v)), loop)
+    if len(free):
+        coords[free] = solve_free(mean_value_weights(v, f), loop, coords[loop], free)
+        coords, slim_steps = _relax(v, f, coords, loop)
+    else:
+        slim_steps = 0
+    layout = {"quantum": int(quanta_per_side),
+              "segments": [[int(a), int(b), int(c)] for a, b, c in zip(seg_start, quanta, twin)]}
+    info = {"cut_paths": len(cuts), "cut_length": float(sum(lengths[twin[seg_of_edge] >= 0]) / 2),
+            "chords_split": int(n_chords), "corners_split": int(n_corners), "segments": len(starts),
+            "slim_steps": slim_steps}
+    return disk, coords, (source, weight), layout, info
