@@ -28,8 +28,8 @@ def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: s
     """The geometry images of a mesh's pieces, largest first, after the repairs of
     :func:`geoimg.mesh.repair` (pinch vertices split, non-manifold edges separated, faces oriented, each
     announced with a warning): one image per piece, or only the ``"largest"`` or the ``K``-th
-    (``component``). The options are :func:`mesh_to_image`'s; ``metadata["component"]`` is the piece's
-    number and ``metadata["components"]`` how many there were.
+    (``component``). The options are :func:`mesh_to_image`'s; for a mesh of several pieces,
+    ``metadata["component"]`` is the piece's number and ``metadata["components"]`` how many there were.
 
     Examples
     --------
@@ -58,7 +58,9 @@ def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: s
         if len(pieces) > 1:
             say(f"piece {k} of {len(pieces)}: {pieces[k].mesh.n_faces} faces")
         image = mesh_to_image(pieces[k].mesh, resolution, s, method, progress=progress, **options)
-        image.metadata.update(source=source, component=k, components=len(pieces))
+        image.metadata["source"] = source
+        if len(pieces) > 1:
+            image.metadata.update(component=k, components=len(pieces))
         images.append(image)
     return images
 

@@ -75,8 +75,8 @@ def cmd_image(args) -> int:
                             boundary=args.boundary, weights=args.weights, n=args.n, tol=args.tol,
                             sliver_rule=args.sliver_rule, progress=progress)
     many = len(images) > 1
-    outputs = [(img, _numbered(args.output, img.metadata["component"], many),
-                _numbered(args.preview, img.metadata["component"], many)) for img in images]
+    outputs = [(img, _numbered(args.output, img.metadata.get("component", 0), many),
+                _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]
     if not args.force:                                   # refuse before writing anything
         for path in [p for _, out, pre in outputs for p in (out, pre) if p is not None]:
             if path.exists():

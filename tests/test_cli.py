@@ -4,7 +4,7 @@ import pytest
 import geoimg
 from geoimg.cli import main
 
-from helpers import MOUNTAIN, data_file
+from helpers import MOUNTAIN
 from meshes import l_hexagon, mobius, write
 
 

@@ -1,5 +1,5 @@
 """sha256 of every golden output: EXR by decoded channels + geoimg attributes (the file holds a timestamp), others by bytes."""
-import hashlib, sys, json
+import hashlib, sys
 from pathlib import Path
 import numpy as np
 import OpenImageIO as oiio

@@ -257,7 +257,8 @@ def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float 
     if not all(img.domain.same_kind(images[0].domain) for img in images[1:]):
         kinds = ", ".join(f"shape {k}: {img.domain.kind}" for k, img in enumerate(images))
         raise ValueError(f"shapes: cannot morph between domains ({kinds}); geometry images must share a "
-                         "parametrization domain (planar with planar, spherical with spherical)")
+                         "parametrization domain (planar with planar, spherical with spherical, and cut-open "
+                         "images only with the same cut layouts, i.e. meshes with the same faces)")
     for k, img in enumerate(images[1:], start=1):
         if img.shape != images[0].shape:
             if not resample:

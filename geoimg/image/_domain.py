@@ -400,6 +400,11 @@ class CutDomain(Domain):
 
     METADATA_KEYS: ClassVar[tuple] = Domain.METADATA_KEYS + ("quantum", "segments")
 
+    def same_kind(self, other: "Domain") -> bool:
+        """Cut-open images pair up pixel for pixel only when their cuts are laid out alike (the same mesh's
+        faces, or the same layout)."""
+        return type(self) is type(other) and (self.quantum, self.segments) == (other.quantum, other.segments)
+
     def check_shape(self, shape) -> None:
         h, w = shape
         if h != w or (h - 1) % self.quantum:
@@ -472,26 +477,30 @@ class CutDomain(Domain):
 
     def ghosts(self, centres, reach):
         """Across each cut, the faces near its other side, turned and moved rigidly onto this side's
-        outside: the weighted mean at a cut then sees the surface continue, as inside."""
+        outside: the weighted mean at a cut then sees the surface continue, as inside. Each face goes
+        with the straight piece of a cut nearest to it, if its weights reach that far."""
         c = np.asarray(centres, np.float64)
         reach = np.minimum(np.asarray(reach, np.float64), 0.5)
-        out = []
-        for a, b, ta, tb in self._pieces():
+        pieces = self._pieces()
+        if not pieces:
+            return []
+        dist = np.empty((len(pieces), len(c)))
+        maps = []
+        for k, (a, b, ta, tb) in enumerate(pieces):
             (p0, p1), (q0, q1) = perimeter_point([a, b], self.quantum), perimeter_point([ta, tb], self.quantum)
             ds, dt = p1 - p0, q1 - q0
-            length = float(np.hypot(*dt))
-            if length == 0:
-                continue
-            # faces whose weights reach the twin piece
-            rel = c - q0
-            along = rel @ dt / length ** 2
-            dist = np.abs(rel[:, 0] * dt[1] - rel[:, 1] * dt[0]) / length
-            near = (dist < reach) & (along > -reach / length) & (along < 1 + reach / length)
-            if not near.any():
-                continue
-            cos, sin = (dt @ ds) / length ** 2, (dt[0] * ds[1] - dt[1] * ds[0]) / length ** 2
+            length2 = float(dt @ dt)
+            along = np.clip((c - q0) @ dt / max(length2, 1e-300), 0.0, 1.0)
+            dist[k] = np.linalg.norm(c - (q0 + along[:, None] * dt), axis=1)    # to the twin piece
+            cos, sin = (dt @ ds) / max(length2, 1e-300), (dt[0] * ds[1] - dt[1] * ds[0]) / max(length2, 1e-300)
             R = np.array([[cos, -sin], [sin, cos]])
-            out.append((np.flatnonzero(near), R, p0 - R @ q0))
+            maps.append((R, p0 - R @ q0))
+        nearest = np.argmin(dist, axis=0)
+        out = []
+        for k, (R, b) in enumerate(maps):
+            take = np.flatnonzero((nearest == k) & (dist[k] < reach))
+            if len(take):
+                out.append((take, R, b))
         return out
 
     def pad(self, array: np.ndarray, width: int) -> np.ndarray:

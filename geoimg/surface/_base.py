@@ -129,6 +129,9 @@ class Surface(ABC):
         -------
         GeometryImage
             float32 pixels (H, W, 3) of the surface's domain; the metadata records the fit's settings.
+            Glued pixels are averaged; where they differed (the two sides of a cut, each seeing the
+            surface from its side), ``metadata["glue_spread"]`` is the largest distance of one from their
+            mean before.
 
         Examples
         --------
@@ -140,17 +143,34 @@ class Surface(ABC):
         """
         shape = self.domain.grid_shape(self.auto_resolution() if resolution is None else resolution)
         P, nrm, mask, n_exact, n_holes = self._sample_grid(shape, normals)
+        P, nrm, spread = self._glue(P, nrm)
         meta = {"s": float(self.s), "weights": self.weights, "n": int(self.n), "tol": float(self.tol),
                 "sliver_rule": self.sliver_rule, "resolution": int(max(shape)), "source": "",
                 "exact_pixels": int(n_exact), "hole_pixels": int(n_holes)}
         s_max = self._s_max()
         if s_max is not None:
             meta["s_max"] = float(s_max)
+        if spread > 0:      # glued pixels that the surface put apart (a cut's two sides), before averaging
+            meta["glue_spread"] = spread
         if n_holes:
             warnings.warn(f"locally supported weights (n={self.n}) leave {n_holes} pixels uncovered (holes); they "
                           "are masked. Raise n to close them.", stacklevel=2)
         return GeometryImage(P.astype(np.float32), mask, self.domain,
                              normals=None if nrm is None else nrm.astype(np.float32), metadata=meta)
+
+    def _glue(self, P: np.ndarray, nrm: np.ndarray | None):
+        """Glued pixels made one point: positions (and normals) averaged over each group. Returns them and
+        the largest distance of a pixel from its group's mean before (0 where the surface already agreed,
+        as on the octahedral domain, whose glued pixels are evaluated at identical directions)."""
+        glued = self.domain.average_glued(P)
+        if glued is P:
+            return P, nrm, 0.0
+        spread = float(np.linalg.norm(glued - P, axis=-1).max())
+        if nrm is not None and spread > 0:
+            averaged = self.domain.average_glued(nrm)
+            moved = np.any(averaged != nrm, axis=-1)
+            nrm = np.where(moved[..., None], unit(averaged), nrm)
+        return glued, nrm, spread
 
     def _capped(self, resolution: int, cap: int) -> int:
         """``resolution`` made one the domain allows, and at most ``cap`` (with a warning when capped)."""

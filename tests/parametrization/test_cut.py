@@ -1,0 +1,180 @@
+"""Cut-open parametrizations and images: any manifold mesh keeps its genus and boundary loops through
+image -> quad mesh, with no folds and no cracks; twins agree, also after filters."""
+import cv2
+import numpy as np
+import pytest
+
+import filters
+import geoimg
+from geoimg import CutDomain, ImageError, ParametrizationError
+from geoimg.mesh import boundary_loops, surface_distance, topology
+from geoimg.parametrization import perimeter_point
+
+import meshes
+from helpers import load_data
+
+CASES = {"torus grid": meshes.torus_grid, "torus": lambda: load_data("torus.obj"),
+         "bob (genus 1)": lambda: load_data("bob_tri.obj"), "5 holes": meshes.holey_sphere,
+         "open cylinder (2 loops)": lambda: geoimg.Mesh(meshes.capped_cylinder().vertices,
+                                                        meshes.capped_cylinder().faces[:-2])}
+
+
+@pytest.fixture(scope="module", params=list(CASES))
+def case(request):
+    mesh = CASES[request.param]()
+    param = geoimg.parametrize(mesh)
+    return mesh, param, geoimg.fit_surface(mesh, param, 1.0).sample(129)
+
+
+def glue_spread(image, pixels):
+    reps, group = image.domain.glue(image.shape)
+    flat = np.asarray(pixels, np.float64).reshape(len(group), -1)
+    means = np.stack([np.bincount(group, flat[:, c]) / np.bincount(group) for c in range(flat.shape[1])], 1)
+    return float(np.abs(flat - means[group]).max())
+
+
+def test_the_map_is_one_to_one_onto_the_square(case):
+    mesh, param, _ = case
+    assert param.method == "cut" and param.domain == "cut"
+    assert param.flipped_faces == 0 and param.degenerate_faces == 0
+    assert param.coords.min() == 0.0 and param.coords.max() == 1.0
+    disk = param.mesh
+    assert topology(disk).describe().startswith("open surface with 1 boundary loop (a disk)")
+    loop = boundary_loops(disk)[0]
+    corners = perimeter_point([0, 64, 128, 192], 64)
+    assert all(np.any(np.all(param.coords[loop] == c, axis=1)) for c in corners)   # a vertex at each corner
+
+
+def test_the_two_sides_of_a_cut_have_the_same_positions_in_reverse(case):
+    mesh, param, _ = case
+    layout = param.domain_fields
+    q, segs = layout["quantum"], layout["segments"]
+    loop = boundary_loops(param.mesh)[0]
+    uv = param.coords[loop]
+    # perimeter position of each boundary vertex (counter-clockwise from (0, 0), in quanta)
+    t = np.where(uv[:, 1] == 0, uv[:, 0], np.where(uv[:, 0] == 1, 1 + uv[:, 1],
+                 np.where(uv[:, 1] == 1, 3 - uv[:, 0], 4 - uv[:, 1]))) * q
+    t[(uv[:, 0] == 0) & (uv[:, 1] == 0)] = 0
+    src = param.source[loop]
+    copies = src[:, 0] == src[:, 1]
+    checked = 0
+    for start, length, twin in segs:
+        if twin < 0:
+            continue
+        inside = copies & (t > start) & (t < start + length)
+        for i in np.flatnonzero(inside):
+            expect = segs[twin][0] + length - (t[i] - start)
+            partner = np.flatnonzero(copies & (src[:, 0] == src[i, 0]) & np.isclose(t, expect, atol=1e-9))
+            assert len(partner) == 1
+            checked += 1
+    assert checked > 0
+
+
+def test_genus_and_boundary_loops_survive_image_and_quad_mesh(case):
+    mesh, _, image = case
+    assert image.domain.kind == "cut" and image.valid.all()
+    t_in, t_out = topology(mesh), topology(image.to_mesh())
+    assert (t_out.genus, t_out.boundary_loops, t_out.components) == (t_in.genus, t_in.boundary_loops, 1)
+    if t_in.closed:
+        assert t_out.closed and t_out.boundary_edges == 0            # watertight: no cracks along the cut
+
+
+def test_twins_are_identical_in_the_image_and_after_filters(case):
+    _, _, image = case
+    assert glue_spread(image, image.pixels) == 0.0
+    for out in (image.apply(filters.gaussian_filter, 2.0), image.apply(filters.mean_filter, 5),
+                image.apply(cv2.GaussianBlur, (7, 7), 1.5, pad=4)):
+        assert glue_spread(out, out.pixels) == 0.0 and out.domain == image.domain
+
+
+def test_the_image_is_close_to_the_mesh(case):
+    # these are coarse meshes (200 to 10,688 faces); benchmarks/README.md has the shared meshes' figures
+    mesh, _, image = case
+    assert surface_distance(mesh, image.to_mesh(), n=20000)["psnr_db"] > 30
+
+
+def test_the_weighted_mean_sees_across_the_cut():
+    """With faces copied across the cut, the surface at the two copies of a cut vertex is (nearly) one point."""
+    mesh = meshes.torus_grid()
+    param = geoimg.parametrize(mesh, "cut")
+    surf = geoimg.fit_surface(mesh, param, 1.0)
+    loop = boundary_loops(param.mesh)[0]
+    src = param.source[loop, 0]
+    P = surf.evaluate(param.coords[loop])
+    spread = [np.ptp(P[src == s], axis=0).max() for s in np.unique(src) if (src == s).sum() == 2]
+    assert np.median(spread) < 1e-6 * mesh.bounding_box_diagonal()
+
+
+def test_a_torus_layout_pads_like_a_periodic_image():
+    # a b a^-1 b^-1 on the four sides: the cut-open square of a torus is periodic with period N - 1
+    d = CutDomain(quantum=4, segments=((0, 4, 2), (4, 4, 3), (8, 4, 0), (12, 4, 1)))
+    n, w = 9, 3
+    i, j = np.meshgrid(np.arange(-w, n + w), np.arange(-w, n + w), indexing="ij")
+    periodic = np.sin(2 * np.pi * i / (n - 1)) + np.cos(2 * np.pi * 2 * j / (n - 1)) + np.sin(2 * np.pi * (i + j) / (n - 1))
+    img = periodic[w:w + n, w:w + n]
+    padded = d.pad(img, w)
+    edge = np.zeros_like(padded, bool)
+    edge[:w, w:w + n] = edge[w + n:, w:w + n] = edge[w:w + n, :w] = edge[w:w + n, w + n:] = True
+    edge[w:w + n, w:w + n] = False
+    strips = edge.copy()
+    strips[:w, [w, w + n - 1]] = strips[w + n:, [w, w + n - 1]] = False        # corner columns: reflected
+    strips[[w, w + n - 1], :w] = strips[[w, w + n - 1], w + n:] = False
+    assert np.allclose(padded[strips], periodic[strips])
+
+
+def test_several_pieces_and_pinches_are_repaired_and_reported(tmp_path):
+    with pytest.warns(UserWarning, match="3 separate pieces"):
+        images = geoimg.mesh_to_images(meshes.three_pieces(), 65)
+    assert [img.metadata["component"] for img in images] == [0, 1, 2]
+    assert {img.domain.kind for img in images} <= {"planar", "octahedral", "cut"}
+    v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [-1, 0, 0], [0, -1, 0], [0, 0, -1]]
+    f = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [0, 5, 4], [0, 4, 6], [0, 6, 5], [4, 5, 6]]
+    with pytest.warns(UserWarning, match="split 1 pinch vertices"):
+        pieces = geoimg.mesh_to_images(geoimg.Mesh(v, f), 17, component="largest")
+    assert len(pieces) == 1 and pieces[0].domain.kind == "octahedral"
+    with pytest.raises(geoimg.MeshError, match="component"):
+        geoimg.mesh_to_images(meshes.three_pieces(), 17, component=5)
+
+
+def test_refusals_are_one_clear_line():
+    with pytest.raises(geoimg.MeshError, match="not orientable"):
+        geoimg.mesh_to_images(meshes.mobius())
+    with pytest.raises(ParametrizationError, match="nothing to cut"):
+        geoimg.parametrize(load_data("sphere.obj"), "cut")
+    with pytest.raises(ParametrizationError, match="one manifold piece"):
+        geoimg.parametrize(meshes.three_pieces(), "cut")
+    surf = geoimg.fit_surface(*(lambda m: (m, geoimg.parametrize(m)))(meshes.torus_grid()))
+    with pytest.raises(ImageError, match="multiple of 64 .* e.g. 257"):
+        surf.sample(256)
+    assert surf.auto_resolution() % 64 == 1
+
+
+def test_cut_images_travel_through_files(case, tmp_path):
+    _, _, image = case
+    back = geoimg.load_image(image.save(tmp_path / "c.exr"))
+    assert back.domain == image.domain and np.array_equal(back.pixels, image.pixels)
+    assert topology(back.to_mesh()).genus == topology(image.to_mesh()).genus
+
+
+@pytest.mark.parametrize("segments, message", [
+    (((0, 4, 1), (4, 12, 0)), "twins of equal length"),
+    (((0, 8, -1), (8, 4, -1)), "consecutive"),
+    (((1, 15, -1),), "consecutive"),
+    ("nonsense", "segments"),
+])
+def test_bad_cut_layouts_are_refused(segments, message):
+    with pytest.raises(ImageError, match=message):
+        CutDomain(quantum=4, segments=segments)
+
+
+def test_meshes_with_the_same_faces_morph_through_one_cut_layout():
+    from geoimg.animation import morph
+    a = meshes.torus_grid()
+    b = geoimg.Mesh(a.vertices * [1.0, 1.0, 2.0], a.faces)
+    m = morph(a, b, frames=3, align="none", resolution=65)
+    assert m.keys[0].domain == m.keys[1].domain and m.keys[0].domain.kind == "cut"
+    mid = m.frame(0.5)
+    assert topology(mid.to_mesh()).closed and topology(mid.to_mesh()).genus == 1
+    other = geoimg.mesh_to_image(load_data("torus.obj"), 65)
+    with pytest.raises(ValueError, match="cut layouts"):
+        morph(m.keys[0], other, frames=3, align="none")
