@@ -11,6 +11,7 @@ import geoimg
 from geoimg.mesh import grid_mesh, load_dem
 
 DATA = Path(__file__).resolve().parent / "data"
+TEST_DATA = Path(__file__).resolve().parents[1] / "tests" / "data"   # meshes bundled for the tests
 MOUNTAIN = Path(geoimg.__file__).resolve().parent / "data" / "mountain.obj"   # the package's sample terrain
 CELL = 10.0     # the Mount St. Helens DEMs' 10 m cells
 

@@ -72,3 +72,9 @@ def test_fig9_multires_sample(tmp_path, renderer_or_skip):
 def test_fig11_weights_sample(tmp_path):
     stats = load_sample("fig11_weights").run(tmp_path, res=33)
     assert Path(stats["png"]).is_file() and len(stats) == 7
+
+
+def test_cut_open_sample(tmp_path, renderer_or_skip):
+    stats = load_sample("cut_open").run(tmp_path, res=129, size=(80, 60))
+    assert Path(stats["png"]).is_file() and stats["domain"] == "cut"
+    assert stats["genus in"] == stats["genus out"] == 1 and stats["closed out"] and stats["psnr_db"] > 45

@@ -12,9 +12,10 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from ..errors import ParametrizationError
-from ..mesh import Mesh, topology
+from ..mesh import Mesh, boundary_loops, topology
 from ._cut import cut_coords
 from ._disk import disk_coords
 from ._sphere import sphere_coords
@@ -25,6 +26,7 @@ PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere", "cut")
 _AXES = {"x": 0, "y": 1, "z": 2}
 AXES = tuple(_AXES)
 SNAP_DEGREES = 15.0
+MAX_OUTLINE_GAP = 0.05     # auto takes a height field or the mesh's UVs only when the outline fills its hull this well
 COORD_DIMS = {"planar": 2, "octahedral": 3, "cut": 2}   # a parametrization's domain kind -> per-vertex coordinates: (u, v), unit vectors
 
 
@@ -145,7 +147,9 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
         (octahedral domain); ``cut`` cuts any other manifold piece (handles, several boundary loops) open
         into a disk and maps that onto the square (cut domain; see :mod:`geoimg.parametrization._cut`);
         the returned parametrization then carries the cut-open mesh. ``auto`` takes the mesh's UVs when
-        they fold nothing, else a height field that folds no face, else ``disk`` for one boundary loop,
+        they fold nothing, else a height field that folds no face (for a mesh with one boundary loop, only
+        when its outline fills 95 % of its convex hull: the mask of a narrow, winding outline would cut
+        the image's quad mesh apart), else ``disk`` for one boundary loop,
         ``sphere`` for a closed genus-0 mesh, ``cut`` for any other manifold piece, else fails saying
         what it found and what to do.
     axis : {"x", "y", "z"}, optional
@@ -257,6 +261,18 @@ def _cut(mesh: Mesh) -> Parametrization:
                            source_weight=weight, domain_fields=layout)
 
 
+def _outline_gap(mesh: Mesh, coords: np.ndarray) -> float:
+    """For a mesh with one boundary loop: the share of the convex hull of its (u, v) outline that the
+    outline leaves empty (0 for a convex outline); 0 for other meshes."""
+    loops = boundary_loops(mesh) if topology(mesh).boundary_loops == 1 else []
+    if len(loops) != 1 or len(loops[0]) < 3:
+        return 0.0
+    xy = coords[loops[0]]
+    inside = 0.5 * abs(np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - xy[:, 1] * np.roll(xy[:, 0], -1)))
+    hull = ConvexHull(xy).volume
+    return float(max(0.0, 1.0 - inside / hull)) if hull > 0 else 0.0
+
+
 def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrization:
     tried = []
     candidates = (["uv"] if mesh.uv is not None and axis is None else []) + ["heightfield"]
@@ -269,7 +285,12 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrizat
                 tried.append(f"{method}: {e}")
                 continue
         if p.flipped_faces == 0 and p.degenerate_faces == 0:
-            return p
+            gap = _outline_gap(mesh, p.coords)
+            if gap <= MAX_OUTLINE_GAP:
+                return p
+            tried.append(f"{method}: its outline leaves {100 * gap:.0f} % of its convex hull empty (narrow parts "
+                         "would come apart in the image's mask)")
+            continue
         tried.append(f"{method}: {p.flipped_faces} of {mesh.n_faces} faces fold over" if p.flipped_faces else
                      f"{method}: {p.degenerate_faces} of {mesh.n_faces} faces project to a line")
     topo = topology(mesh)

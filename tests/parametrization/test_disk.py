@@ -4,7 +4,8 @@ import pytest
 
 from geoimg import Mesh, ParametrizationError, parametrize
 from geoimg.parametrization import disk_coords
-from geoimg.mesh import boundary_loops
+import geoimg
+from geoimg.mesh import boundary_loops, topology
 
 from checks import check_disk_map, check_disk_surface
 import meshes
@@ -51,3 +52,20 @@ def test_disk_then_surface_reproduces_a_curved_mesh():
     check_disk_surface(meshes.cap(135.0, rings=16, segments=40))
 
 
+
+
+def test_auto_maps_a_winding_flat_outline_onto_the_square_so_the_image_keeps_it_in_one_piece():
+    # a flat U: a height field would mask the gap between the arms, and thin arms come apart in the mask
+    t = np.linspace(0.0, 1.0, 21)
+    x, y = np.meshgrid(t, t)
+    idx = np.arange(441).reshape(21, 21)
+    quads = [[idx[i, j], idx[i, j + 1], idx[i + 1, j + 1], idx[i + 1, j]] for i in range(20) for j in range(20)
+             if not (i >= 4 and 2 <= j < 18)]                       # the arms are 2 cells wide
+    used = np.unique(quads)
+    remap = np.full(441, -1)
+    remap[used] = np.arange(len(used))
+    u_shape = Mesh(np.stack([x, y, 0 * x], -1).reshape(-1, 3)[used], remap[np.array(quads)])
+    p = parametrize(u_shape)
+    assert p.method == "disk"
+    image = geoimg.fit_surface(u_shape, p, 1.0).sample(65)
+    assert topology(image.to_mesh()).boundary_loops == 1 and topology(image.to_mesh()).components == 1
