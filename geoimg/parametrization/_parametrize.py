@@ -26,7 +26,7 @@ PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere", "cut")
 _AXES = {"x": 0, "y": 1, "z": 2}
 AXES = tuple(_AXES)
 SNAP_DEGREES = 15.0
-MAX_OUTLINE_GAP = 0.05     # auto takes a height field or the mesh's UVs only when the outline fills its hull this well
+MAX_OUTLINE_GAP = 0.25     # auto takes a height field or the mesh's UVs only when the outline fills its hull this well
 COORD_DIMS = {"planar": 2, "octahedral": 3, "cut": 2}   # a parametrization's domain kind -> per-vertex coordinates: (u, v), unit vectors
 
 
@@ -148,7 +148,7 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
         into a disk and maps that onto the square (cut domain; see :mod:`geoimg.parametrization._cut`);
         the returned parametrization then carries the cut-open mesh. ``auto`` takes the mesh's UVs when
         they fold nothing, else a height field that folds no face (for a mesh with one boundary loop, only
-        when its outline fills 95 % of its convex hull: the mask of a narrow, winding outline would cut
+        when its outline fills 75 % of its convex hull: the mask of a narrow, winding outline would cut
         the image's quad mesh apart), else ``disk`` for one boundary loop,
         ``sphere`` for a closed genus-0 mesh, ``cut`` for any other manifold piece, else fails saying
         what it found and what to do.
