@@ -3,6 +3,7 @@ and ``demo``."""
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 import warnings
@@ -452,7 +453,13 @@ def main(argv=None) -> int:
         with warnings.catch_warnings():
             warnings.simplefilter("default")
             return args.func(args)
-    except (GeoimgError, ValueError, TypeError, FileNotFoundError, FileExistsError) as e:
+    except BrokenPipeError:                 # the reader of our output went away (geoimg info x | head)
+        try:                                # so that the interpreter's last flush does not complain either
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (AttributeError, OSError, ValueError):
+            pass
+        return 0
+    except (GeoimgError, ValueError, TypeError, OSError) as e:    # OSError: missing, existing, unwritable paths
         print(f"geoimg {args.command}: error: {e}", file=sys.stderr)
         return 2
 

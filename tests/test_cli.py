@@ -77,3 +77,27 @@ def test_boundary_option_for_disk_meshes(tmp_path, capsys):
     ell = write(l_hexagon(), tmp_path / "L.off")
     assert main(["image", str(ell), "-o", str(tmp_path / "l.exr"), "--method", "disk", "--boundary", "keep"]) == 2
     assert "reflex" in capsys.readouterr().err
+
+
+def test_os_errors_are_one_line_and_a_closed_pipe_is_quiet(tmp_path, capsys, monkeypatch):
+    folder = tmp_path / "a_folder.exr"
+    folder.mkdir()
+    assert main(["image", str(MOUNTAIN), "-o", str(folder), "--res", "9", "--force"]) == 2
+    assert "error:" in capsys.readouterr().err
+    under_a_file = tmp_path / "file.txt"
+    under_a_file.write_text("x")
+    assert main(["image", str(MOUNTAIN), "-o", str(under_a_file / "x.exr"), "--res", "9"]) == 2
+    assert "error:" in capsys.readouterr().err
+    exr = tmp_path / "m.exr"
+    assert main(["image", str(MOUNTAIN), "-o", str(exr), "--res", "9", "-q"]) == 0
+
+    class ClosedPipe:
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+
+        def flush(self):
+            pass
+
+    monkeypatch.setattr("sys.stdout", ClosedPipe())
+    assert main(["info", str(exr)]) == 0
+    assert capsys.readouterr().err == ""

@@ -20,6 +20,7 @@ from ._mesh import Mesh, pad_faces
 __all__ = ["load_mesh", "save_mesh", "MESH_FORMATS"]
 
 MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")
+BOM = b"\xef\xbb\xbf"
 
 
 def load_mesh(path) -> Mesh:
@@ -117,8 +118,9 @@ def _obj_index(tok: str, count: int) -> int:
 
 def _read_obj(path: Path) -> Mesh:
     verts, tex, faces, face_vt = [], [], [], []
-    with open(path, "r", encoding="utf-8", errors="replace") as fh:
+    with open(path, "r", encoding="utf-8-sig", errors="replace") as fh:    # -sig: a byte-order mark is dropped
         for line in fh:
+            line = line.lstrip()                                            # indented lines count too
             if not line or line[0] not in "vf":
                 continue
             parts = line.split()
@@ -201,6 +203,8 @@ def _write_obj(mesh: Mesh, tmp: Path, _ext: str) -> None:
 # ----------------------------------------------------------------------------------------- OFF
 def _read_off(path: Path) -> Mesh:
     data = path.read_bytes()
+    if data.startswith(BOM):
+        data = data[len(BOM):]
     head = data[:64].lstrip()
     first_line = head.split(b"\n", 1)[0].strip()
     if first_line.startswith(b"OFF") and b"BINARY" in first_line.upper():
@@ -239,16 +243,31 @@ def _read_off(path: Path) -> Mesh:
 
 
 def _read_off_binary(data: bytes) -> Mesh:
+    """Binary OFF: counts and data as 32-bit words, big-endian (the original layout) or little-endian
+    (what PMP and others write): the byte order whose counts fit the file is taken."""
     start = data.index(b"\n") + 1
-    nv, nf, _ne = struct.unpack(">iii", data[start:start + 12])
+    if len(data) < start + 12:
+        raise MeshFileError("the file ends inside the binary OFF header")
+    for order in (">", "<"):
+        nv, nf, _ne = struct.unpack(order + "iii", data[start:start + 12])
+        # each vertex takes 12 bytes and each face at least 16 (count, 3 indices)
+        if nv > 0 and nf > 0 and start + 12 + 12 * nv + 16 * nf <= len(data):
+            break
+    else:
+        raise MeshFileError(f"the binary OFF header's counts do not fit a file of {len(data)} bytes in either "
+                            "byte order")
     off = start + 12
-    vertices = np.frombuffer(data, ">f4", nv * 3, off).reshape(nv, 3).astype(np.float64)
+    vertices = np.frombuffer(data, order + "f4", nv * 3, off).reshape(nv, 3).astype(np.float64)
     off += nv * 12
     faces = []
     for _ in range(nf):
-        (k,) = struct.unpack_from(">i", data, off)
-        idx = struct.unpack_from(f">{k}i", data, off + 4)
-        (nc,) = struct.unpack_from(">i", data, off + 4 + 4 * k)
+        (k,) = struct.unpack_from(order + "i", data, off)
+        if not 3 <= k <= (len(data) - off) // 4:
+            raise MeshFileError(f"a face says it has {k} vertices")
+        idx = struct.unpack_from(f"{order}{k}i", data, off + 4)
+        (nc,) = struct.unpack_from(order + "i", data, off + 4 + 4 * k)
+        if not 0 <= nc <= 4:
+            raise MeshFileError(f"a face says it has {nc} colour components")
         off += 8 + 4 * k + 4 * nc
         faces.append(idx)
     return Mesh(vertices, faces)
@@ -268,7 +287,16 @@ _PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short":
               "float": "f4", "float32": "f4", "double": "f8", "float64": "f8"}
 
 
+def _ply_type(name: str) -> str:
+    if name not in _PLY_TYPES:
+        raise MeshFileError(f"PLY property type {name!r} is not one of the PLY types "
+                            f"({', '.join(sorted(_PLY_TYPES))})")
+    return _PLY_TYPES[name]
+
+
 def _parse_ply_header(data: bytes):
+    if data.startswith(BOM):
+        data = data[len(BOM):]
     end = data.find(b"end_header")
     if not data.startswith(b"ply") or end < 0:
         raise MeshFileError("missing PLY header")
@@ -281,14 +309,30 @@ def _parse_ply_header(data: bytes):
         if p[0] == "format":
             fmt = p[1]
         elif p[0] == "element":
+            if len(p) != 3 or int(p[2]) < 0:
+                raise MeshFileError(f"bad PLY element line {line.strip()!r}")
             elements.append((p[1], int(p[2]), []))
         elif p[0] == "property":
-            if p[1] == "list":
-                elements[-1][2].append((p[4], "list", _PLY_TYPES[p[2]], _PLY_TYPES[p[3]]))
+            if not elements:
+                raise MeshFileError("a PLY property comes before any element")
+            if p[1] == "list" and len(p) == 5:
+                elements[-1][2].append((p[4], "list", _ply_type(p[2]), _ply_type(p[3])))
+            elif p[1] != "list" and len(p) == 3:
+                elements[-1][2].append((p[2], _ply_type(p[1]), None, None))
             else:
-                elements[-1][2].append((p[2], _PLY_TYPES[p[1]], None, None))
+                raise MeshFileError(f"bad PLY property line {line.strip()!r}")
     if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
         raise MeshFileError(f"unknown PLY format {fmt!r}")
+    # every element with data takes at least a byte (binary) or a token (ascii) per property and item:
+    # counts that the rest of the file cannot hold are refused before anything is allocated
+    room = len(data) - body
+    for name, count, props in elements:
+        if count and not props:
+            raise MeshFileError(f"PLY element {name!r} declares {count} items but no properties")
+        least = sum(1 if fmt == "ascii" else np.dtype(p[2] if p[1] == "list" else p[1]).itemsize for p in props)
+        if count * least > room:
+            raise MeshFileError(f"PLY element {name!r} declares {count} items, more than the file's "
+                                f"{room} bytes of data can hold")
     return fmt, elements, body
 
 
@@ -325,8 +369,11 @@ def _read_ply(path: Path) -> Mesh:
     vertices = np.stack([np.asarray(vx[k], np.float64) for k in "xyz"], axis=1)
     faces = []
     if "face" in values:
-        key = "vertex_indices" if "vertex_indices" in values["face"] else "vertex_index"
-        faces = values["face"][key]
+        lists = [p[0] for el in elements if el[0] == "face" for p in el[2] if p[1] == "list"]
+        names = [n for n in ("vertex_indices", "vertex_index") if n in lists] + lists
+        if not names:
+            raise MeshFileError("the face element has no list property of vertex indices")
+        faces = values["face"][names[0]]
     elif "tristrips" in values:
         faces = _strips_to_triangles(values["tristrips"]["vertex_indices"])
     if len(faces) == 0:
@@ -417,7 +464,10 @@ def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
 
 # ------------------------------------------------------------------------------ STL, GLB (trimesh)
 def _read_trimesh(path: Path) -> Mesh:
-    loaded = trimesh.load(str(path), process=False, force="mesh")
+    try:
+        loaded = trimesh.load(str(path), process=False, force="mesh")
+    except Exception as e:   # noqa: BLE001 - trimesh raises many kinds (even ImportError) on a bad file
+        raise MeshFileError(f"cannot be read as {path.suffix[1:].upper()} ({type(e).__name__}: {e})") from None
     v = np.asarray(loaded.vertices, np.float64)
     f = np.asarray(loaded.faces, np.int64)
     if len(v) == 0 or len(f) == 0:

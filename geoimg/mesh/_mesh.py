@@ -15,6 +15,9 @@ from ..errors import MeshError
 __all__ = ["Mesh", "pad_faces"]
 
 
+MAX_PADDED_ENTRIES = 200_000_000     # the padded (F, K) face table: 1.6 GB
+
+
 def pad_faces(faces) -> np.ndarray:
     """Turn faces given as an ``(F, K)`` array or a sequence of index sequences into a padded array.
 
@@ -40,6 +43,10 @@ def pad_faces(faces) -> np.ndarray:
         if not faces:
             return np.zeros((0, 3), np.int64)
         lengths = [len(f) for f in faces]
+        if len(faces) * max(lengths) > MAX_PADDED_ENTRIES:
+            raise MeshError(f"faces: {len(faces)} faces with up to {max(lengths)} vertices each would take "
+                            f"{len(faces) * max(lengths) * 8 / 1e9:.1f} GB as a padded table (limit "
+                            f"{MAX_PADDED_ENTRIES * 8 / 1e9:.1f} GB); split the largest polygons first")
         if len(set(lengths)) == 1:
             arr = np.asarray(faces)
         else:
@@ -175,16 +182,12 @@ class Mesh:
         >>> m.triangulate()[0].tolist()
         [[0, 1, 2], [0, 2, 3]]
         """
-        tris, owner = [], []
-        for k in range(3, self.faces.shape[1] + 1):
-            idx = np.flatnonzero(self.face_sizes == k)
-            for j in range(1, k - 1):
-                tris.append(np.stack([self.faces[idx, 0], self.faces[idx, j], self.faces[idx, j + 1]], axis=1))
-                owner.append(idx)
-        t = np.concatenate(tris)
-        o = np.concatenate(owner)
-        order = np.argsort(o, kind="stable")
-        return t[order], o[order]
+        per_face = self.face_sizes - 2                                 # linear time, any polygon size
+        owner = np.repeat(np.arange(self.n_faces), per_face)
+        start = np.repeat(np.cumsum(per_face) - per_face, per_face)
+        j = np.arange(len(owner)) - start + 1                          # 1 .. k - 2 within each face
+        t = np.stack([self.faces[owner, 0], self.faces[owner, j], self.faces[owner, j + 1]], axis=1)
+        return t, owner
 
     def vertex_normals(self) -> np.ndarray:
         """Area-weighted unit vertex normals from the faces' orientation (zero for unused vertices).
