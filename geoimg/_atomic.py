@@ -6,7 +6,7 @@ import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path", "check_writable"]
+__all__ = ["atomic_path", "check_writable", "write_all"]
 
 
 def check_writable(path, overwrite: bool) -> Path:
@@ -62,3 +62,35 @@ def atomic_path(path, overwrite: bool = False):
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def write_all(jobs, overwrite: bool = False) -> list[Path]:
+    """Write several files all or none: every path is checked first, each writer ``write(tmp)`` fills a
+    temporary file beside its target, and only when all have succeeded are they renamed into place (on any
+    failure every temporary file is removed and no target is touched).
+
+    Parameters
+    ----------
+    jobs : sequence of (path, write)
+        ``write(tmp_path)`` writes one file (with ``overwrite=True``: ``tmp_path`` exists).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> def boom(tmp):
+    ...     raise OSError("disk full")
+    >>> write_all([(d / "a.txt", lambda tmp: tmp.write_text("a")), (d / "b.txt", boom)])
+    Traceback (most recent call last):
+    ...
+    OSError: disk full
+    >>> sorted(p.name for p in d.iterdir())     # neither file, and no temporary left behind
+    []
+    """
+    jobs = [(Path(path), write) for path, write in jobs]
+    for path, _ in jobs:
+        check_writable(path, overwrite)
+    with contextlib.ExitStack() as stack:
+        for path, write in jobs:
+            write(stack.enter_context(atomic_path(path, overwrite)))
+    return [path for path, _ in jobs]

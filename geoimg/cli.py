@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import threading
 import time
 import warnings
 from pathlib import Path
@@ -13,7 +15,8 @@ import numpy as np
 
 import filters
 from ._convert import COMPONENT_CHOICES, mesh_to_image, mesh_to_images
-from ._optional import MissingDependency
+from ._atomic import check_writable, write_all
+from ._optional import MissingDependency, require
 from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, morph, save_animation, \
     save_frames, save_glb, save_png
 from .errors import GeoimgError
@@ -24,6 +27,7 @@ from .parametrization import AXES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
 from .surface import SLIVER_RULES, WEIGHTS
 
 SAMPLE_MESH = Path(__file__).resolve().parent / "data" / "mountain.obj"    # package data: works from a wheel
+DEMO_MARKER = ".geoimg-demo"
 
 
 class Progress:
@@ -78,14 +82,13 @@ def cmd_image(args) -> int:
     many = len(images) > 1
     outputs = [(img, _numbered(args.output, img.metadata.get("component", 0), many),
                 _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]
-    if not args.force:                                   # refuse before writing anything
-        for path in [p for _, out, pre in outputs for p in (out, pre) if p is not None]:
-            if path.exists():
-                raise FileExistsError(f"{path} exists (use --force to overwrite)")
+    jobs = []
     for image, out, preview in outputs:
-        image.save(out, overwrite=args.force)
+        jobs.append((out, lambda tmp, image=image: image.save(tmp, overwrite=True)))
         if preview:
-            image.preview(preview, overwrite=args.force)
+            jobs.append((preview, lambda tmp, image=image: image.preview(tmp, overwrite=True)))
+    write_all(jobs, overwrite=args.force)                  # all or none
+    for image, out, preview in outputs:
         if not args.quiet:
             H, W = image.shape
             piece = f" (piece {image.metadata['component']} of {image.metadata['components']})" if many else ""
@@ -162,7 +165,12 @@ def cmd_demo(args) -> int:
         raise FileNotFoundError(f"sample mesh {src} not found: run from a source checkout (pip install -e .) "
                                 "or pass --mesh")
     out = Path(args.output)
+    marker = out / DEMO_MARKER          # the demo replaces only what an earlier demo wrote in its own folder
+    if out.exists() and not args.force and not marker.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise FileExistsError(f"{out} exists and was not written by geoimg demo; choose another folder with -o, "
+                              "or --force to write into it")
     out.mkdir(parents=True, exist_ok=True)
+    marker.touch()
     progress(f"loading {src}")
     mesh = load_mesh(src)
     t0 = time.perf_counter()
@@ -247,11 +255,12 @@ def cmd_filter(args) -> int:
             kwargs.update(mask=mask, feather=args.feather)
         out = out.apply(op, *values, **kwargs)
     out.metadata["source"] = Path(args.image).name
-    written = [out.save(args.output, overwrite=args.force)]
+    jobs = [(args.output, lambda tmp: out.save(tmp, overwrite=True))]
     if args.preview:
-        written.append(out.preview(args.preview, overwrite=args.force))
+        jobs.append((args.preview, lambda tmp: out.preview(tmp, overwrite=True)))
     if args.mesh:
-        written.append(save_mesh(out.to_mesh(), args.mesh, overwrite=args.force))
+        jobs.append((args.mesh, lambda tmp: save_mesh(out.to_mesh(), tmp, overwrite=True)))
+    written = write_all(jobs, overwrite=args.force)
     if not args.quiet:
         change = np.abs(out.pixels.astype(np.float64) - image.pixels)[image.valid]
         print(f"applied {'; '.join(out.metadata['filters'][-len(args.ops):])}")
@@ -265,14 +274,16 @@ def cmd_curvature(args) -> int:
     image = load_image(args.image)
     K, H = image_curvature(image)
     stem = Path(args.output)
-    written = []
+    jobs = []
     for name, values in (("gaussian", K), ("mean", H)):
-        written.append(save_scalar(values, stem.with_name(f"{stem.name}_{name}.exr"), name, overwrite=args.force))
-        written.append(save_colormap(values, stem.with_name(f"{stem.name}_{name}.png"), image.valid,
-                                     overwrite=args.force))
+        jobs.append((stem.with_name(f"{stem.name}_{name}.exr"),
+                     lambda tmp, v=values, n=name: save_scalar(v, tmp, n, overwrite=True)))
+        jobs.append((stem.with_name(f"{stem.name}_{name}.png"),
+                     lambda tmp, v=values: save_colormap(v, tmp, image.valid, overwrite=True)))
     normals = image.normals if image.normals is not None else grid_normals(image.pixels, image.domain.orientation)
-    written.append(save_normal_map(normals, stem.with_name(f"{stem.name}_normals.png"), image.valid,
-                                   overwrite=args.force))
+    jobs.append((stem.with_name(f"{stem.name}_normals.png"),
+                 lambda tmp: save_normal_map(normals, tmp, image.valid, overwrite=True)))
+    written = write_all(jobs, overwrite=args.force)
     if not args.quiet:
         for f in written:
             print(f"wrote {f}")
@@ -293,15 +304,32 @@ def cmd_morph(args) -> int:
     progress = Progress(args.quiet)
     if not (args.output or args.gif or args.mp4 or args.frames_dir):
         raise ValueError("nothing to write: give -o OUT.glb, --gif, --mp4 or --frames-dir")
+    # what the outputs need, checked before any work: the packages and the paths
+    if args.output:
+        require("pygltflib", "writing a glTF morph")
+    if args.gif or args.mp4:
+        require("moderngl", "rendering")
+        require("imageio", "writing animations")
+    if args.mp4:
+        require("imageio_ffmpeg", "MP4 (GIF needs nothing more)")
+    for path in (args.output, args.gif, args.mp4):
+        if path:
+            check_writable(path, args.force)
+    if args.frames_dir and not args.force:
+        taken = sorted(Path(args.frames_dir).glob(f"frame_*.{args.frame_format}"))
+        if taken:
+            raise FileExistsError(f"{args.frames_dir} already holds {len(taken)} frame files (use --force to "
+                                  "replace them)")
     shapes = []
     for f in args.shapes:
         progress(f"loading {f}")
         shapes.append(_load_shape(f))
     m = morph(*shapes, frames=args.frames, easing=args.easing, align=args.align, rotate=not args.no_rotate,
               resolution=args.res, resample=True, progress=progress)
-    written = []
+    jobs = []
     if args.output:
-        written.append(save_glb(m, args.output, fps=args.fps, overwrite=args.force))
+        jobs.append((args.output, lambda tmp: save_glb(m, tmp, fps=args.fps, overwrite=True)))
+    written = []
     if args.frames_dir:
         written.append(Path(args.frames_dir))
         save_frames(m, args.frames_dir, args.frame_format, overwrite=args.force,
@@ -316,7 +344,8 @@ def cmd_morph(args) -> int:
                 pictures.append(r.render(frame, cam))
                 bar(i + 1, len(m))
         for path in animations:
-            written.append(save_animation(pictures, path, fps=args.fps, overwrite=args.force))
+            jobs.append((path, lambda tmp: save_animation(pictures, tmp, fps=args.fps, overwrite=True)))
+    written = write_all(jobs, overwrite=args.force) + written
     if not args.quiet:
         print(f"morph of {len(m.keys)} shapes, {len(m)} frames ({args.easing})")
         for entry in m.report[1:]:
@@ -443,12 +472,22 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--res", type=_positive(int), default=256)
     demo.add_argument("--s", type=_positive(float), default=2.0)
     demo.add_argument("--mesh", default=None, help="another mesh instead of the bundled sample")
+    demo.add_argument("--force", action="store_true",
+                      help="write into a folder that an earlier demo did not make (its files are replaced)")
     demo.set_defaults(func=cmd_demo)
     return p
 
 
+def _terminated(signum, frame):
+    """SIGTERM (what `timeout` and process managers send) ends the command like Ctrl-C does, so that files
+    being written are removed, not left half-written."""
+    raise SystemExit(128 + signum)
+
+
 def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _terminated)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("default")

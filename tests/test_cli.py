@@ -101,3 +101,45 @@ def test_os_errors_are_one_line_and_a_closed_pipe_is_quiet(tmp_path, capsys, mon
     monkeypatch.setattr("sys.stdout", ClosedPipe())
     assert main(["info", str(exr)]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_outputs_are_all_or_none_and_checked_before_the_work(tmp_path, capsys):
+    exr = tmp_path / "m.exr"
+    assert main(["image", str(MOUNTAIN), "-o", str(exr), "--res", "9", "-q"]) == 0
+    (tmp_path / "c_mean.png").write_text("mine")                      # the 4th of 5 curvature outputs
+    assert main(["curvature", str(exr), "-o", str(tmp_path / "c")]) == 2
+    assert "c_mean.png exists" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c_mean.png", "m.exr"]   # nothing else, no temp
+    (tmp_path / "m.png").write_text("mine")
+    assert main(["image", str(MOUNTAIN), "-o", str(tmp_path / "n.exr"), "--preview", str(tmp_path / "m.png"),
+                 "--res", "9"]) == 2
+    assert not (tmp_path / "n.exr").exists() and (tmp_path / "m.png").read_text() == "mine"
+    (tmp_path / "x.glb").write_text("mine")
+    assert main(["morph", str(exr), str(exr), "-o", str(tmp_path / "x.glb"), "--frames", "2"]) == 2
+    assert "x.glb exists" in capsys.readouterr().err
+
+
+def test_the_demo_writes_only_into_its_own_folder(tmp_path, capsys):
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "notes.txt").write_text("keep")
+    assert main(["demo", "-o", str(mine), "--res", "9", "-q"]) == 2
+    assert "not written by geoimg demo" in capsys.readouterr().err and sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
+    assert main(["demo", "-o", str(tmp_path / "d"), "--res", "9", "-q"]) == 0
+    assert main(["demo", "-o", str(tmp_path / "d"), "--res", "9", "-q"]) == 0      # again: its own folder
+
+
+def test_sigterm_removes_the_file_being_written(tmp_path):
+    import os
+    import signal
+    from geoimg._atomic import atomic_path
+    from geoimg.cli import _terminated
+    previous = signal.signal(signal.SIGTERM, _terminated)
+    try:
+        with pytest.raises(SystemExit):
+            with atomic_path(tmp_path / "half.exr") as tmp:
+                tmp.write_bytes(b"half")
+                os.kill(os.getpid(), signal.SIGTERM)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert list(tmp_path.iterdir()) == []
