@@ -4,7 +4,7 @@ Every operation meets the image's edges through one mechanism, the boundary rule
 (:mod:`filters.padding`): ``reflect``, ``linear``, ``wrap`` or ``octahedral``. Spatial filters pad
 by it; Fourier operations transform the periodic extension it defines.
 """
-from ._checks import as_image, as_weights, positive
+from ._checks import MEMORY_ENV, TooLarge, as_image, as_weights, check_memory, memory_limit, positive
 from .padding import pad, periodic_extension, PAD_MODES, PERIODIC_MODES
 from .masks import feather, apply_masked
 from .smoothing import mean_filter, gaussian_filter, bilateral_filter, guided_filter
@@ -13,6 +13,6 @@ from .inverse import inverse_filter, unsharp_mask
 from .blend import blend, composite, paste, resize
 from .curvature import grid_curvature
 
-__all__ = ["as_image", "as_weights", "positive", "pad", "periodic_extension", "PAD_MODES", "PERIODIC_MODES", "feather", "apply_masked", "mean_filter",
+__all__ = ["MEMORY_ENV", "TooLarge", "as_image", "as_weights", "check_memory", "memory_limit", "positive", "pad", "periodic_extension", "PAD_MODES", "PERIODIC_MODES", "feather", "apply_masked", "mean_filter",
            "gaussian_filter", "bilateral_filter", "guided_filter", "fourier_filter", "lowpass", "highpass",
            "bandpass", "inverse_filter", "unsharp_mask", "blend", "composite", "paste", "resize", "grid_curvature"]

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import numbers
+import os
 
 import numpy as np
 
@@ -44,3 +45,43 @@ def positive(value, name: str, *, integer: bool = False, odd: bool = False, allo
     if odd and int(value) % 2 == 0:
         raise ValueError(f"{name}: expected an odd size (the kernel needs a centre pixel), got {value!r}")
     return value
+
+
+MEMORY_ENV = "GEOIMG_MAX_MEMORY"      # a size such as 8G; default: 80 % of the machine's physical memory
+_UNITS = {"": 1, "K": 1 << 10, "M": 1 << 20, "G": 1 << 30, "T": 1 << 40}
+
+
+class TooLarge(ValueError, MemoryError):
+    """An array the operation would make is larger than the memory limit allows."""
+
+
+def memory_limit() -> int:
+    """Bytes one array may take: ``GEOIMG_MAX_MEMORY`` (a number with an optional K/M/G/T suffix) or 80 % of
+    the machine's physical memory.
+
+    Examples
+    --------
+    >>> os.environ[MEMORY_ENV] = "2G"
+    >>> memory_limit()
+    2147483648
+    >>> del os.environ[MEMORY_ENV]
+    """
+    text = os.environ.get(MEMORY_ENV, "").strip().upper().removesuffix("B")
+    if text:
+        unit = text[-1] if text[-1] in _UNITS else ""
+        try:
+            return int(float(text[:-1] if unit else text) * _UNITS[unit])
+        except ValueError:
+            raise ValueError(f"{MEMORY_ENV}: expected a size such as 8G or 512M, got {os.environ[MEMORY_ENV]!r}") from None
+    try:
+        return int(0.8 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return 16 << 30
+
+
+def check_memory(n_bytes: float, what: str, error=TooLarge) -> None:
+    """Raise ``error`` when ``what`` would take more than :func:`memory_limit` bytes, saying both."""
+    limit = memory_limit()
+    if n_bytes > limit:
+        raise error(f"{what} would need about {n_bytes / 2 ** 30:.1f} GiB; the limit is {limit / 2 ** 30:.1f} GiB "
+                    f"({MEMORY_ENV} or 80 % of this machine's memory)")

@@ -7,7 +7,7 @@ import numbers
 import numpy as np
 from scipy import sparse
 
-from ._checks import as_image, as_weights, positive
+from ._checks import as_image, as_weights, check_memory, positive
 from .masks import apply_masked, feather as feather_mask
 from .padding import pad
 
@@ -114,6 +114,8 @@ def resize(image, shape, mode: str = "linear") -> np.ndarray:
     h, w = a.shape[:2]
     if mode == "octahedral" and (shape[0] != shape[1] or shape[0] % 2 == 0):
         raise ValueError(f"shape: an octahedral image needs an odd square size, got {tuple(shape)}")
+    check_memory(3.0 * shape[0] * shape[1] * a[:1, :1].size * 8 + 3.0 * shape[0] * (w + 2 * _RESIZE_PAD) * a[:1, :1].size * 8,
+                 f"resizing to {shape[1]} x {shape[0]}")
     r = _RESIZE_PAD
     padded = pad(a, r, mode).astype(np.float64)
     ry = _cubic_matrix(np.linspace(0, h - 1, shape[0]) + r, padded.shape[0])

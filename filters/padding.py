@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._checks import as_image
+from ._checks import as_image, check_memory
 
 __all__ = ["pad", "periodic_extension", "PAD_MODES", "PERIODIC_MODES"]
 
@@ -99,6 +99,8 @@ def pad(image, width: int, mode: str = "reflect") -> np.ndarray:
     a = as_image(image)
     if isinstance(width, bool) or not isinstance(width, (int, np.integer)) or width < 0:
         raise ValueError(f"width: expected a non-negative integer, got {width!r}")
+    h, w = a.shape[:2]
+    check_memory(4.0 * (h + 2 * width) * (w + 2 * width) * a[:1, :1].nbytes, f"padding a {w} x {h} image by {width}")
     if mode == "linear":
         return _linear_pad(a, width)
     if mode == "octahedral":

@@ -12,7 +12,7 @@ import OpenImageIO as oiio
 
 from .errors import ImageFileError
 
-__all__ = ["read_raster", "write_raster", "FLOAT", "UINT16", "UINT8"]
+__all__ = ["read_raster", "write_raster", "is_float_raster", "FLOAT", "UINT16", "UINT8"]
 
 FLOAT, UINT16, UINT8 = oiio.FLOAT, oiio.UINT16, oiio.UINT8
 
@@ -32,6 +32,17 @@ def write_raster(path: Path, data: np.ndarray, names, fmt, attributes=()) -> Non
         out.close()
         raise ImageFileError(f"{path}: writing failed ({msg})")
     out.close()
+
+
+def is_float_raster(path) -> bool:
+    """Whether an image file stores floating-point pixels (EXR, float TIFF), not integers (PNG, JPEG)."""
+    inp = oiio.ImageInput.open(str(path))
+    if inp is None:
+        raise ImageFileError(f"{path}: cannot be read as an image ({oiio.geterror()})")
+    try:
+        return inp.spec().format.basetype in (oiio.FLOAT, oiio.HALF, oiio.DOUBLE)
+    finally:
+        inp.close()
 
 
 def read_raster(path, attributes=(), what: str = "image"):

@@ -16,6 +16,7 @@ import numpy as np
 import filters
 from ._convert import COMPONENT_CHOICES, mesh_to_image, mesh_to_images
 from ._atomic import check_writable, write_all
+from ._budget import check_memory
 from ._optional import MissingDependency, require
 from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, morph, save_animation, \
     save_frames, save_glb, save_png
@@ -312,6 +313,9 @@ def cmd_morph(args) -> int:
         require("imageio", "writing animations")
     if args.mp4:
         require("imageio_ffmpeg", "MP4 (GIF needs nothing more)")
+    if args.gif or args.mp4:                          # the pictures are held until they are written
+        check_memory(float(args.frames) * args.width * args.height * 3, f"{args.frames} pictures of "
+                     f"{args.width} x {args.height}")
     for path in (args.output, args.gif, args.mp4):
         if path:
             check_writable(path, args.force)

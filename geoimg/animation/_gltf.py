@@ -92,8 +92,8 @@ def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, 
     path = Path(path)
     if path.suffix.lower() != ".glb":
         raise ValueError(f"{path}: expected a .glb name")
-    if not (fps > 0):
-        raise ValueError(f"fps: expected a positive number, got {fps!r}")
+    if not (isinstance(fps, (int, float, np.number)) and np.isfinite(fps) and fps > 0):
+        raise ValueError(f"fps: expected a positive finite number, got {fps!r}")
     gl = require("pygltflib", "writing a glTF morph")
     weights, target_images = _weights(morph)
     valid = None

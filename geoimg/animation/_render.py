@@ -86,6 +86,9 @@ class Camera:
         """Frame the box ``lo..hi`` from ``azimuth``, ``elevation`` (degrees) about the ``up`` axis."""
         if up not in UP_AXES:
             raise ValueError(f"up: expected one of {UP_AXES}, got {up!r}")
+        for name, value in (("azimuth", azimuth), ("elevation", elevation)):
+            if not (isinstance(value, (int, float, np.number)) and np.isfinite(value)):
+                raise ValueError(f"{name}: expected a finite number of degrees, got {value!r}")
         lo, hi = np.asarray(lo, np.float64), np.asarray(hi, np.float64)
         centre = 0.5 * (lo + hi)
         radius = max(0.5 * float(np.linalg.norm(hi - lo)), 1e-9)
@@ -272,6 +275,8 @@ def save_animation(frames, path, *, fps: float = 24.0, overwrite: bool = False) 
     iio = require("imageio.v3", "writing animations")
     path = Path(path)
     ext = path.suffix.lower()
+    if not (isinstance(fps, (int, float, np.number)) and np.isfinite(fps) and fps > 0):
+        raise ValueError(f"fps: expected a positive finite number, got {fps!r}")
     frames = [np.asarray(f, np.uint8) for f in frames]
     if not frames:
         raise ValueError("frames: nothing to write")

@@ -267,8 +267,11 @@ class GeometryImage:
             planes.append(np.asarray(self.normals, np.float32))
             names += ["N.X", "N.Y", "N.Z"]
         record = {**self.metadata, **self.domain.to_metadata()}
-        attrs = [("geoimg:domain", self.domain.kind), ("geoimg:metadata", json.dumps(record, sort_keys=True)),
-                 ("compression", "zip")]
+        try:
+            text = json.dumps(record, sort_keys=True, default=_plain)
+        except (TypeError, ValueError) as e:
+            raise ImageError(f"metadata: cannot be written as JSON ({e})") from None
+        attrs = [("geoimg:domain", self.domain.kind), ("geoimg:metadata", text), ("compression", "zip")]
         with atomic_path(path, overwrite) as tmp:
             write_raster(tmp, np.concatenate(planes, axis=2), names, FLOAT, attrs)
         return path
@@ -285,6 +288,13 @@ class GeometryImage:
         with atomic_path(path, overwrite) as tmp:
             write_raster(tmp, q, ["R", "G", "B"], UINT16)
         return path
+
+
+def _plain(value):
+    """numpy scalars and arrays in metadata as plain numbers and lists."""
+    if isinstance(value, (np.generic, np.ndarray)):
+        return value.tolist()
+    raise TypeError(f"a {type(value).__name__} is not a number, string, list or dict")
 
 
 def _suffixed(path, suffix: str, message: str) -> Path:

@@ -180,6 +180,7 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
     """
     if not isinstance(mesh, Mesh):
         raise TypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
+    _check_area(mesh)
     if method == "auto":
         return _auto(mesh, axis, boundary, progress)
     used = mesh.referenced_vertices()
@@ -259,6 +260,20 @@ def _cut(mesh: Mesh) -> Parametrization:
                       "is not one-to-one there", stacklevel=3)
     return Parametrization(coords, (1.0, 1.0), "cut", "cut", flipped, degenerate, info, mesh=disk, source=source,
                            source_weight=weight, domain_fields=layout)
+
+
+def _check_area(mesh: Mesh) -> None:
+    """Refuse a mesh whose faces all have zero area (its points on a line or at one place)."""
+    v = mesh.vertices
+    scale = float(np.abs(v[mesh.referenced_vertices()]).max())
+    if 0 < scale < 1e-100 or scale > 1e100:
+        raise ParametrizationError(f"mesh: coordinates of size {scale:.3g} are beyond what geometry images (float32) "
+                                   "and the surface's arithmetic hold; scale the mesh first")
+    tris, _ = mesh.triangulate()
+    area = np.linalg.norm(np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]]), axis=1)
+    if not area.max() > 1e-24 * max(scale, 1e-300) ** 2:
+        raise ParametrizationError(f"mesh: all {mesh.n_faces} faces have zero area (the points lie on a line or at "
+                                   "one place): there is no surface to parametrize")
 
 
 def _outline_gap(mesh: Mesh, coords: np.ndarray) -> float:

@@ -15,11 +15,24 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
+from .._budget import check_memory
+from ..errors import ImageError
 from ..image import Domain, GeometryImage
 
 __all__ = ["Surface", "reference_log_weight", "truncation_radius", "unit", "TRUNCATION_RHO"]
 
 TRUNCATION_RHO = 4.0 / 3.0
+SAMPLE_BYTES_PER_PIXEL = 200      # positions, two derivatives, sums and the mask while sampling, in float64
+
+
+def _check_float32(P: np.ndarray) -> None:
+    """Refuse surface points that a float32 image cannot hold (they would become 0 or infinite)."""
+    P32 = P.astype(np.float32)
+    lost = ~np.isfinite(P32) | ((P32 == 0) & (P != 0) & (np.abs(P) < 1e-30))
+    if lost.any():
+        size = float(np.abs(P[np.isfinite(P)]).max()) if np.isfinite(P).any() else float("inf")
+        raise ImageError(f"the surface's coordinates (up to {size:.3g}) cannot be held in a float32 image "
+                         "(about 1e-38 to 3e38, 7 digits); scale the mesh first")
 
 
 def reference_log_weight(s: float) -> float:
@@ -142,7 +155,9 @@ class Surface(ABC):
         ((5, 5, 3), True, 2.0)
         """
         shape = self.domain.grid_shape(self.auto_resolution() if resolution is None else resolution)
+        check_memory(shape[0] * shape[1] * SAMPLE_BYTES_PER_PIXEL, f"a {shape[1]} x {shape[0]} geometry image")
         P, nrm, mask, n_exact, n_holes = self._sample_grid(shape, normals)
+        _check_float32(P)
         P, nrm, spread = self._glue(P, nrm)
         meta = {"s": float(self.s), "weights": self.weights, "n": int(self.n), "tol": float(self.tol),
                 "sliver_rule": self.sliver_rule, "resolution": int(max(shape)), "source": "",

@@ -1,0 +1,97 @@
+"""Hostile and odd inputs beyond the file readers (those are in tests/mesh/test_hostile_files.py): absurd
+sizes refused with an estimate before any work, degenerate geometry and implausible images refused, bad
+numbers refused, each in one line; metadata of numpy scalars written."""
+import numpy as np
+import pytest
+
+import filters
+import geoimg
+from geoimg._budget import ResourceError
+from geoimg.cli import main
+
+from helpers import MOUNTAIN
+
+
+@pytest.fixture(scope="module")
+def small_exr(tmp_path_factory):
+    path = tmp_path_factory.mktemp("hostile") / "m.exr"
+    assert main(["image", str(MOUNTAIN), "-o", str(path), "--res", "17", "-q"]) == 0
+    return path
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["image", str(MOUNTAIN), "--res", "100000"], "would need about .* GiB; the limit is"),
+    (["image", str(MOUNTAIN), "--s", "1e-300", "--res", "9"], "s: expected values from 0.001 to 1000"),
+    (["image", str(MOUNTAIN), "--s", "1e300", "--res", "9"], "s: expected values from 0.001 to 1000"),
+])
+def test_absurd_image_requests_are_one_line(tmp_path, capsys, argv, message):
+    argv = argv[:2] + ["-o", str(tmp_path / "x.exr")] + argv[2:]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and __import__("re").search(message, err)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("ops, message", [
+    (["--mean", "1000001"], "padding a 17 x 17 image by 500000 would need"),
+    (["--gaussian", "1e6"], "would need about"),
+    (["--lowpass", "1e-300"], "NaN or infinite"),
+])
+def test_absurd_filters_are_one_line(tmp_path, capsys, small_exr, ops, message):
+    assert main(["filter", str(small_exr), "-o", str(tmp_path / "f.exr")] + ops) == 2
+    assert message in capsys.readouterr().err and not (tmp_path / "f.exr").exists()
+
+
+def test_absurd_resizes_and_morph_pictures_are_refused(tmp_path, capsys, small_exr):
+    with pytest.raises(filters.TooLarge, match="resizing to 1000000 x 1000000"):
+        filters.resize(np.zeros((4, 4, 3)), (1_000_000, 1_000_000))
+    assert main(["morph", str(small_exr), str(small_exr), "--frames", "100000000", "--gif",
+                 str(tmp_path / "m.gif")]) == 2
+    assert "100000000 pictures of 800 x 600 would need" in capsys.readouterr().err
+
+
+def test_the_memory_limit_can_be_set(monkeypatch):
+    monkeypatch.setenv("GEOIMG_MAX_MEMORY", "1M")
+    surf = geoimg.fit_surface(*(lambda m: (m, geoimg.parametrize(m, "heightfield", axis="y")))(
+        geoimg.load_mesh(MOUNTAIN)))
+    with pytest.raises(ResourceError, match="the limit is 0.0 GiB"):
+        surf.sample(257)
+    monkeypatch.setenv("GEOIMG_MAX_MEMORY", "lots")
+    with pytest.raises(ValueError, match="GEOIMG_MAX_MEMORY: expected a size"):
+        filters.memory_limit()
+
+
+@pytest.mark.parametrize("vertices, message", [
+    ([[0, 0, 0], [1, 1, 1], [2, 2, 2], [3, 3, 3]], "zero area"),                  # collinear
+    (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]) * 1e-300, "size 1e-300"),
+    (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]) * 1e200, "size 1e\\+200"),
+])
+def test_degenerate_geometry_is_refused(vertices, message):
+    faces = [[0, 1, 2], [1, 2, 3]] if len(vertices) == 4 and message == "zero area" else [[0, 1, 2, 3]]
+    with pytest.raises(geoimg.ParametrizationError, match=message):
+        geoimg.mesh_to_image(geoimg.Mesh(vertices, faces), 9)
+
+
+def test_a_preview_png_is_not_a_geometry_image(tmp_path, capsys, small_exr):
+    img = geoimg.load_image(small_exr)
+    img.preview(tmp_path / "p.png")
+    with pytest.raises(geoimg.ImageFileError, match="integers, not coordinates"):
+        geoimg.load_image(tmp_path / "p.png")
+    assert main(["mesh", str(tmp_path / "p.png"), "-o", str(tmp_path / "p.obj")]) == 2
+    assert not (tmp_path / "p.obj").exists()
+
+
+def test_bad_view_angles_and_rates_are_refused(tmp_path, capsys, small_exr):
+    assert main(["render", str(small_exr), "-o", str(tmp_path / "r.png"), "--azimuth", "nan"]) == 2
+    assert "azimuth: expected a finite number" in capsys.readouterr().err
+    assert main(["morph", str(small_exr), str(small_exr), "-o", str(tmp_path / "m.glb"), "--fps", "inf",
+                 "--frames", "2"]) == 2
+    assert "fps" in capsys.readouterr().err and not (tmp_path / "m.glb").exists()
+
+
+def test_numpy_scalars_in_metadata_are_written(tmp_path):
+    img = geoimg.GeometryImage(np.zeros((3, 3, 3), np.float32), metadata={"x": np.float32(2), "v": np.arange(2)})
+    back = geoimg.load_image(img.save(tmp_path / "n.exr"))
+    assert back.metadata == {"x": 2.0, "v": [0, 1]}
+    with pytest.raises(geoimg.ImageError, match="metadata: cannot be written as JSON"):
+        geoimg.GeometryImage(np.zeros((3, 3, 3), np.float32), metadata={"f": object()}).save(tmp_path / "o.exr")
