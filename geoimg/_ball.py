@@ -5,6 +5,8 @@ import numpy as np
 
 from filters import positive
 
+from .errors import InputError
+
 __all__ = ["ball_weights", "checked_positive"]
 
 
@@ -25,7 +27,7 @@ def ball_weights(points, centre, radius: float, feather: float = 0.0) -> np.ndar
     p = np.asarray(points, dtype=np.float64)
     c = np.asarray(centre, dtype=np.float64)
     if c.shape != p.shape[-1:] or not np.isfinite(c).all():
-        raise ValueError(f"centre: expected {p.shape[-1]} finite coordinates, got {centre!r}")
+        raise InputError(f"centre: expected {p.shape[-1]} finite coordinates, got {centre!r}")
     radius, feather = checked_positive(radius, "radius", allow_zero=True), checked_positive(feather, "feather", allow_zero=True)
     d = np.linalg.norm(p - c, axis=-1) - radius
     if feather == 0:

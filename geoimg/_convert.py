@@ -3,7 +3,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .errors import MeshError
+from .errors import InputTypeError, MeshError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair
 from .parametrization import Parametrization, parametrize
@@ -20,7 +20,7 @@ def _load(mesh_or_path, say) -> tuple[Mesh, str]:
     if isinstance(mesh_or_path, (str, Path)):
         say(f"loading {mesh_or_path}")
         return load_mesh(mesh_or_path), Path(mesh_or_path).name
-    raise TypeError(f"mesh_or_path: expected a geoimg.Mesh or a file path, got {type(mesh_or_path).__name__}")
+    raise InputTypeError(f"mesh_or_path: expected a geoimg.Mesh or a file path, got {type(mesh_or_path).__name__}")
 
 
 def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: str = "auto", *, component="all",

@@ -20,7 +20,7 @@ from ._budget import check_memory
 from ._optional import MissingDependency, require
 from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, morph, save_animation, \
     save_frames, save_glb, save_png
-from .errors import GeoimgError
+from .errors import GeoimgError, InputError
 from .image import (grid_normals, image_curvature, image_region, load_image, load_mask, save_colormap,
                     save_normal_map, save_scalar, uv_region)
 from .mesh import MESH_FORMATS, load_mesh, save_mesh, surface_distance, topology
@@ -102,7 +102,7 @@ def _piece_number(text: str) -> int:
     try:
         return int(text)
     except ValueError:
-        raise ValueError(f"--component: expected all, largest or a piece number, got {text!r}") from None
+        raise InputError(f"--component: expected all, largest or a piece number, got {text!r}") from None
 
 
 def cmd_mesh(args) -> int:
@@ -229,11 +229,11 @@ class _Op(argparse.Action):
 
 def cmd_filter(args) -> int:
     if not getattr(args, "ops", None):
-        raise ValueError("no operation given: add e.g. --mean 5 or --sharpen 3 (see geoimg filter --help)")
+        raise InputError("no operation given: add e.g. --mean 5 or --sharpen 3 (see geoimg filter --help)")
     image = load_image(args.image)
     given = [m for m in (args.mask, args.region, args.uv_region) if m is not None]
     if len(given) > 1:
-        raise ValueError("give one of --mask, --region, --uv-region")
+        raise InputError("give one of --mask, --region, --uv-region")
     mask = None
     if args.mask is not None:
         mask = load_mask(args.mask, image.shape)
@@ -242,7 +242,7 @@ def cmd_filter(args) -> int:
     elif args.uv_region is not None:
         mask = uv_region(image.shape, args.uv_region[:2], args.uv_region[2])
     if mask is not None and not np.any(mask > 0):
-        raise ValueError("the mask selects no pixel")
+        raise InputError("the mask selects no pixel")
     out = image
     for name, values in args.ops:
         op = getattr(filters, FILTER_OPS[name][0])
@@ -304,7 +304,7 @@ def cmd_render(args) -> int:
 def cmd_morph(args) -> int:
     progress = Progress(args.quiet)
     if not (args.output or args.gif or args.mp4 or args.frames_dir):
-        raise ValueError("nothing to write: give -o OUT.glb, --gif, --mp4 or --frames-dir")
+        raise InputError("nothing to write: give -o OUT.glb, --gif, --mp4 or --frames-dir")
     # what the outputs need, checked before any work: the packages and the paths
     if args.output:
         require("pygltflib", "writing a glTF morph")
@@ -502,7 +502,7 @@ def main(argv=None) -> int:
         except (AttributeError, OSError, ValueError):
             pass
         return 0
-    except (GeoimgError, ValueError, TypeError, OSError) as e:    # OSError: missing, existing, unwritable paths
+    except (GeoimgError, OSError) as e:   # refusals, and missing, existing or unwritable paths; a bug still shows
         print(f"geoimg {args.command}: error: {e}", file=sys.stderr)
         return 2
 

@@ -23,3 +23,11 @@ class ImageFileError(GeoimgError, ValueError):
 
 class ImageError(GeoimgError, ValueError):
     """A geometry image (array, domain, mask) is malformed or does not fit its domain."""
+
+
+class InputError(GeoimgError, ValueError):
+    """An argument's value is wrong (out of range, of the wrong shape, not finite, inconsistent)."""
+
+
+class InputTypeError(GeoimgError, TypeError):
+    """An argument is of the wrong type."""

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .._atomic import atomic_path
 from .._optional import require
 from ..image import GeometryImage
@@ -91,9 +92,9 @@ def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, 
     """
     path = Path(path)
     if path.suffix.lower() != ".glb":
-        raise ValueError(f"{path}: expected a .glb name")
+        raise InputError(f"{path}: expected a .glb name")
     if not (isinstance(fps, (int, float, np.number)) and np.isfinite(fps) and fps > 0):
-        raise ValueError(f"fps: expected a positive finite number, got {fps!r}")
+        raise InputError(f"fps: expected a positive finite number, got {fps!r}")
     gl = require("pygltflib", "writing a glTF morph")
     weights, target_images = _weights(morph)
     valid = None
@@ -136,7 +137,7 @@ def save_frames(morph: Morph, folder, fmt: str = "obj", *, overwrite: bool = Fal
     """Write every frame to ``folder/frame_0000.<fmt>``: a quad mesh (obj, ply, off) or the geometry
     image (exr). Returns the paths."""
     if fmt not in FRAME_FORMATS:
-        raise ValueError(f"fmt: expected one of {FRAME_FORMATS}, got {fmt!r}")
+        raise InputError(f"fmt: expected one of {FRAME_FORMATS}, got {fmt!r}")
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     paths = []

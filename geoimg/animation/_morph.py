@@ -16,6 +16,7 @@ from scipy import ndimage, optimize
 from scipy.spatial.transform import Rotation
 
 import filters
+from ..errors import InputError, InputTypeError
 from .._convert import mesh_to_image
 from ..image import GeometryImage
 from ..mesh import Mesh
@@ -39,7 +40,7 @@ def _ease(easing):
     if callable(easing):
         return easing
     if easing not in EASINGS:
-        raise ValueError(f"easing: expected one of {tuple(EASINGS)} or a function of t in [0, 1], got {easing!r}")
+        raise InputError(f"easing: expected one of {tuple(EASINGS)} or a function of t in [0, 1], got {easing!r}")
     return EASINGS[easing]
 
 
@@ -53,7 +54,7 @@ def _as_images(shapes, resolution, progress):
             used_param.append("given image")
             continue
         if not isinstance(shape, Mesh):
-            raise TypeError(f"shapes[{k}]: expected a geoimg.Mesh or GeometryImage, got {type(shape).__name__}")
+            raise InputTypeError(f"shapes[{k}]: expected a geoimg.Mesh or GeometryImage, got {type(shape).__name__}")
         if last is not None and last[0].n_vertices == shape.n_vertices and np.array_equal(last[0].faces, shape.faces):
             param = last[1]
             used_param.append(f"shared with shape {last[2]} (same faces)")
@@ -169,7 +170,7 @@ class Morph:
     def segment(self, t: float) -> tuple[int, float]:
         """Key index ``k`` and the time ``u`` in [0, 1] between keys ``k`` and ``k + 1``."""
         if not (isinstance(t, numbers.Real) and 0 <= t <= len(self.keys) - 1):
-            raise ValueError(f"t: expected a time in [0, {len(self.keys) - 1}], got {t!r}")
+            raise InputError(f"t: expected a time in [0, {len(self.keys) - 1}], got {t!r}")
         k = min(int(math.floor(t)), len(self.keys) - 2)
         return k, float(t - k)
 
@@ -245,24 +246,24 @@ def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float 
     [0.0, 0.5, 1.0]
     """
     if len(shapes) < 2:
-        raise ValueError(f"shapes: a morph needs at least two shapes, got {len(shapes)}")
+        raise InputError(f"shapes: a morph needs at least two shapes, got {len(shapes)}")
     if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
-        raise ValueError(f"frames: expected an integer >= 2, got {frames!r}")
+        raise InputError(f"frames: expected an integer >= 2, got {frames!r}")
     ease = _ease(easing)
     if align not in ALIGNMENTS:
-        raise ValueError(f"align: expected one of {ALIGNMENTS}, got {align!r}")
+        raise InputError(f"align: expected one of {ALIGNMENTS}, got {align!r}")
     if not (isinstance(lag, numbers.Real) and 0 <= lag < 1):
-        raise ValueError(f"lag: expected a number in [0, 1), got {lag!r}")
+        raise InputError(f"lag: expected a number in [0, 1), got {lag!r}")
     images, how = _as_images(shapes, resolution, progress)
     if not all(img.domain.same_kind(images[0].domain) for img in images[1:]):
         kinds = ", ".join(f"shape {k}: {img.domain.kind}" for k, img in enumerate(images))
-        raise ValueError(f"shapes: cannot morph between domains ({kinds}); geometry images must share a "
+        raise InputError(f"shapes: cannot morph between domains ({kinds}); geometry images must share a "
                          "parametrization domain (planar with planar, spherical with spherical, and cut-open "
                          "images only with the same cut layouts, i.e. meshes with the same faces)")
     for k, img in enumerate(images[1:], start=1):
         if img.shape != images[0].shape:
             if not resample:
-                raise ValueError(f"shapes: shape {k} is {img.shape[1]} x {img.shape[0]} pixels, shape 0 is "
+                raise InputError(f"shapes: shape {k} is {img.shape[1]} x {img.shape[0]} pixels, shape 0 is "
                                  f"{images[0].shape[1]} x {images[0].shape[0]}; pass resample=True to resize it")
             px = filters.resize(img.pixels, images[0].shape, img.domain.extension)
             valid = None if img.mask is None else filters.resize(img.mask.astype(np.float64), images[0].shape) > 0.5

@@ -15,7 +15,7 @@ import numpy as np
 
 from .._atomic import atomic_path
 from .._optional import require
-from ..errors import GeoimgError
+from ..errors import GeoimgError, InputError, InputTypeError
 from ..image import GeometryImage
 from ..mesh import Mesh
 
@@ -85,10 +85,10 @@ class Camera:
     def fit(cls, lo, hi, *, azimuth: float = 30.0, elevation: float = 20.0, up: str = "y", aspect: float = 4 / 3):
         """Frame the box ``lo..hi`` from ``azimuth``, ``elevation`` (degrees) about the ``up`` axis."""
         if up not in UP_AXES:
-            raise ValueError(f"up: expected one of {UP_AXES}, got {up!r}")
+            raise InputError(f"up: expected one of {UP_AXES}, got {up!r}")
         for name, value in (("azimuth", azimuth), ("elevation", elevation)):
             if not (isinstance(value, (int, float, np.number)) and np.isfinite(value)):
-                raise ValueError(f"{name}: expected a finite number of degrees, got {value!r}")
+                raise InputError(f"{name}: expected a finite number of degrees, got {value!r}")
         lo, hi = np.asarray(lo, np.float64), np.asarray(hi, np.float64)
         centre = 0.5 * (lo + hi)
         radius = max(0.5 * float(np.linalg.norm(hi - lo)), 1e-9)
@@ -141,7 +141,7 @@ def _geometry(obj) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Vertices, triangles and per-vertex normals of a mesh or a geometry image (its quad mesh)."""
     mesh = obj.to_mesh() if isinstance(obj, GeometryImage) else obj
     if not isinstance(mesh, Mesh):
-        raise TypeError(f"expected a geoimg.Mesh or GeometryImage, got {type(obj).__name__}")
+        raise InputTypeError(f"expected a geoimg.Mesh or GeometryImage, got {type(obj).__name__}")
     tris, _ = mesh.triangulate()
     v = np.asarray(mesh.vertices, np.float64)
     n = np.asarray(mesh.normals if mesh.normals is not None else mesh.vertex_normals(), np.float64)
@@ -162,7 +162,7 @@ class Renderer:
                  background=(1.0, 1.0, 1.0), albedo=(0.78, 0.74, 0.68)):
         for name, value in (("width", width), ("height", height)):
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 8 <= value <= 8192:
-                raise ValueError(f"{name}: expected an integer from 8 to 8192, got {value!r}")
+                raise InputError(f"{name}: expected an integer from 8 to 8192, got {value!r}")
         moderngl = require("moderngl", "rendering")
         try:
             self.ctx = moderngl.create_standalone_context(backend="egl")
@@ -263,7 +263,7 @@ def save_png(rgb: np.ndarray, path, *, overwrite: bool = False) -> Path:
     iio = require("imageio.v3", "writing pictures")
     path = Path(path)
     if path.suffix.lower() != ".png":
-        raise ValueError(f"{path}: expected a .png name")
+        raise InputError(f"{path}: expected a .png name")
     with atomic_path(path, overwrite) as tmp:
         iio.imwrite(tmp, np.asarray(rgb, np.uint8), extension=".png")
     return path
@@ -276,10 +276,10 @@ def save_animation(frames, path, *, fps: float = 24.0, overwrite: bool = False) 
     path = Path(path)
     ext = path.suffix.lower()
     if not (isinstance(fps, (int, float, np.number)) and np.isfinite(fps) and fps > 0):
-        raise ValueError(f"fps: expected a positive finite number, got {fps!r}")
+        raise InputError(f"fps: expected a positive finite number, got {fps!r}")
     frames = [np.asarray(f, np.uint8) for f in frames]
     if not frames:
-        raise ValueError("frames: nothing to write")
+        raise InputError("frames: nothing to write")
     if ext == ".gif":
         with atomic_path(path, overwrite) as tmp:
             iio.imwrite(tmp, np.stack(frames), extension=".gif", duration=1000.0 / fps, loop=0)
@@ -288,5 +288,5 @@ def save_animation(frames, path, *, fps: float = 24.0, overwrite: bool = False) 
         with atomic_path(path, overwrite) as tmp:
             iio.imwrite(tmp, np.stack(frames), extension=".mp4", fps=fps, codec="libx264", macro_block_size=8)
     else:
-        raise ValueError(f"{path}: expected a .gif or .mp4 name")
+        raise InputError(f"{path}: expected a .gif or .mp4 name")
     return path

@@ -11,7 +11,7 @@ import numpy as np
 import filters
 from .._atomic import atomic_path
 from .._raster import FLOAT, UINT16, write_raster
-from ..errors import ImageError, ImageFileError
+from ..errors import GeoimgError, ImageError, ImageFileError, InputError, InputTypeError
 from ..mesh import Mesh
 from ._domain import Domain
 
@@ -71,7 +71,7 @@ class GeometryImage:
         if p.ndim != 3 or p.shape[2] != 3 or p.shape[0] < 2 or p.shape[1] < 2:
             raise ImageError(f"pixels: expected shape (H, W, 3) with H, W >= 2, got {p.shape}")
         if p.dtype not in (np.float32, np.float64):
-            raise TypeError(f"pixels: expected float32 or float64, got {p.dtype}")
+            raise InputTypeError(f"pixels: expected float32 or float64, got {p.dtype}")
         if not np.isfinite(p).all():
             raise ImageError("pixels: contain NaN or infinite values")
         p = p.copy()
@@ -82,7 +82,7 @@ class GeometryImage:
             if m.shape != p.shape[:2]:
                 raise ImageError(f"mask: expected shape {p.shape[:2]}, got {m.shape}")
             if m.dtype != bool:
-                raise TypeError(f"mask: expected a boolean array, got {m.dtype}")
+                raise InputTypeError(f"mask: expected a boolean array, got {m.dtype}")
             m = m.copy()
             m.setflags(write=False)
             object.__setattr__(self, "mask", m)
@@ -98,7 +98,7 @@ class GeometryImage:
         if isinstance(domain, str):
             domain = Domain.from_metadata(domain, meta)
         elif not isinstance(domain, Domain):
-            raise TypeError(f"domain: expected a geoimg Domain or a kind name, got {type(domain).__name__}")
+            raise InputTypeError(f"domain: expected a geoimg Domain or a kind name, got {type(domain).__name__}")
         own = domain.to_metadata()
         for key in Domain.METADATA_KEYS:       # the domain's own fields live in the domain
             if key in meta and meta.pop(key) != own[key]:
@@ -189,6 +189,16 @@ class GeometryImage:
         >>> bool(np.array_equal(out.pixels[0, 1], out.pixels[0, 3]))     # glued pixels agree
         True
         """
+        try:
+            return self._apply(op, args, pad, kwargs)
+        except GeoimgError:
+            raise
+        except (ValueError, TypeError) as e:
+            if _boundary_aware(op) is None and not _raised_by_filters(e):
+                raise                                   # another library's error: as it is
+            raise InputError(f"{getattr(op, '__name__', 'op')}: {e}") from None
+
+    def _apply(self, op, args, pad, kwargs) -> "GeometryImage":
         params = _boundary_aware(op)
         direct = params is not None and self.domain.boundary is not None    # a filters function, given mode=
         width = 0
@@ -294,7 +304,18 @@ def _plain(value):
     """numpy scalars and arrays in metadata as plain numbers and lists."""
     if isinstance(value, (np.generic, np.ndarray)):
         return value.tolist()
-    raise TypeError(f"a {type(value).__name__} is not a number, string, list or dict")
+    raise InputTypeError(f"a {type(value).__name__} is not a number, string, list or dict")
+
+
+def _raised_by_filters(error: BaseException) -> bool:
+    """Whether an exception comes from the filters package (its argument checks)."""
+    tb = error.__traceback__
+    while tb is not None:
+        module = tb.tb_frame.f_globals.get("__name__", "")
+        if module == "filters" or module.startswith("filters."):
+            return True
+        tb = tb.tb_next
+    return False
 
 
 def _suffixed(path, suffix: str, message: str) -> Path:

@@ -10,7 +10,7 @@ import numpy as np
 
 from .._atomic import atomic_path
 from .._raster import FLOAT, UINT8, is_float_raster, read_raster, write_raster
-from ..errors import ImageFileError
+from ..errors import ImageFileError, InputError, InputTypeError
 from ._domain import Domain
 from ._image import GeometryImage
 
@@ -41,7 +41,7 @@ def save_image(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
     True
     """
     if not isinstance(image, GeometryImage):
-        raise TypeError(f"image: expected a GeometryImage, got {type(image).__name__}")
+        raise InputTypeError(f"image: expected a GeometryImage, got {type(image).__name__}")
     return image.save(path, overwrite=overwrite)
 
 
@@ -97,7 +97,7 @@ def save_scalar(values: np.ndarray, path, name: str = "Y", *, overwrite: bool = 
         raise ImageFileError(f"{path}: scalar maps are written as OpenEXR; use a .exr name")
     a = np.asarray(values, np.float32)
     if a.ndim != 2:
-        raise ValueError(f"values: expected shape (H, W), got {a.shape}")
+        raise InputError(f"values: expected shape (H, W), got {a.shape}")
     with atomic_path(path, overwrite) as tmp:
         write_raster(tmp, a[..., None], [name], FLOAT)
     return path

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .._raster import read_raster
 from .._ball import ball_weights
 from ._image import GeometryImage
@@ -51,11 +52,11 @@ def load_mask(path, shape) -> np.ndarray:
     path = Path(path)
     data, _, _ = read_raster(path, what="mask image")
     if data.shape[:2] != tuple(shape):
-        raise ValueError(f"mask: {path} is {data.shape[1]} x {data.shape[0]} pixels; the geometry image is "
+        raise InputError(f"mask: {path} is {data.shape[1]} x {data.shape[0]} pixels; the geometry image is "
                          f"{shape[1]} x {shape[0]}")
     w = data[..., 0].astype(np.float64)
     if not np.isfinite(w).all() or w.min() < 0 or w.max() > 1:
-        raise ValueError(f"mask: {path}: values must lie in [0, 1]")
+        raise InputError(f"mask: {path}: values must lie in [0, 1]")
     return w
 
 

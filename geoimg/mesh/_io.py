@@ -14,7 +14,7 @@ import numpy as np
 import trimesh
 
 from .._atomic import atomic_path
-from ..errors import MeshError, MeshFileError
+from ..errors import InputTypeError, MeshError, MeshFileError
 from ._mesh import Mesh, pad_faces
 
 __all__ = ["load_mesh", "save_mesh", "MESH_FORMATS"]
@@ -95,7 +95,7 @@ def save_mesh(mesh: Mesh, path, *, overwrite: bool = False) -> Path:
     [[0, 1, 2, 3]]
     """
     if not isinstance(mesh, Mesh):
-        raise TypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
+        raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
     path = Path(path)
     ext = path.suffix.lower()
     writers = {".obj": _write_obj, ".off": _write_off, ".ply": _write_ply, ".stl": _write_trimesh, ".glb": _write_trimesh}

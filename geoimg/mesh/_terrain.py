@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import InputError
 from .._raster import read_raster
 from ._mesh import Mesh
 
@@ -32,12 +33,12 @@ def grid_mesh(heights, spacing=(1.0, 1.0)) -> Mesh:
     """
     h = np.asarray(heights, dtype=np.float64)
     if h.ndim != 2 or min(h.shape) < 2:
-        raise ValueError(f"heights: expected a 2-D grid of at least 2 x 2, got shape {h.shape}")
+        raise InputError(f"heights: expected a 2-D grid of at least 2 x 2, got shape {h.shape}")
     if not np.isfinite(h).all():
-        raise ValueError("heights: contains NaN or infinite values (fill or crop no-data cells first)")
+        raise InputError("heights: contains NaN or infinite values (fill or crop no-data cells first)")
     dx, dy = (float(x) for x in spacing)
     if not (dx > 0 and dy > 0):
-        raise ValueError(f"spacing: expected two positive numbers, got {spacing!r}")
+        raise InputError(f"spacing: expected two positive numbers, got {spacing!r}")
     H, W = h.shape
     cols, rows = np.meshgrid(np.arange(W), np.arange(H))
     vertices = np.stack([cols.ravel() * dx, -rows.ravel() * dy, h.ravel()], axis=1)

@@ -7,6 +7,7 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse.csgraph import connected_components
 
+from ..errors import InputError
 from ._mesh import Mesh
 
 __all__ = ["Topology", "topology", "boundary_loops", "corner_fans"]
@@ -152,7 +153,7 @@ def boundary_loops(mesh: Mesh) -> list[np.ndarray]:
     nxt = {}
     for s, t in zip(a[on_bnd].tolist(), b[on_bnd].tolist()):
         if s in nxt:
-            raise ValueError("boundary_loops: a vertex starts two boundary edges (the boundary is not manifold)")
+            raise InputError("boundary_loops: a vertex starts two boundary edges (the boundary is not manifold)")
         nxt[s] = t
     loops, seen = [], set()
     for start in sorted(nxt):
@@ -164,6 +165,6 @@ def boundary_loops(mesh: Mesh) -> list[np.ndarray]:
             loop.append(v)
             v = nxt.get(v)
             if v is None:
-                raise ValueError("boundary_loops: a boundary edge leads nowhere (inconsistent face orientation)")
+                raise InputError("boundary_loops: a boundary edge leads nowhere (inconsistent face orientation)")
         loops.append(np.array(loop, np.int64))
     return loops

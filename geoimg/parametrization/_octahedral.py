@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = ["square_to_sphere", "sphere_to_square", "check_size", "weld_index", "area_ratio", "grid_directions",
            "square_jacobian", "glued_groups", "group_means", "average_glued"]
 
@@ -111,7 +113,7 @@ def check_size(n) -> int:
     """Validate the side of an octahedral image: an odd integer >= 3 (so glued pixels pair up)."""
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 3 or n % 2 == 0:
         hint = f" (for example {int(n) + 1})" if isinstance(n, (int, np.integer)) and n >= 2 and n % 2 == 0 else ""
-        raise ValueError(f"resolution: an octahedral image needs an odd side >= 3, so that the glued boundary "
+        raise InputError(f"resolution: an octahedral image needs an odd side >= 3, so that the glued boundary "
                          f"pixels pair up exactly{hint}; got {n!r}")
     return int(n)
 

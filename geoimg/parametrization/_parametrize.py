@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial import ConvexHull
 
-from ..errors import ParametrizationError
+from ..errors import InputTypeError, ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._cut import cut_coords
 from ._disk import disk_coords
@@ -179,7 +179,7 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
     ((1.0, 0.5), 0)
     """
     if not isinstance(mesh, Mesh):
-        raise TypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
+        raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
     _check_area(mesh)
     if method == "auto":
         return _auto(mesh, axis, boundary, progress)

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import sparse
 
-from ..errors import ParametrizationError
+from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh, topology
 from ._balance_kernels import balance_energy, balance_gradient
 from ._laplacian import factor_symmetric, corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
@@ -343,9 +343,9 @@ def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAU
     """
     _check_sphere(mesh)
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
-        raise ValueError(f"steps: expected an integer >= 0, got {steps!r}")
+        raise InputError(f"steps: expected an integer >= 0, got {steps!r}")
     if not (isinstance(beta, (int, float, np.number)) and np.isfinite(beta) and beta >= 0):
-        raise ValueError(f"beta: expected a number >= 0, got {beta!r}")
+        raise InputError(f"beta: expected a number >= 0, got {beta!r}")
     x = mesh.vertices
     tris, _ = mesh.triangulate()
     used = mesh.referenced_vertices()

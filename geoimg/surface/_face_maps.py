@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import sparse
 
-from ..errors import ParametrizationError
+from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh
 from ..parametrization import signed_face_areas
 
@@ -121,7 +121,7 @@ def face_maps(mesh: Mesh, coords: np.ndarray, *, sliver_rule: str = "robust") ->
     ([[1.0, 0.0, 2.0]], [[0.0, 1.0, 3.0]])
     """
     if sliver_rule not in SLIVER_RULES:
-        raise ValueError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
+        raise InputError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
     f, k = mesh.faces, mesh.face_sizes
     valid = f >= 0
     idx = np.where(valid, f, f[:, :1])

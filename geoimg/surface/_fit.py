@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError, InputTypeError
 from ..image import Domain
 from ..mesh import Mesh
 from ..parametrization import Parametrization
@@ -24,7 +25,7 @@ S_RANGE = (1e-3, 1e3)     # sigma = s d: beyond these the Gaussians are a face's
 def _check_s_range(values: np.ndarray) -> None:
     lo, hi = float(np.min(values)), float(np.max(values))
     if lo < S_RANGE[0] or hi > S_RANGE[1]:
-        raise ValueError(f"s: expected values from {S_RANGE[0]:g} to {S_RANGE[1]:g} (sigma = s d_i; outside that "
+        raise InputError(f"s: expected values from {S_RANGE[0]:g} to {S_RANGE[1]:g} (sigma = s d_i; outside that "
                          f"range the weights under- or overflow), got {lo:g}" + (f" to {hi:g}" if hi != lo else ""))
 
 
@@ -37,15 +38,15 @@ def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None, object]:
         return float(s.min), None, s
     if isinstance(s, (int, float, np.number)) and not isinstance(s, bool):
         if not (np.isfinite(s) and s > 0):
-            raise ValueError(f"s: expected a positive finite number, got {s!r}")
+            raise InputError(f"s: expected a positive finite number, got {s!r}")
         _check_s_range(np.array([s], np.float64))
         return float(s), None, None
     arr = np.asarray(s) if not isinstance(s, (str, bytes, bool)) else np.asarray([])
     if arr.dtype == object or not np.issubdtype(arr.dtype, np.number) or arr.shape != (n_faces,):
-        raise ValueError(f"s: expected a positive number or {n_faces} per-face values, got {s!r:.80}")
+        raise InputError(f"s: expected a positive number or {n_faces} per-face values, got {s!r:.80}")
     arr = arr.astype(np.float64)
     if not (np.isfinite(arr).all() and (arr > 0).all()):
-        raise ValueError("s: per-face values must be positive and finite")
+        raise InputError("s: per-face values must be positive and finite")
     _check_s_range(arr)
     return float(arr.min()), arr, None
 
@@ -56,12 +57,12 @@ def _parametrized_mesh(mesh: Mesh, param: Parametrization) -> Mesh:
     pose of the same shape, can share the parametrization)."""
     if param.mesh is None:
         if param.coords.shape[0] != mesh.n_vertices:
-            raise ValueError(f"param: has {param.coords.shape[0]} points but the mesh has {mesh.n_vertices} vertices")
+            raise InputError(f"param: has {param.coords.shape[0]} points but the mesh has {mesh.n_vertices} vertices")
         return mesh
     src, w, made = param.source, param.source_weight, param.mesh
     if src is None or w is None or src.shape != (made.n_vertices, 2) or w.shape != (made.n_vertices,) or \
             src.min() < 0 or src.max() >= mesh.n_vertices:
-        raise ValueError(f"param: its cut-open mesh refers to vertices the mesh ({mesh.n_vertices} vertices) does "
+        raise InputError(f"param: its cut-open mesh refers to vertices the mesh ({mesh.n_vertices} vertices) does "
                          "not have: it was made for another mesh")
     return Mesh((1 - w)[:, None] * mesh.vertices[src[:, 0]] + w[:, None] * mesh.vertices[src[:, 1]], made.faces)
 
@@ -112,19 +113,19 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
     (1, 3)
     """
     if not isinstance(mesh, Mesh):
-        raise TypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
+        raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
     if not isinstance(param, Parametrization):
-        raise TypeError(f"param: expected a geoimg.Parametrization, got {type(param).__name__}")
+        raise InputTypeError(f"param: expected a geoimg.Parametrization, got {type(param).__name__}")
     mesh = _parametrized_mesh(mesh, param)
     if weights not in WEIGHTS:
-        raise ValueError(f"weights: expected one of {WEIGHTS}, got {weights!r}")
+        raise InputError(f"weights: expected one of {WEIGHTS}, got {weights!r}")
     s, s_face, s_map = _smoothness(s, mesh.n_faces)
     if not (isinstance(tol, (int, float, np.number)) and 0 <= tol < 1):
-        raise ValueError(f"tol: expected a number in [0, 1), got {tol!r}")
+        raise InputError(f"tol: expected a number in [0, 1), got {tol!r}")
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
-        raise ValueError(f"n: expected an integer >= 2, got {n!r}")
+        raise InputError(f"n: expected an integer >= 2, got {n!r}")
     if sliver_rule not in SLIVER_RULES:
-        raise ValueError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
+        raise InputError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
     domain = Domain.from_metadata(param.domain, {"extent": param.extent, **param.domain_fields,
                                                  "orientation": int(param.info.get("orientation", 1))})
     fit = _FITTERS[domain.parameter_dim]

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..errors import InputError
 from ..image import Domain
 from ..mesh import Mesh
 from . import _kernels as kernels
@@ -70,9 +71,9 @@ class PlanarSurface(Surface):
     def _points(self, uv, exact):
         pts = np.asarray(uv, dtype=np.float64)
         if pts.ndim != 2 or pts.shape[1] != 2:
-            raise ValueError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
+            raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
         if not np.isfinite(pts).all():
-            raise ValueError("uv: contains NaN or infinite values")
+            raise InputError("uv: contains NaN or infinite values")
         kind = kernels.GAUSSIAN if self.weights == "gaussian" else kernels.LOCAL
         fm = self.faces
         factor = None

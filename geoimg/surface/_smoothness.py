@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import InputError
 from .._ball import ball_weights, checked_positive
 from ..mesh import Mesh
 
@@ -52,7 +53,7 @@ class SmoothnessMap:
     def __init__(self, centre, radius: float, inside: float, outside: float, feather: float):
         self.centre = np.asarray(centre, np.float64)
         if self.centre.shape != (2,) or not np.isfinite(self.centre).all():
-            raise ValueError(f"centre: expected (u, v), got {centre!r}")
+            raise InputError(f"centre: expected (u, v), got {centre!r}")
         self.radius = checked_positive(radius, "radius", allow_zero=True)
         self.feather = checked_positive(feather, "feather")
         self.inside, self.outside = checked_positive(inside, "inside"), checked_positive(outside, "outside")

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ParametrizationError
+from ..errors import InputError, ParametrizationError
 from ..image import Domain
 from ..mesh import Mesh
 from ..parametrization import square_jacobian, square_to_sphere
@@ -120,7 +120,7 @@ class SphereSurface(Surface):
         directions ``q`` (k, 3). Returns ``P, P_t1, P_t2, t1, t2, status``."""
         q = np.asarray(q, dtype=np.float64)
         if q.ndim != 2 or q.shape[1] != 3 or not np.isfinite(q).all():
-            raise ValueError(f"q: expected finite directions of shape (k, 3), got {q.shape}")
+            raise InputError(f"q: expected finite directions of shape (k, 3), got {q.shape}")
         q = q / np.linalg.norm(q, axis=1, keepdims=True)
         t1, t2 = _tangent_frame(q)
         P, P1, P2, st = sphere_kernels.evaluate_sphere(q, t1, t2, self._faces, self._cells, log_g_ref=self.log_g_ref,
@@ -130,9 +130,9 @@ class SphereSurface(Surface):
     def _uv(self, uv):
         pts = np.asarray(uv, dtype=np.float64)
         if pts.ndim != 2 or pts.shape[1] != 2:
-            raise ValueError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
+            raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
         if not np.isfinite(pts).all() or pts.min() < 0 or pts.max() > 1:
-            raise ValueError("uv: octahedral image coordinates must lie in [0, 1]")
+            raise InputError("uv: octahedral image coordinates must lie in [0, 1]")
         return pts
 
     def evaluate(self, uv, *, exact: bool = False) -> np.ndarray:
@@ -179,10 +179,10 @@ def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float,
     """Fit the surface to a mesh whose vertices have unit vectors ``coords`` (called by ``fit_surface``,
     which has checked the settings); ``s`` the smallest of ``s_face`` when that is given."""
     if s_map is not None:
-        raise ValueError("s: a smoothness map s(u, v) is for planar parametrizations; on the sphere give one s "
+        raise InputError("s: a smoothness map s(u, v) is for planar parametrizations; on the sphere give one s "
                          "per face (geoimg.surface.smoothness_field)")
     if weights != "gaussian":
-        raise ValueError("weights: the octahedral (spherical) domain supports only 'gaussian' weights")
+        raise InputError("weights: the octahedral (spherical) domain supports only 'gaussian' weights")
     s = s if s_face is None else s_face
     fm = _sphere_face_maps(mesh, coords, sliver_rule)
     if fm.n_degenerate:
