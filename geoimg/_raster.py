@@ -17,18 +17,38 @@ __all__ = ["read_raster", "write_raster", "is_float_raster", "FLOAT", "UINT16", 
 FLOAT, UINT16, UINT8 = oiio.FLOAT, oiio.UINT16, oiio.UINT8
 
 
+def _error(source) -> str:
+    """OpenImageIO's last error message (of the library or of one file), whatever bytes it holds."""
+    try:
+        return source.geterror()
+    except UnicodeDecodeError:
+        return "an error message that is not valid UTF-8"
+
+
+def _oiio_name(path) -> str:
+    """The path as OpenImageIO takes it: text that is valid UTF-8."""
+    name = str(path)
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ImageFileError(f"{name.encode('utf-8', 'backslashreplace').decode()}: the file name is not valid "
+                             "UTF-8, which OpenImageIO needs; rename the file") from None
+    return name
+
+
 def write_raster(path: Path, data: np.ndarray, names, fmt, attributes=()) -> None:
     """Write ``data`` (H, W, C) to ``path`` with channel ``names``, pixel format ``fmt`` (``FLOAT``,
     ``UINT16``, ``UINT8``) and ``(name, value)`` attributes; the format follows the file name."""
+    path = _oiio_name(path)
     out = oiio.ImageOutput.create(str(path))
     if out is None:
-        raise ImageFileError(f"{path}: OpenImageIO cannot write this format ({oiio.geterror()})")
+        raise ImageFileError(f"{path}: OpenImageIO cannot write this format ({_error(oiio)})")
     spec = oiio.ImageSpec(data.shape[1], data.shape[0], data.shape[2], fmt)
     spec.channelnames = tuple(names)
     for key, value in attributes:
         spec.attribute(key, value)
     if not out.open(str(path), spec) or not out.write_image(np.ascontiguousarray(data)):
-        msg = out.geterror()
+        msg = _error(out)
         out.close()
         raise ImageFileError(f"{path}: writing failed ({msg})")
     out.close()
@@ -36,9 +56,9 @@ def write_raster(path: Path, data: np.ndarray, names, fmt, attributes=()) -> Non
 
 def is_float_raster(path) -> bool:
     """Whether an image file stores floating-point pixels (EXR, float TIFF), not integers (PNG, JPEG)."""
-    inp = oiio.ImageInput.open(str(path))
+    inp = oiio.ImageInput.open(_oiio_name(path))
     if inp is None:
-        raise ImageFileError(f"{path}: cannot be read as an image ({oiio.geterror()})")
+        raise ImageFileError(f"{path}: cannot be read as an image ({_error(oiio)})")
     try:
         return inp.spec().format.basetype in (oiio.FLOAT, oiio.HALF, oiio.DOUBLE)
     finally:
@@ -59,14 +79,14 @@ def read_raster(path, attributes=(), what: str = "image"):
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no {what} file at {path}")
-    inp = oiio.ImageInput.open(str(path))
+    inp = oiio.ImageInput.open(_oiio_name(path))
     if inp is None:
-        raise ImageFileError(f"{path}: cannot be read as an image ({oiio.geterror()})")
+        raise ImageFileError(f"{path}: cannot be read as an image ({_error(oiio)})")
     try:
         spec = inp.spec()
         data = inp.read_image(oiio.FLOAT)
         if data is None:
-            raise ImageFileError(f"{path}: pixel data could not be read ({inp.geterror()})")
+            raise ImageFileError(f"{path}: pixel data could not be read ({_error(inp)})")
         names = list(spec.channelnames)
         values = [spec.getattribute(a) for a in attributes]
     finally:

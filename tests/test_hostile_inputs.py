@@ -1,8 +1,12 @@
 """Hostile and odd inputs beyond the file readers (those are in tests/mesh/test_hostile_files.py): absurd
 sizes refused with an estimate before any work, degenerate geometry and implausible images refused, bad
 numbers refused, each in one line; metadata of numpy scalars written."""
+import os
+
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import filters
 import geoimg
@@ -95,3 +99,54 @@ def test_numpy_scalars_in_metadata_are_written(tmp_path):
     assert back.metadata == {"x": 2.0, "v": [0, 1]}
     with pytest.raises(geoimg.ImageError, match="metadata: cannot be written as JSON"):
         geoimg.GeometryImage(np.zeros((3, 3, 3), np.float32), metadata={"f": object()}).save(tmp_path / "o.exr")
+
+
+def test_an_all_masked_image_is_refused():
+    with pytest.raises(geoimg.ImageError, match="selects no pixel"):
+        geoimg.GeometryImage(np.zeros((3, 3, 3), np.float32), np.zeros((3, 3), bool))
+
+
+def test_a_file_name_that_is_not_utf8_is_one_line(tmp_path, capsys, small_exr):
+    import os
+    name = os.fsdecode(os.path.join(os.fsencode(str(tmp_path)), b"bad\xff.exr"))
+    with open(name, "wb") as fh:
+        fh.write(small_exr.read_bytes())
+    assert main(["info", name]) == 2
+    err = capsys.readouterr().err
+    assert "not valid UTF-8" in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("meta, message", [
+    ('{"domain": "planar", "orientation": Infinity}', "orientation"),
+    ('{"domain": "planar", "extent": [1.0]}', "extent"),
+    ('{"domain": "planar", "extent": [1.0, 0.0]}', "extent"),
+    ('[1, 2]', "not a JSON object"),
+    ('{"domain": "cut", "segments": [[0, 3, 0]]}', "segments"),
+])
+def test_exr_metadata_that_lies_is_one_line(tmp_path, meta, message):
+    import OpenImageIO as oiio
+    path = tmp_path / "lie.exr"
+    out = oiio.ImageOutput.create(str(path))
+    spec = oiio.ImageSpec(5, 5, 3, oiio.FLOAT)
+    spec.channelnames = ("R", "G", "B")
+    spec.attribute("geoimg:metadata", meta)
+    spec.attribute("geoimg:domain", "cut" if '"cut"' in meta else "planar")
+    out.open(str(path), spec)
+    out.write_image(np.zeros((5, 5, 3), np.float32))
+    out.close()
+    with pytest.raises(geoimg.GeoimgError, match=message):
+        geoimg.load_image(path)
+
+
+@settings(max_examples=int(os.environ.get("GEOIMG_FUZZ_EXAMPLES", 30)), deadline=5000,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(cut=st.floats(0.0, 1.0), at=st.integers(0, 4000), value=st.integers(0, 255))
+def test_damaged_geometry_images_are_read_or_refused(tmp_path, small_exr, cut, at, value):
+    data = bytearray(small_exr.read_bytes())
+    data[min(at, len(data) - 1)] = value
+    path = tmp_path / "damaged.exr"
+    path.write_bytes(bytes(data[:max(1, int(len(data) * cut))]))
+    try:
+        geoimg.load_image(path)
+    except geoimg.GeoimgError:
+        pass

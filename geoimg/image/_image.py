@@ -83,6 +83,8 @@ class GeometryImage:
                 raise ImageError(f"mask: expected shape {p.shape[:2]}, got {m.shape}")
             if m.dtype != bool:
                 raise InputTypeError(f"mask: expected a boolean array, got {m.dtype}")
+            if not m.any():
+                raise ImageError("mask: selects no pixel; an image without valid pixels holds no surface")
             m = m.copy()
             m.setflags(write=False)
             object.__setattr__(self, "mask", m)
