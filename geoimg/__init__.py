@@ -12,7 +12,8 @@ surface) -> :mod:`geoimg.image` (geometry images, their domains, files, regions)
 >>> image.domain.kind, image.to_mesh().n_faces
 ('planar', 49)
 """
-from .errors import GeoimgError, ImageError, ImageFileError, MeshError, MeshFileError, ParametrizationError
+from .errors import (GeoimgError, ImageError, ImageFileError, InputError, InputTypeError, MeshError, MeshFileError,
+                     ParametrizationError)
 from .mesh import Mesh, grid_mesh, load_mesh, save_mesh
 from .parametrization import Parametrization, parametrize
 from .image import (CutDomain, Domain, GeometryImage, OctahedralDomain, PlanarDomain, grid_normals, load_image, save_image,
@@ -23,7 +24,8 @@ from ._convert import mesh_to_image, mesh_to_images
 __version__ = "0.1.0"
 
 __all__ = [
-    "GeoimgError", "ImageError", "ImageFileError", "MeshError", "MeshFileError", "ParametrizationError",
+    "GeoimgError", "ImageError", "ImageFileError", "InputError", "InputTypeError", "MeshError", "MeshFileError",
+    "ParametrizationError",
     "Mesh", "grid_mesh", "load_mesh", "save_mesh", "Parametrization", "parametrize",
     "CutDomain", "Domain", "GeometryImage", "OctahedralDomain", "PlanarDomain", "grid_normals", "load_image", "save_image",
     "save_preview", "Surface", "fit_surface", "mesh_to_image", "mesh_to_images",

@@ -18,8 +18,8 @@ from ._convert import COMPONENT_CHOICES, mesh_to_image, mesh_to_images
 from ._atomic import check_writable, write_all
 from ._budget import check_memory
 from ._optional import MissingDependency, require
-from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, morph, save_animation, \
-    save_frames, save_glb, save_png
+from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, frame_jobs, morph, \
+    save_animation, save_glb, save_png
 from .errors import GeoimgError, InputError
 from .image import (grid_normals, image_curvature, image_region, load_image, load_mask, save_colormap,
                     save_normal_map, save_scalar, uv_region)
@@ -334,10 +334,11 @@ def cmd_morph(args) -> int:
     if args.output:
         jobs.append((args.output, lambda tmp: save_glb(m, tmp, fps=args.fps, overwrite=True)))
     written = []
-    if args.frames_dir:
+    if args.frames_dir:                               # written with the rest: all or none
+        Path(args.frames_dir).mkdir(parents=True, exist_ok=True)
+        jobs += frame_jobs(m, args.frames_dir, args.frame_format, ProgressBar(f"{args.frame_format} frames",
+                                                                             args.quiet))
         written.append(Path(args.frames_dir))
-        save_frames(m, args.frames_dir, args.frame_format, overwrite=args.force,
-                    progress=ProgressBar(f"{args.frame_format} frames", args.quiet))
     animations = [path for path in (args.gif, args.mp4) if path]
     if animations:                                   # rendered once, written in each format asked for
         with Renderer(args.width, args.height) as r:
@@ -349,7 +350,9 @@ def cmd_morph(args) -> int:
                 bar(i + 1, len(m))
         for path in animations:
             jobs.append((path, lambda tmp: save_animation(pictures, tmp, fps=args.fps, overwrite=True)))
-    written = write_all(jobs, overwrite=args.force) + written
+    done = write_all(jobs, overwrite=args.force)
+    frames_dir = Path(args.frames_dir) if args.frames_dir else None
+    written = [p for p in done if p.parent != frames_dir] + written       # the frames: their folder, once
     if not args.quiet:
         print(f"morph of {len(m.keys)} shapes, {len(m)} frames ({args.easing})")
         for entry in m.report[1:]:

@@ -9,8 +9,8 @@ sequences and headless pictures (GIF, MP4). Writing GLB files and pictures needs
 [0.0, 0.5, 1.0]
 """
 from ._morph import ALIGNMENTS, EASINGS, Morph, morph
-from ._gltf import FRAME_FORMATS, save_frames, save_glb
+from ._gltf import FRAME_FORMATS, frame_jobs, save_frames, save_glb
 from ._render import UP_AXES, Camera, RenderError, Renderer, render, save_animation, save_png
 
-__all__ = ["ALIGNMENTS", "EASINGS", "Morph", "morph", "FRAME_FORMATS", "save_frames", "save_glb", "UP_AXES",
+__all__ = ["ALIGNMENTS", "EASINGS", "Morph", "morph", "FRAME_FORMATS", "frame_jobs", "save_frames", "save_glb", "UP_AXES",
            "Camera", "RenderError", "Renderer", "render", "save_animation", "save_png"]

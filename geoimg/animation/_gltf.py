@@ -12,13 +12,13 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .._atomic import atomic_path
+from .._atomic import atomic_path, write_all
 from .._optional import require
 from ..image import GeometryImage
 from ..mesh import save_mesh
 from ._morph import Morph
 
-__all__ = ["save_glb", "save_frames", "FRAME_FORMATS"]
+__all__ = ["save_glb", "save_frames", "frame_jobs", "FRAME_FORMATS"]
 
 FRAME_FORMATS = ("obj", "ply", "off", "exr")
 
@@ -133,18 +133,30 @@ def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, 
     return path
 
 
-def save_frames(morph: Morph, folder, fmt: str = "obj", *, overwrite: bool = False, progress=None) -> list[Path]:
-    """Write every frame to ``folder/frame_0000.<fmt>``: a quad mesh (obj, ply, off) or the geometry
-    image (exr). Returns the paths."""
+def frame_jobs(morph: Morph, folder, fmt: str = "obj", progress=None) -> list:
+    """``(path, write)`` for every frame file ``folder/frame_0000.<fmt>`` (see :func:`save_frames`), for
+    :func:`geoimg._atomic.write_all`; each frame is made when it is written."""
     if fmt not in FRAME_FORMATS:
         raise InputError(f"fmt: expected one of {FRAME_FORMATS}, got {fmt!r}")
     folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for i, frame in enumerate(morph.frames()):
-        p = folder / f"frame_{i:04d}.{fmt}"
-        paths.append(frame.save(p, overwrite=overwrite) if fmt == "exr" else save_mesh(frame.to_mesh(), p,
-                                                                                     overwrite=overwrite))
-        if progress:
-            progress(i + 1, len(morph))
-    return paths
+
+    def writer(i: int):
+        def write(tmp):
+            frame = morph.frame(float(morph.times[i]))
+            if fmt == "exr":
+                frame.save(tmp, overwrite=True)
+            else:
+                save_mesh(frame.to_mesh(), tmp, overwrite=True)
+            if progress:
+                progress(i + 1, len(morph))
+        return write
+
+    return [(folder / f"frame_{i:04d}.{fmt}", writer(i)) for i in range(len(morph))]
+
+
+def save_frames(morph: Morph, folder, fmt: str = "obj", *, overwrite: bool = False, progress=None) -> list[Path]:
+    """Write every frame to ``folder/frame_0000.<fmt>``: a quad mesh (obj, ply, off) or the geometry
+    image (exr); all of them or, on any failure, none. Returns the paths."""
+    jobs = frame_jobs(morph, folder, fmt, progress)
+    Path(folder).mkdir(parents=True, exist_ok=True)
+    return write_all(jobs, overwrite=overwrite)

@@ -33,6 +33,7 @@ EASINGS = {
 }
 ALIGNMENTS = ("similarity", "centre", "none")
 DEFAULT_RESOLUTION = 129
+MAX_FRAMES = 100_000      # over an hour at 24 frames a second
 _PAD = 16
 
 
@@ -247,8 +248,8 @@ def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float 
     """
     if len(shapes) < 2:
         raise InputError(f"shapes: a morph needs at least two shapes, got {len(shapes)}")
-    if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < 2:
-        raise InputError(f"frames: expected an integer >= 2, got {frames!r}")
+    if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or not 2 <= frames <= MAX_FRAMES:
+        raise InputError(f"frames: expected an integer from 2 to {MAX_FRAMES}, got {frames!r}")
     ease = _ease(easing)
     if align not in ALIGNMENTS:
         raise InputError(f"align: expected one of {ALIGNMENTS}, got {align!r}")

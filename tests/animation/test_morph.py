@@ -199,3 +199,15 @@ def test_render_and_morph_commands(tmp_path, capsys, renderer):
     assert "nothing to write" in capsys.readouterr().err
     assert main(["morph", a, str(MOUNTAIN), "-o", str(tmp_path / "x.glb")]) == 2
     assert "cannot morph between domains" in capsys.readouterr().err
+
+
+def test_frame_files_are_written_all_or_none(tmp_path):
+    a = geoimg.GeometryImage(np.zeros((3, 3, 3), np.float32))
+    m = morph(a, geoimg.GeometryImage(np.ones((3, 3, 3), np.float32)), frames=4, align="none")
+    (tmp_path / "frame_0002.obj").write_text("mine")
+    with pytest.raises(FileExistsError, match="frame_0002.obj exists"):
+        save_frames(m, tmp_path, "obj")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frame_0002.obj"]
+    assert len(save_frames(m, tmp_path / "f", "ply")) == 4
+    with pytest.raises(geoimg.InputError, match="frames: expected an integer from 2 to 100000"):
+        morph(a, a, frames=100_000_000)
