@@ -150,3 +150,19 @@ def test_damaged_geometry_images_are_read_or_refused(tmp_path, small_exr, cut, a
         geoimg.load_image(path)
     except geoimg.GeoimgError:
         pass
+
+
+@pytest.mark.parametrize("faces", [[[0, 1, 2], [0, 2, 3], [0, 0, 1]],                 # a repeated vertex
+                                   [[0, 4, 2], [4, 1, 2], [0, 2, 3], [0, 4, 1]]])     # corners on a line
+def test_faces_of_zero_area_are_left_out_with_a_warning(faces):
+    v = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0, 0]]
+    with pytest.warns(UserWarning, match="left out 1 faces of zero area"):
+        images = geoimg.mesh_to_images(geoimg.Mesh(v, faces), 9)
+    assert len(images) == 1 and images[0].domain.kind == "planar"
+
+
+def test_an_impossible_path_is_one_line(tmp_path, capsys):
+    # (a folder without write permission cannot be shown here: the tests run as root, who writes anywhere)
+    assert main(["image", str(MOUNTAIN), "-o", str(tmp_path / ("n" * 300 + ".exr")), "--res", "9"]) == 2
+    err = capsys.readouterr().err
+    assert "File name too long" in err and len(err.strip().splitlines()) == 1

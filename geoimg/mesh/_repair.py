@@ -1,5 +1,6 @@
 """Repairs that make a mesh a set of manifold, consistently oriented pieces, each reported, never silent.
 
+- Faces of zero area (a repeated vertex, corners on a line) are left out.
 - A pinch vertex (faces meeting there in two or more separate fans) becomes one vertex per fan.
 - An edge shared by more than two faces is separated: the faces there no longer join across it.
 - Faces of a piece that run against their neighbours are turned to agree with the piece's majority; a
@@ -21,7 +22,7 @@ from ..errors import MeshError
 from ._mesh import Mesh
 from ._topology import corner_fans
 
-__all__ = ["Repair", "split_fans", "orient_faces", "split_components", "repair"]
+__all__ = ["Repair", "drop_degenerate_faces", "split_fans", "orient_faces", "split_components", "repair"]
 
 
 @dataclass(frozen=True)
@@ -44,6 +45,32 @@ def _edge_face_counts(mesh: Mesh):
     key = np.minimum(a, b) * mesh.n_vertices + np.maximum(a, b)
     _, inv, counts = np.unique(key, return_inverse=True, return_counts=True)
     return a, b, valid, inv, counts
+
+
+def drop_degenerate_faces(mesh: Mesh) -> tuple[Mesh, int]:
+    """The mesh without faces of zero area: a vertex repeated (fewer than three distinct corners) or all
+    corners on a line. Returns the mesh and how many faces were left out.
+
+    Examples
+    --------
+    >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0]], [[0, 1, 2], [0, 0, 1], [0, 1, 3]])
+    >>> kept, dropped = drop_degenerate_faces(m)
+    >>> kept.faces.tolist(), dropped
+    ([[0, 1, 2]], 2)
+    """
+    f, valid = mesh.faces, mesh.faces >= 0
+    v = mesh.vertices
+    p = v[np.where(valid, f, f[:, :1])]
+    nxt = v[np.where(mesh.next_vertices() >= 0, mesh.next_vertices(), f[:, :1])]
+    normal = (np.cross(p, nxt) * valid[..., None]).sum(axis=1)           # Newell: twice the vector area
+    scale = float(np.abs(v[mesh.referenced_vertices()]).max()) if mesh.n_faces else 0.0
+    area = np.linalg.norm(normal, axis=1)
+    keep = area > 1e-14 * max(scale, 1e-300) ** 2
+    if keep.all():
+        return mesh, 0
+    if not keep.any():
+        raise MeshError(f"mesh: all {mesh.n_faces} faces have zero area")
+    return Mesh(v, f[keep], uv=mesh.uv, normals=mesh.normals), int((~keep).sum())
 
 
 def split_fans(mesh: Mesh) -> tuple[Mesh, np.ndarray, int, int]:
@@ -158,6 +185,9 @@ def repair(mesh: Mesh) -> list[Repair]:
     >>> [p.source_vertices.tolist() for p in pieces]
     [[0, 1, 2], [3, 4, 5]]
     """
+    mesh, dropped = drop_degenerate_faces(mesh)
+    if dropped:
+        warnings.warn(f"repair: left out {dropped} faces of zero area", stacklevel=2)
     split, source, pinches, edges = split_fans(mesh)
     if pinches:
         warnings.warn(f"repair: split {pinches} pinch vertices (faces meeting in separate fans) into one vertex "
