@@ -20,6 +20,7 @@ from ._budget import check_memory
 from ._optional import MissingDependency, require
 from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, frame_jobs, morph, \
     save_animation, save_glb, save_png
+from . import __version__
 from .errors import GeoimgError, InputError
 from .image import (grid_normals, image_curvature, image_region, load_image, load_mask, save_colormap,
                     save_normal_map, save_scalar, uv_region)
@@ -381,6 +382,7 @@ def _positive(kind):
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="geoimg", description="Polygon meshes to geometry images and back.")
+    p.add_argument("--version", action="version", version=f"geoimg {__version__}")
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     sub = p.add_subparsers(dest="command", required=True)
@@ -485,6 +487,13 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _one_line_warning(command: str):
+    """Warnings shown as ``geoimg COMMAND: warning: message`` on stderr (not Python's file, line and source)."""
+    def show(message, category, filename, lineno, file=None, line=None):
+        print(f"geoimg {command}: warning: {message}", file=file or sys.stderr)
+    return show
+
+
 def _terminated(signum, frame):
     """SIGTERM (what `timeout` and process managers send) ends the command like Ctrl-C does, so that files
     being written are removed, not left half-written."""
@@ -497,7 +506,8 @@ def main(argv=None) -> int:
         signal.signal(signal.SIGTERM, _terminated)
     try:
         with warnings.catch_warnings():
-            warnings.simplefilter("default")
+            warnings.simplefilter("ignore" if getattr(args, "quiet", False) else "default")
+            warnings.showwarning = _one_line_warning(args.command)
             return args.func(args)
     except BrokenPipeError:                 # the reader of our output went away (geoimg info x | head)
         try:                                # so that the interpreter's last flush does not complain either

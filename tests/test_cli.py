@@ -143,3 +143,27 @@ def test_sigterm_removes_the_file_being_written(tmp_path):
     finally:
         signal.signal(signal.SIGTERM, previous)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_version_module_entry_and_one_line_warnings(tmp_path, capsys):
+    import subprocess
+    import sys
+    with pytest.raises(SystemExit):
+        main(["--version"])
+    assert capsys.readouterr().out.strip() == f"geoimg {geoimg.__version__}"
+    run = subprocess.run([sys.executable, "-m", "geoimg", "--version"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0 and run.stdout.strip() == f"geoimg {geoimg.__version__}"
+    seams = str(__import__("helpers").data_file("spot.obj"))            # its UV seams give a warning
+    assert main(["image", seams, "-o", str(tmp_path / "s.exr"), "--res", "9"]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("geoimg image: warning: ") and "UV seams" in err and ".py:" not in err
+    assert main(["image", seams, "-o", str(tmp_path / "t.exr"), "--res", "9", "-q"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def test_reprs_are_short():
+    m = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3], [0, 1, 2, -1]])
+    assert repr(m) == "Mesh(4 vertices, 2 faces: 1 triangles, 1 quads)"
+    img = geoimg.GeometryImage(np.zeros((300, 400, 3), np.float32), metadata={"s": 1.0})
+    assert repr(img) == ("GeometryImage(400 x 300 float32, PlanarDomain(orientation=1, extent=(1.0, 1.0)), "
+                         "metadata keys ['s'])")

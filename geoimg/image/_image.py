@@ -111,6 +111,12 @@ class GeometryImage:
         object.__setattr__(self, "domain", domain)
         object.__setattr__(self, "metadata", meta)
 
+    def __repr__(self) -> str:
+        extras = [f"{int(self.valid.sum())} valid pixels"] if self.mask is not None else []
+        extras += ["normals"] if self.normals is not None else []
+        return (f"GeometryImage({self.shape[1]} x {self.shape[0]} {self.pixels.dtype}, {self.domain!r}"
+                + "".join(f", {e}" for e in extras) + f", metadata keys {sorted(self.metadata)})")
+
     @property
     def shape(self) -> tuple[int, int]:
         """(H, W)."""

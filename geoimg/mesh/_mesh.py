@@ -136,6 +136,13 @@ class Mesh:
         object.__setattr__(self, "faces", f)
         object.__setattr__(self, "face_sizes", sizes)
 
+    def __repr__(self) -> str:
+        sizes, counts = np.unique(self.face_sizes, return_counts=True)
+        kinds = ", ".join(f"{c} {'triangles' if k == 3 else 'quads' if k == 4 else f'{k}-gons'}"
+                          for k, c in zip(sizes.tolist(), counts.tolist()))
+        extras = "".join(f", {name}" for name, value in (("uv", self.uv), ("normals", self.normals)) if value is not None)
+        return f"Mesh({self.n_vertices} vertices, {self.n_faces} faces: {kinds}{extras})"
+
     @property
     def n_vertices(self) -> int:
         """Number of vertices."""
