@@ -188,6 +188,8 @@ def cmd_demo(args) -> int:
     progress("measuring the quad mesh against the input")
     dist = surface_distance(mesh, quads, n=50000)       # how far the result lies from what it approximates
     H, W = image.shape
+    if args.quiet:
+        return 0
     print(f"geoimg demo on {src.name}: {mesh.n_vertices} vertices, {mesh.n_faces} faces")
     print(f"  surface s={args.s}: {W} x {H} geometry image in {t1 - t0:.2f} s "
           f"(first run includes numba compilation, cached afterwards)")

@@ -167,3 +167,8 @@ def test_reprs_are_short():
     img = geoimg.GeometryImage(np.zeros((300, 400, 3), np.float32), metadata={"s": 1.0})
     assert repr(img) == ("GeometryImage(400 x 300 float32, PlanarDomain(orientation=1, extent=(1.0, 1.0)), "
                          "metadata keys ['s'])")
+
+
+def test_the_demo_is_quiet_when_asked(tmp_path, capsys):
+    assert main(["demo", "-o", str(tmp_path / "d"), "--res", "9", "-q"]) == 0
+    assert capsys.readouterr().out == ""
