@@ -22,7 +22,7 @@ import trimesh
 
 import geoimg
 from geoimg.mesh import repair, surface_distance, topology
-from geoimg.parametrization import signed_face_areas
+from geoimg.parametrization._cut import _area_log_rms
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
@@ -36,12 +36,7 @@ def area_log_rms(param, mesh) -> float:
     tris, _ = mesh.triangulate()
     v = mesh.vertices
     a3 = 0.5 * np.linalg.norm(np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]]), axis=1)
-    uv = param.coords
-    e1, e2 = uv[tris[:, 1]] - uv[tris[:, 0]], uv[tris[:, 2]] - uv[tris[:, 0]]
-    a2 = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) / 2
-    ok = (a3 > 0) & (a2 > 0)
-    r = (a2[ok] / a2[ok].sum()) / (a3[ok] / a3[ok].sum())
-    return float(np.sqrt(np.mean(np.log(r) ** 2)))
+    return _area_log_rms(a3, param.coords, tris)
 
 
 def row(name: str, piece: geoimg.Mesh, n_samples: int) -> str:

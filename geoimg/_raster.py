@@ -12,7 +12,7 @@ import OpenImageIO as oiio
 
 from .errors import ImageFileError
 
-__all__ = ["read_raster", "write_raster", "is_float_raster", "FLOAT", "UINT16", "UINT8"]
+__all__ = ["read_raster", "write_raster", "FLOAT", "UINT16", "UINT8"]
 
 FLOAT, UINT16, UINT8 = oiio.FLOAT, oiio.UINT16, oiio.UINT8
 
@@ -54,27 +54,17 @@ def write_raster(path: Path, data: np.ndarray, names, fmt, attributes=()) -> Non
     out.close()
 
 
-def is_float_raster(path) -> bool:
-    """Whether an image file stores floating-point pixels (EXR, float TIFF), not integers (PNG, JPEG)."""
-    inp = oiio.ImageInput.open(_oiio_name(path))
-    if inp is None:
-        raise ImageFileError(f"{path}: cannot be read as an image ({_error(oiio)})")
-    try:
-        return inp.spec().format.basetype in (oiio.FLOAT, oiio.HALF, oiio.DOUBLE)
-    finally:
-        inp.close()
-
-
-def read_raster(path, attributes=(), what: str = "image"):
+def read_raster(path, attributes=(), what: str = "image", *, integers: str | None = None):
     """Pixels (H, W, C) float32 of any image OpenImageIO reads (integer formats scaled to [0, 1]), the
-    channel names and the values of the named attributes (None where absent).
+    channel names and the values of the named attributes (None where absent). With ``integers`` (a
+    reason), an image whose pixels are integers (PNG, JPEG), not floating point, is refused with it.
 
     Raises
     ------
     FileNotFoundError
         If there is no such file.
     ImageFileError
-        If it cannot be read.
+        If it cannot be read, or is refused.
     """
     path = Path(path)
     if not path.is_file():
@@ -84,6 +74,8 @@ def read_raster(path, attributes=(), what: str = "image"):
         raise ImageFileError(f"{path}: cannot be read as an image ({_error(oiio)})")
     try:
         spec = inp.spec()
+        if integers and spec.format.basetype not in (oiio.FLOAT, oiio.HALF, oiio.DOUBLE):
+            raise ImageFileError(f"{path}: {integers}")
         data = inp.read_image(oiio.FLOAT)
         if data is None:
             raise ImageFileError(f"{path}: pixel data could not be read ({_error(inp)})")

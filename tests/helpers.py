@@ -85,3 +85,11 @@ def mixed_mesh(seed: int = 0, n: int = 7):
         j = n - 2
         faces.append([idx[i, j], idx[i, j + 1], idx[i + 1, j + 1], idx[i + 1, j]])
     return uv, faces
+
+
+def glue_spread(image, pixels):
+    """Largest difference between pixels that are one point of the surface."""
+    reps, group = image.domain.glue(image.shape)
+    flat = np.asarray(pixels, np.float64).reshape(len(group), -1)
+    means = np.stack([np.bincount(group, flat[:, c]) / np.bincount(group) for c in range(flat.shape[1])], 1)
+    return float(np.abs(flat - means[group]).max())

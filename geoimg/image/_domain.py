@@ -11,6 +11,7 @@ Kinds: :class:`PlanarDomain` (a parameter rectangle; nothing glued) and :class:`
 """
 from __future__ import annotations
 
+import functools
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import ClassVar
@@ -45,6 +46,16 @@ def grid_normals(pixels: np.ndarray, orientation: int = 1) -> np.ndarray:
     n = np.cross(pu, pv) * orientation
     norm = np.linalg.norm(n, axis=-1, keepdims=True)
     return np.divide(n, norm, out=np.zeros_like(n), where=norm > 0)
+
+
+@functools.lru_cache(maxsize=8)
+def _glue_of(domain: "Domain", shape: tuple) -> tuple[np.ndarray, np.ndarray] | None:
+    """A domain's glue for one image size, made once: sampling, each filter and the quad mesh ask again."""
+    glue = domain._make_glue(shape)
+    if glue is not None:
+        for a in glue:
+            a.setflags(write=False)
+    return glue
 
 
 def _check_orientation(value) -> int:
@@ -159,7 +170,11 @@ class Domain(ABC):
     # ------------------------------------------------------------------ glue
     def glue(self, shape) -> tuple[np.ndarray, np.ndarray] | None:
         """Groups of pixels that are one point of the surface: each group's first pixel (flat index) and
-        each pixel's group number, or None when no pixels are glued."""
+        each pixel's group number (read-only, kept for the next call), or None when no pixels are glued."""
+        return _glue_of(self, (int(shape[0]), int(shape[1])))
+
+    def _make_glue(self, shape) -> tuple[np.ndarray, np.ndarray] | None:
+        """What :meth:`glue` returns, computed (a kind that glues pixels says which)."""
         return None
 
     def average_glued(self, pixels: np.ndarray) -> np.ndarray:
@@ -334,7 +349,7 @@ class OctahedralDomain(Domain):
         """Unit directions (n, n, 3) of the pixels, computed so that glued pixels get identical ones."""
         return grid_directions(n)
 
-    def glue(self, shape):
+    def _make_glue(self, shape):
         self.check_shape(shape)
         return glued_groups(shape[0])
 
@@ -445,7 +460,7 @@ class CutDomain(Domain):
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
         return np.concatenate(ps), np.concatenate(qs)
 
-    def glue(self, shape):
+    def _make_glue(self, shape):
         self.check_shape(shape)
         n = shape[0]
         per = self._perimeter_pixels(n)

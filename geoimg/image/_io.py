@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from .._atomic import atomic_path
-from .._raster import FLOAT, UINT8, is_float_raster, read_raster, write_raster
+from .._raster import FLOAT, UINT8, read_raster, write_raster
 from ..errors import ImageFileError, InputError, InputTypeError
 from ._domain import Domain
 from ._image import GeometryImage
@@ -55,10 +55,9 @@ def load_image(path) -> GeometryImage:
     ImageFileError
         If the file cannot be read or has no R, G, B channels.
     """
-    if Path(path).is_file() and not is_float_raster(path):
-        raise ImageFileError(f"{path}: its pixels are integers, not coordinates: a preview or picture cannot become "
-                             "geometry (geometry images are float OpenEXR files written by geoimg)")
-    data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"))
+    data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"),
+                                     integers="its pixels are integers, not coordinates: a preview or picture cannot "
+                                              "become geometry (geometry images are float OpenEXR files written by geoimg)")
     meta_json, domain = attrs[0], attrs[1] or "planar"
     def channels(keys):
         if all(k in names for k in keys):

@@ -183,6 +183,11 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
     _check_area(mesh)
     if method == "auto":
         return _auto(mesh, axis, boundary, progress)
+    return _by_method(mesh, method, axis, boundary, progress)
+
+
+def _by_method(mesh: Mesh, method: str, axis, boundary, progress, topo=None) -> Parametrization:
+    """One method, on a mesh already checked (``topo``: its topology, when known)."""
     used = mesh.referenced_vertices()
     info: dict = {}
     if method == "sphere":
@@ -193,7 +198,7 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
                           "sphere; the map is not one-to-one there", stacklevel=2)
         return Parametrization(coords, (1.0, 1.0), "octahedral", "sphere", info["flipped_triangles"], 0, info)
     if method == "cut":
-        return _cut(mesh)
+        return _cut(mesh, topo)
     if method == "disk":
         raw, info = disk_coords(mesh, boundary)
     elif method == "uv":
@@ -245,8 +250,8 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
     return Parametrization(coords, extent, "planar", method, flipped, degenerate, info)
 
 
-def _cut(mesh: Mesh) -> Parametrization:
-    topo = topology(mesh)
+def _cut(mesh: Mesh, topo=None) -> Parametrization:
+    topo = topology(mesh) if topo is None else topo
     if not (topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0):
         raise ParametrizationError(f"method='cut' needs one manifold piece; the mesh is a {topo.describe()}: "
                                    "geoimg.mesh.repair splits it (geoimg.mesh_to_images does so itself)")
@@ -276,10 +281,10 @@ def _check_area(mesh: Mesh) -> None:
                                    "one place): there is no surface to parametrize")
 
 
-def _outline_gap(mesh: Mesh, coords: np.ndarray) -> float:
-    """For a mesh with one boundary loop: the share of the convex hull of its (u, v) outline that the
-    outline leaves empty (0 for a convex outline); 0 for other meshes."""
-    loops = boundary_loops(mesh) if topology(mesh).boundary_loops == 1 else []
+def _outline_gap(mesh: Mesh, coords: np.ndarray, topo) -> float:
+    """For a mesh with one boundary loop (``topo``: its topology): the share of the convex hull of its (u, v)
+    outline that the outline leaves empty (0 for a convex outline); 0 for other meshes."""
+    loops = boundary_loops(mesh) if topo.boundary_loops == 1 else []
     if len(loops) != 1 or len(loops[0]) < 3:
         return 0.0
     xy = coords[loops[0]]
@@ -290,17 +295,18 @@ def _outline_gap(mesh: Mesh, coords: np.ndarray) -> float:
 
 def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrization:
     tried = []
+    topo = topology(mesh)
     candidates = (["uv"] if mesh.uv is not None and axis is None else []) + ["heightfield"]
     for method in candidates:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
-                p = parametrize(mesh, method, axis=axis)
+                p = _by_method(mesh, method, axis, boundary, progress)
             except ParametrizationError as e:
                 tried.append(f"{method}: {e}")
                 continue
         if p.flipped_faces == 0 and p.degenerate_faces == 0:
-            gap = _outline_gap(mesh, p.coords)
+            gap = _outline_gap(mesh, p.coords, topo)
             if gap <= MAX_OUTLINE_GAP:
                 return p
             tried.append(f"{method}: its outline leaves {100 * gap:.0f} % of its convex hull empty (narrow parts "
@@ -308,16 +314,15 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrizat
             continue
         tried.append(f"{method}: {p.flipped_faces} of {mesh.n_faces} faces fold over" if p.flipped_faces else
                      f"{method}: {p.degenerate_faces} of {mesh.n_faces} faces project to a line")
-    topo = topology(mesh)
     single = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0 \
         and topo.genus == 0
     if single and topo.boundary_loops == 1 and axis is None:
-        return parametrize(mesh, "disk", boundary=boundary)
+        return _by_method(mesh, "disk", None, boundary, progress)
     if single and topo.closed and axis is None:
-        return parametrize(mesh, "sphere", progress=progress)
+        return _by_method(mesh, "sphere", None, boundary, progress)
     manifold = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0
     if manifold and axis is None and topo.genus is not None:
-        return _cut(mesh)
+        return _cut(mesh, topo)
     if topo.components > 1:
         advice = (f"a parametrization is of one piece: split the {topo.components} components "
                   "(geoimg.mesh.repair; geoimg.mesh_to_images converts each)")
@@ -327,12 +332,8 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrizat
     elif topo.nonmanifold_vertices:
         advice = ("a parametrization needs a manifold mesh: split the pinch vertices, one copy per fan of faces "
                   "(geoimg.mesh.repair; geoimg.mesh_to_images does so itself)")
-    elif topo.genus is not None and topo.genus > 0:
-        advice = (f"geoimg needs genus 0: {topo.genus} handle{'s' if topo.genus > 1 else ''} would have to be "
-                  "cut first")
-    elif topo.boundary_loops > 1:
-        advice = (f"geoimg maps one boundary loop onto the square: fill {topo.boundary_loops - 1} of the "
-                  f"{topo.boundary_loops} holes (or all of them, for a sphere) first")
+    elif axis is not None:      # a manifold piece reaches here only when a height field was asked for
+        advice = ("leave axis out, and auto maps the mesh as a disk, onto the sphere or cut open onto the square")
     else:
         advice = ("give it UVs (OBJ vt), or pass axis= for a terrain whose up axis is not its best-fitting "
                   "plane's normal")

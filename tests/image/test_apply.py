@@ -10,7 +10,7 @@ import filters
 import geoimg
 from geoimg import GeometryImage, ImageError, OctahedralDomain, PlanarDomain
 
-from helpers import load_data
+from helpers import glue_spread, load_data
 
 
 @pytest.fixture(scope="module")
@@ -31,14 +31,6 @@ def raw_result(image, op, width, *args, **kwargs):
     """What apply computes before glued pixels are averaged."""
     h, w = image.shape
     return np.asarray(op(image.domain.pad(image.pixels, width), *args, **kwargs))[width:width + h, width:width + w]
-
-
-def glue_spread(image, pixels):
-    """Largest difference between pixels that are one point of the surface."""
-    reps, group = image.domain.glue(image.shape)
-    flat = np.asarray(pixels, np.float64).reshape(len(group), -1)
-    means = np.stack([np.bincount(group, flat[:, c]) / np.bincount(group) for c in range(flat.shape[1])], 1)
-    return float(np.abs(flat - means[group]).max())
 
 
 @pytest.mark.parametrize("op, args, kwargs, width", [

@@ -11,7 +11,7 @@ from geoimg.mesh import boundary_loops, surface_distance, topology
 from geoimg.parametrization import perimeter_point
 
 import meshes
-from helpers import load_data
+from helpers import glue_spread, load_data
 
 CASES = {"torus grid": meshes.torus_grid, "torus": lambda: load_data("torus.obj"),
          "bob (genus 1)": lambda: load_data("bob_tri.obj"), "5 holes": meshes.holey_sphere,
@@ -24,13 +24,6 @@ def case(request):
     mesh = CASES[request.param]()
     param = geoimg.parametrize(mesh)
     return mesh, param, geoimg.fit_surface(mesh, param, 1.0).sample(129)
-
-
-def glue_spread(image, pixels):
-    reps, group = image.domain.glue(image.shape)
-    flat = np.asarray(pixels, np.float64).reshape(len(group), -1)
-    means = np.stack([np.bincount(group, flat[:, c]) / np.bincount(group) for c in range(flat.shape[1])], 1)
-    return float(np.abs(flat - means[group]).max())
 
 
 def test_the_map_is_one_to_one_onto_the_square(case):
