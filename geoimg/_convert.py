@@ -1,6 +1,8 @@
 """Mesh to geometry image in one call: load, repair, parametrize, fit the weighted-mean surface, sample."""
 from __future__ import annotations
 
+import time
+from contextlib import contextmanager
 from pathlib import Path
 
 from .errors import InputTypeError, MeshError
@@ -14,6 +16,17 @@ __all__ = ["mesh_to_image", "mesh_to_images", "COMPONENT_CHOICES"]
 COMPONENT_CHOICES = ("all", "largest")
 
 
+@contextmanager
+def _timed(timings: dict | None, stage: str):
+    """Add the seconds spent in the block to ``timings[stage]`` (when timings are asked for)."""
+    t0 = time.perf_counter()
+    try:
+        yield
+    finally:
+        if timings is not None:
+            timings[stage] = timings.get(stage, 0.0) + time.perf_counter() - t0
+
+
 def _load(mesh_or_path, say) -> tuple[Mesh, str]:
     if isinstance(mesh_or_path, Mesh):
         return mesh_or_path, ""
@@ -24,11 +37,11 @@ def _load(mesh_or_path, say) -> tuple[Mesh, str]:
 
 
 def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: str = "auto", *, component="all",
-                   progress=None, **options) -> list[GeometryImage]:
+                   progress=None, timings: dict | None = None, **options) -> list[GeometryImage]:
     """The geometry images of a mesh's pieces, largest first, after the repairs of
     :func:`geoimg.mesh.repair` (pinch vertices split, non-manifold edges separated, faces oriented, each
     announced with a warning): one image per piece, or only the ``"largest"`` or the ``K``-th
-    (``component``). The options are :func:`mesh_to_image`'s; for a mesh of several pieces,
+    (``component``). The options (and ``timings``) are :func:`mesh_to_image`'s; for a mesh of several pieces,
     ``metadata["component"]`` is the piece's number and ``metadata["components"]`` how many there were.
 
     Examples
@@ -42,8 +55,10 @@ def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: s
     ([0, 1], 3.0)
     """
     say = progress or (lambda message: None)
-    mesh, source = _load(mesh_or_path, say)
-    pieces = repair(mesh)
+    with _timed(timings, "load"):
+        mesh, source = _load(mesh_or_path, say)
+    with _timed(timings, "repair"):
+        pieces = repair(mesh)
     if component == "largest":
         chosen = [0]
     elif component == "all":
@@ -57,7 +72,7 @@ def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: s
     for k in chosen:
         if len(pieces) > 1:
             say(f"piece {k} of {len(pieces)}: {pieces[k].mesh.n_faces} faces")
-        image = mesh_to_image(pieces[k].mesh, resolution, s, method, progress=progress, **options)
+        image = mesh_to_image(pieces[k].mesh, resolution, s, method, progress=progress, timings=timings, **options)
         image.metadata["source"] = source
         if len(pieces) > 1:
             image.metadata.update(component=k, components=len(pieces))
@@ -68,7 +83,8 @@ def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: s
 def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: str = "auto", *,
                   axis: str | None = None, boundary: str = "square", weights: str = "gaussian", n: int = 10,
                   tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True,
-                  parametrization: Parametrization | None = None, progress=None) -> GeometryImage:
+                  parametrization: Parametrization | None = None, progress=None,
+                  timings: dict | None = None) -> GeometryImage:
     """The geometry image of a mesh: :func:`~geoimg.parametrize`, :func:`~geoimg.fit_surface` and
     :meth:`~geoimg.Surface.sample` in one call. A mesh of several pieces, or one that needs repairs
     before it can be parametrized, goes through :func:`mesh_to_images`.
@@ -93,6 +109,9 @@ def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: st
         Use this one (for example shared by meshes with the same faces) instead of making one.
     progress : callable, optional
         Called with a short message at each stage.
+    timings : dict, optional
+        Seconds spent per stage are added to it (``load``, ``repair``, ``parametrize``, ``fit``,
+        ``sample``; summed over pieces).
 
     Returns
     -------
@@ -108,15 +127,19 @@ def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: st
     ((9, 9), 'heightfield')
     """
     say = progress or (lambda message: None)
-    mesh, source = _load(mesh_or_path, say)
+    with _timed(timings, "load"):
+        mesh, source = _load(mesh_or_path, say)
     if parametrization is None:
         say(f"{mesh.n_vertices} vertices, {mesh.n_faces} faces; parametrizing ({method})")
-        parametrization = parametrize(mesh, method, axis=axis, boundary=boundary, progress=progress)
+        with _timed(timings, "parametrize"):
+            parametrization = parametrize(mesh, method, axis=axis, boundary=boundary, progress=progress)
     say(f"parametrized by {parametrization.method}; fitting the surface (s={s}, {weights} weights)")
-    surface = fit_surface(mesh, parametrization, s, weights=weights, n=n, tol=tol, sliver_rule=sliver_rule)
+    with _timed(timings, "fit"):
+        surface = fit_surface(mesh, parametrization, s, weights=weights, n=n, tol=tol, sliver_rule=sliver_rule)
     res = surface.auto_resolution() if resolution is None else resolution
     say(f"sampling {res} pixels along the longer side")
-    image = surface.sample(res, normals=normals)
+    with _timed(timings, "sample"):
+        image = surface.sample(res, normals=normals)
     image.metadata["source"] = source
     image.metadata["parametrization"] = parametrization.method
     return image

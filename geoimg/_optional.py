@@ -7,7 +7,8 @@ from .errors import GeoimgError
 
 __all__ = ["require", "MissingDependency"]
 
-EXTRAS = {"moderngl": "render", "imageio": "render", "pygltflib": "render", "imageio_ffmpeg": "video"}
+EXTRAS = {"moderngl": "render", "imageio": "render", "pygltflib": "render", "imageio_ffmpeg": "video",
+          "dask": "batch", "distributed": "batch", "zarr": "batch", "pandas": "batch", "psutil": "batch"}
 
 
 class MissingDependency(GeoimgError, ImportError):

@@ -1,5 +1,5 @@
-"""The ``geoimg`` command line: ``image``, ``mesh``, ``filter``, ``curvature``, ``render``, ``morph``, ``info``
-and ``demo``."""
+"""The ``geoimg`` command line: ``image``, ``mesh``, ``filter``, ``curvature``, ``render``, ``morph``, ``batch``,
+``info`` and ``demo``."""
 from __future__ import annotations
 
 import argparse
@@ -17,6 +17,8 @@ import filters
 from ._convert import COMPONENT_CHOICES, mesh_to_image, mesh_to_images
 from ._atomic import check_writable, write_all
 from ._budget import check_memory
+from ._steps import FILTER_STEPS, apply_steps
+from .batch import QUAD_FORMATS, convert as convert_batch
 from ._optional import MissingDependency, require
 from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, frame_jobs, morph, \
     save_animation, save_glb, save_png
@@ -30,6 +32,7 @@ from .surface import SLIVER_RULES, WEIGHTS
 
 SAMPLE_MESH = Path(__file__).resolve().parent / "data" / "mountain.obj"    # package data: works from a wheel
 DEMO_MARKER = ".geoimg-demo"
+BATCH_PROBLEMS_SHOWN = 10         # refused or failed inputs listed on stderr after a batch (all in the manifest)
 
 
 class Progress:
@@ -77,7 +80,7 @@ def _numbered(path, k: int, many: bool) -> Path | None:
 
 def cmd_image(args) -> int:
     progress = Progress(args.quiet)
-    component = args.component if args.component in COMPONENT_CHOICES else _piece_number(args.component)
+    component = _component(args.component or "all")
     images = mesh_to_images(args.mesh, args.res, args.s, args.method, component=component, axis=args.axis,
                             boundary=args.boundary, weights=args.weights, n=args.n, tol=args.tol,
                             sliver_rule=args.sliver_rule, progress=progress)
@@ -99,7 +102,9 @@ def cmd_image(args) -> int:
     return 0
 
 
-def _piece_number(text: str) -> int:
+def _component(text: str) -> str | int:
+    if text in COMPONENT_CHOICES:
+        return text
     try:
         return int(text)
     except ValueError:
@@ -201,25 +206,11 @@ def cmd_demo(args) -> int:
     return 0
 
 
-# filter operations: option -> (filters function, argument types, metavar, help); applied in the order given
-FILTER_OPS = {
-    "mean": ("mean_filter", (int,), "SIZE", "mean (box) filter of SIZE x SIZE pixels (odd), as in the paper"),
-    "gaussian": ("gaussian_filter", (float,), "SIGMA", "Gaussian smoothing, SIGMA pixels"),
-    "bilateral": ("bilateral_filter", (float, float), ("SIGMA", "RANGE"),
-                  "edge-preserving bilateral filter: SIGMA pixels, RANGE in coordinate units"),
-    "guided": ("guided_filter", (int, float), ("RADIUS", "EPS"), "edge-preserving guided filter"),
-    "sharpen": ("inverse_filter", (int,), "SIZE", "inverse filter undoing a SIZE x SIZE mean filter (Wiener, --nsr)"),
-    "unsharp": ("unsharp_mask", (float, float), ("SIGMA", "AMOUNT"), "unsharp masking"),
-    "lowpass": ("lowpass", (float,), "CUTOFF", "Fourier low-pass, CUTOFF cycles per pixel (0.5 = Nyquist)"),
-    "bandpass": ("bandpass", (float, float), ("LOW", "HIGH"), "Fourier band-pass (the detail between two cutoffs)"),
-}
-
-
 class _Op(argparse.Action):
     """Collects filter options in the order they are given."""
 
     def __call__(self, parser, namespace, values, option_string=None):
-        kinds = FILTER_OPS[self.dest][1]
+        kinds = FILTER_STEPS[self.dest][1]
         values = values if isinstance(values, list) else [values]
         try:
             parsed = [k(v) for k, v in zip(kinds, values)]
@@ -246,18 +237,7 @@ def cmd_filter(args) -> int:
         mask = uv_region(image.shape, args.uv_region[:2], args.uv_region[2])
     if mask is not None and not np.any(mask > 0):
         raise InputError("the mask selects no pixel")
-    out = image
-    for name, values in args.ops:
-        op = getattr(filters, FILTER_OPS[name][0])
-        kwargs = {}
-        if args.mode:
-            kwargs["mode"] = args.mode
-        if name == "sharpen":
-            kwargs["nsr"] = args.nsr
-            values = ["mean"] + values
-        if mask is not None:
-            kwargs.update(mask=mask, feather=args.feather)
-        out = out.apply(op, *values, **kwargs)
+    out = apply_steps(image, args.ops, mode=args.mode, nsr=args.nsr, mask=mask, feather=args.feather)
     out.metadata["source"] = Path(args.image).name
     jobs = [(args.output, lambda tmp: out.save(tmp, overwrite=True))]
     if args.preview:
@@ -373,6 +353,69 @@ def cmd_morph(args) -> int:
     return 0
 
 
+class BatchProgress:
+    """Counts of a batch on stderr: a bar redrawn in place on a terminal, else a line every ``every`` seconds
+    (logs, CI); nothing when quiet."""
+
+    def __init__(self, quiet: bool = False, every: float = 5.0, stream=None, width: int = 30):
+        self.stream = stream or sys.stderr
+        self.quiet, self.every, self.width = quiet, every, width
+        self.tty = self.stream.isatty()
+        self.last = None
+
+    @staticmethod
+    def _describe(c: dict) -> str:
+        eta = "" if c["eta"] is None or c["done"] >= c["total"] else f", {_duration(c['eta'])} left"
+        skipped = f" ({c['skipped']} done before)" if c["skipped"] else ""
+        return (f"{c['done']}/{c['total']} done{skipped}, {c['refused']} refused, {c['failed']} failed, "
+                f"{c['per_minute']:.1f}/min{eta}")
+
+    def __call__(self, counts: dict) -> None:
+        if self.quiet:
+            return
+        finished = counts["done"] >= counts["total"]
+        if self.tty:
+            fill = int(self.width * counts["done"] / max(counts["total"], 1))
+            print(f"\r[{'#' * fill}{'.' * (self.width - fill)}] {self._describe(counts)}\x1b[K",
+                  end="\n" if finished else "", file=self.stream, flush=True)
+        elif self.last is None or finished or counts["elapsed"] - self.last >= self.every:
+            self.last = counts["elapsed"]
+            print(f"[{_duration(counts['elapsed'])}] {self._describe(counts)}", file=self.stream, flush=True)
+
+
+def _duration(seconds: float) -> str:
+    seconds = int(round(seconds))
+    return f"{seconds // 3600}h{seconds // 60 % 60:02d}m" if seconds >= 3600 else \
+        f"{seconds // 60}m{seconds % 60:02d}s" if seconds >= 60 else f"{seconds}s"
+
+
+def cmd_batch(args) -> int:
+    options = dict(resolution=args.res, s=args.s, method=args.method, axis=args.axis, boundary=args.boundary,
+                   weights=args.weights, n=args.n, tol=args.tol, sliver_rule=args.sliver_rule,
+                   normals=not args.no_normals, steps=args.ops or (), mode=args.mode, nsr=args.nsr,
+                   quads=args.quads is not None, quads_format=args.quads or "obj", psnr=not args.no_psnr)
+    if args.component is not None:
+        options["component"] = _component(args.component)
+    table = convert_batch(args.inputs, args.output, zarr=args.zarr, manifest=args.manifest, workers=args.workers,
+                          memory_limit=args.memory_limit, scheduler=args.scheduler, force=args.force,
+                          progress=BatchProgress(args.quiet, args.progress_every), **options)
+    c = table.attrs["summary"]
+    bad = c["refused"] + c["failed"]
+    if not args.quiet:
+        skipped = f", {c['skipped']} of them done before" if c["skipped"] else ""
+        print(f"{c['total']} inputs: {c['ok'] + c['skipped']} converted{skipped}, {c['refused']} refused, "
+              f"{c['failed']} failed in {_duration(c['elapsed'])}; manifest {table.attrs['manifest']}")
+    if bad:
+        print(f"geoimg batch: {bad} of {c['total']} inputs were not converted (all reasons in "
+              f"{table.attrs['manifest']}):", file=sys.stderr)
+        failed = table[table["status"] != "ok"]
+        for _, row in failed.head(BATCH_PROBLEMS_SHOWN).iterrows():
+            print(f"  {row['input']}: {row['status']}: {row['message']}", file=sys.stderr)
+        if len(failed) > BATCH_PROBLEMS_SHOWN:
+            print(f"  ... and {len(failed) - BATCH_PROBLEMS_SHOWN} more", file=sys.stderr)
+    return 1 if bad else 0
+
+
 def _positive(kind):
     def check(text):
         value = kind(text)
@@ -389,21 +432,33 @@ def build_parser() -> argparse.ArgumentParser:
     common.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     sub = p.add_subparsers(dest="command", required=True)
 
-    im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)", parents=[common])
+    conversion = argparse.ArgumentParser(add_help=False)        # mesh -> image: geoimg image and geoimg batch
+    conversion.add_argument("--res", type=_positive(int), default=None,
+                            help="pixels along the longer side (default: from s)")
+    conversion.add_argument("--s", type=_positive(float), default=1.0, help="smoothness s (sigma_i = s d_i), default 1")
+    conversion.add_argument("--method", choices=PARAMETRIZATION_METHODS, default="auto",
+                            help="parametrization (default auto)")
+    conversion.add_argument("--axis", choices=AXES, default=None, help="up axis of a height field")
+    conversion.add_argument("--boundary", choices=DISK_BOUNDARIES, default="square",
+                            help="disk meshes: boundary on the unit square (default) or kept (a convex planar outline)")
+    conversion.add_argument("--weights", choices=WEIGHTS, default="gaussian")
+    conversion.add_argument("--n", type=int, default=10, help="face centres per local weight (--weights local)")
+    conversion.add_argument("--tol", type=float, default=1e-10, help="truncation tolerance; 0 = exact sum")
+    conversion.add_argument("--sliver-rule", choices=SLIVER_RULES, default="robust")
+    conversion.add_argument("--component", default=None, metavar="all|largest|K",
+                            help="a mesh of several pieces gives NAME_0.exr, NAME_1.exr, ... (largest first; "
+                                 "the default, all), or keep one (the default with --zarr: largest)")
+    steps = argparse.ArgumentParser(add_help=False)             # filter steps: geoimg filter and geoimg batch
+    for name, (_, kinds, metavar, text) in FILTER_STEPS.items():
+        steps.add_argument(f"--{name}", dest=name, action=_Op, nargs=len(kinds) if len(kinds) > 1 else None,
+                           metavar=metavar, help=text)
+    steps.add_argument("--nsr", type=_positive(float), default=1e-3, help="Wiener noise-to-signal ratio of --sharpen")
+    steps.add_argument("--mode", choices=filters.PAD_MODES, default=None,
+                       help="boundary rule (default: octahedral for spherical images, reflect for planar ones)")
+
+    im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)", parents=[common, conversion])
     im.add_argument("mesh", help=f"input mesh ({', '.join(MESH_FORMATS)})")
     im.add_argument("-o", "--output", required=True, help="output .exr")
-    im.add_argument("--res", type=_positive(int), default=None, help="pixels along the longer side (default: from s)")
-    im.add_argument("--s", type=_positive(float), default=1.0, help="smoothness s (sigma_i = s d_i), default 1")
-    im.add_argument("--method", choices=PARAMETRIZATION_METHODS, default="auto", help="parametrization")
-    im.add_argument("--axis", choices=AXES, default=None, help="up axis of a height field")
-    im.add_argument("--boundary", choices=DISK_BOUNDARIES, default="square",
-                    help="disk meshes: boundary on the unit square (default) or kept (a convex planar outline)")
-    im.add_argument("--weights", choices=WEIGHTS, default="gaussian")
-    im.add_argument("--n", type=int, default=10, help="face centres per local weight (--weights local)")
-    im.add_argument("--tol", type=float, default=1e-10, help="truncation tolerance; 0 = exact sum")
-    im.add_argument("--sliver-rule", choices=SLIVER_RULES, default="robust")
-    im.add_argument("--component", default="all", metavar="all|largest|K",
-                    help="a mesh of several pieces gives NAME_0.exr, NAME_1.exr, ... (largest first); or keep one")
     im.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")
     im.add_argument("--force", action="store_true", help="overwrite existing files")
     im.set_defaults(func=cmd_image)
@@ -414,16 +469,10 @@ def build_parser() -> argparse.ArgumentParser:
     me.add_argument("--force", action="store_true", help="overwrite an existing file")
     me.set_defaults(func=cmd_mesh)
 
-    fi = sub.add_parser("filter", help="smooth, sharpen or Fourier-filter a geometry image", parents=[common],
+    fi = sub.add_parser("filter", help="smooth, sharpen or Fourier-filter a geometry image", parents=[common, steps],
                         description="Operations run in the order given; a mask restricts every one of them.")
     fi.add_argument("image", help="input .exr")
     fi.add_argument("-o", "--output", required=True, help="output .exr")
-    for name, (_, kinds, metavar, text) in FILTER_OPS.items():
-        fi.add_argument(f"--{name}", dest=name, action=_Op, nargs=len(kinds) if len(kinds) > 1 else None,
-                        metavar=metavar, help=text)
-    fi.add_argument("--nsr", type=_positive(float), default=1e-3, help="Wiener noise-to-signal ratio of --sharpen")
-    fi.add_argument("--mode", choices=filters.PAD_MODES, default=None,
-                    help="boundary rule (default: octahedral for spherical images, reflect for planar ones)")
     fi.add_argument("--mask", default=None, help="image file (same size): where to filter, 0..1")
     fi.add_argument("--region", type=float, nargs=4, metavar=("X", "Y", "Z", "R"), default=None,
                     help="filter within distance R of the point (X, Y, Z) of the surface")
@@ -473,6 +522,38 @@ def build_parser() -> argparse.ArgumentParser:
     mo.add_argument("--frame-format", choices=FRAME_FORMATS, default="obj")
     mo.add_argument("--force", action="store_true", help="overwrite existing files")
     mo.set_defaults(func=cmd_morph)
+
+    ba = sub.add_parser("batch", help="many meshes -> geometry images on Dask (resumable, with a manifest)",
+                        parents=[common, conversion, steps], formatter_class=argparse.RawDescriptionHelpFormatter,
+                        description="Convert every mesh of the inputs, on an embedded local Dask cluster or an "
+                                    "existing one.\nA second run skips what the first finished with the same "
+                                    "options; refused or failed inputs are listed\nin the manifest and never stop "
+                                    "the batch (exit status 1 when there are some).",
+                        epilog="examples:\n"
+                               "  geoimg batch meshes/ -o images --res 257\n"
+                               "  geoimg batch 'scans/**/*.ply' -o out --zarr out/data.zarr --res 129 --gaussian 1\n"
+                               "  geoimg batch meshes/ -o images --scheduler tcp://10.0.0.5:8786")
+    ba.add_argument("inputs", nargs="+", help="mesh files, folders (searched recursively) and glob patterns")
+    ba.add_argument("-o", "--output", required=True,
+                    help="output folder: NAME.exr per input (its path below the inputs' common folder), the manifest")
+    ba.add_argument("--zarr", default=None, metavar="STORE",
+                    help="write the images into this Zarr store instead: (N, R, R, 3) float32, mask, normals "
+                         "(needs --res; one image per input, the largest piece unless --component K)")
+    ba.add_argument("--quads", nargs="?", const="obj", default=None, choices=QUAD_FORMATS,
+                    help="also write the quad mesh, NAME_quads.obj (or .ply, .off)")
+    ba.add_argument("--no-normals", action="store_true", help="leave out the exact normals")
+    ba.add_argument("--no-psnr", action="store_true", help="do not measure the quad mesh against the input")
+    ba.add_argument("--manifest", default=None, metavar="CSV", help="manifest CSV (default OUTPUT/manifest.csv)")
+    ba.add_argument("--workers", type=_positive(int), default=None, metavar="N",
+                    help="local worker processes (default: one per core)")
+    ba.add_argument("--memory-limit", default="auto", metavar="SIZE", help="memory per local worker, e.g. 4GB (default: shared out)")
+    ba.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                    help="run on this existing Dask scheduler (e.g. tcp://host:8786) instead of a local cluster")
+    ba.add_argument("--progress-every", type=_positive(float), default=5.0, metavar="SECONDS",
+                    help="off a terminal: a progress line every SECONDS (default 5)")
+    ba.add_argument("--force", action="store_true",
+                    help="redo every input; write into a folder (or replace a store) that holds something else")
+    ba.set_defaults(func=cmd_batch, ops=None)
 
     info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common])
     info.add_argument("file")

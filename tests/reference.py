@@ -9,7 +9,7 @@ from scipy import sparse
 
 from geoimg.parametrization._laplacian import corner_cotangents
 
-__all__ = ["sample_grid_numpy", "evaluate_exact_numpy", "AreaBalanceNumpy"]
+__all__ = ["sample_grid_numpy", "evaluate_exact_numpy", "AreaBalanceNumpy", "point_triangle_distance"]
 
 
 def sample_grid_numpy(u, v, centres, sigma, radius, C, A, B):
@@ -96,3 +96,34 @@ class AreaBalanceNumpy:
             g += f_d * (self.cot[:, k2, None] * (p[:, k] - p[:, k1]) + self.cot[:, k1, None] * (p[:, k] - p[:, k2]))
             parts.append(g)
         return self.scatter @ np.concatenate(parts)
+
+
+def point_triangle_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Distance from points ``p`` to triangles ``(a, b, c)`` (all (..., 3), broadcast; Ericson's regions).
+
+    """
+    ab, ac, ap = b - a, c - a, p - a
+    d1, d2 = (ab * ap).sum(-1), (ac * ap).sum(-1)
+    bp = p - b
+    d3, d4 = (ab * bp).sum(-1), (ac * bp).sum(-1)
+    cp = p - c
+    d5, d6 = (ab * cp).sum(-1), (ac * cp).sum(-1)
+    va = d3 * d6 - d5 * d4
+    vb = d5 * d2 - d1 * d6
+    vc = d1 * d4 - d3 * d2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        denom = va + vb + vc
+        v_in = vb / denom
+        w_in = vc / denom
+        t_ab = d1 / (d1 - d3)
+        t_ac = d2 / (d2 - d6)
+        t_bc = (d4 - d3) / ((d4 - d3) + (d5 - d6))
+    q = a + v_in[..., None] * ab + w_in[..., None] * ac
+    q = np.where(((vc <= 0) & (d1 >= 0) & (d3 <= 0))[..., None], a + t_ab[..., None] * ab, q)
+    q = np.where(((vb <= 0) & (d2 >= 0) & (d6 <= 0))[..., None], a + t_ac[..., None] * ac, q)
+    q = np.where(((va <= 0) & (d4 - d3 >= 0) & (d5 - d6 >= 0))[..., None], b + t_bc[..., None] * (c - b), q)
+    q = np.where(((d6 >= 0) & (d5 <= d6))[..., None], c, q)
+    q = np.where(((d3 >= 0) & (d4 <= d3))[..., None], b, q)
+    q = np.where(((d1 <= 0) & (d2 <= 0))[..., None], a, q)
+    q = np.where(np.isfinite(q), q, a)
+    return np.linalg.norm(p - q, axis=-1)

@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-OPTIONAL = {"moderngl", "imageio", "imageio.v3", "pygltflib", "imageio_ffmpeg"}
+OPTIONAL = {"moderngl", "imageio", "imageio.v3", "pygltflib", "imageio_ffmpeg", "dask", "dask.utils", "distributed",
+            "zarr", "pandas", "psutil"}
 
 
 def _modules(package: str) -> dict:

@@ -284,15 +284,26 @@ class GeometryImage:
         if self.normals is not None:
             planes.append(np.asarray(self.normals, np.float32))
             names += ["N.X", "N.Y", "N.Z"]
-        record = {**self.metadata, **self.domain.to_metadata()}
-        try:
-            text = json.dumps(record, sort_keys=True, default=_plain)
-        except (TypeError, ValueError) as e:
-            raise ImageError(f"metadata: cannot be written as JSON ({e})") from None
+        text = json.dumps(self.metadata_record(), sort_keys=True)
         attrs = [("geoimg:domain", self.domain.kind), ("geoimg:metadata", text), ("compression", "zip")]
         with atomic_path(path, overwrite) as tmp:
             write_raster(tmp, np.concatenate(planes, axis=2), names, FLOAT, attrs)
         return path
+
+    def metadata_record(self) -> dict:
+        """The metadata and the domain's fields as plain JSON types: what files record and
+        :meth:`Domain.from_metadata` reads back.
+
+        Raises
+        ------
+        ImageError
+            If some metadata value cannot be written as JSON.
+        """
+        record = {**self.metadata, **self.domain.to_metadata()}
+        try:
+            return json.loads(json.dumps(record, sort_keys=True, default=_plain))
+        except (TypeError, ValueError) as e:
+            raise ImageError(f"metadata: cannot be written as JSON ({e})") from None
 
     def preview(self, path, *, overwrite: bool = False):
         """Write a 16-bit PNG with each channel stretched to its range over valid pixels (masked: black)."""

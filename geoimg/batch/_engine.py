@@ -1,0 +1,270 @@
+"""Convert a collection of meshes on Dask: an embedded local cluster by default, or any existing one; skips what
+an earlier run with the same options finished, records every input in the manifest, and stops cleanly."""
+from __future__ import annotations
+
+import logging
+import os
+import time
+import uuid
+from pathlib import Path
+
+from .._optional import require
+from ..errors import InputError, InputTypeError
+from ._inputs import find_inputs, output_stems
+from ._manifest import ManifestLog, read_manifest, write_manifest
+from ._options import ConvertOptions
+from ._store import open_store, store_records, write_records
+from ._task import Job, run_job
+
+__all__ = ["convert", "MANIFEST_NAME"]
+
+MANIFEST_NAME = "manifest.csv"
+RECORDS_EVERY = 5.0          # seconds between writes of the Zarr store's item records
+PROGRESS_EVERY = 0.5         # seconds between calls of the progress callback
+
+
+def _finished(row: dict | None, job: Job, records) -> bool:
+    """Whether an earlier run's row says this job's outputs exist, made with the same options from the same
+    file, or that it refused this very file with these options (a refusal is decided by the file and the
+    options alone; a failure may be passing, and is tried again)."""
+    if not row or row.get("status") not in ("ok", "refused") or row.get("options_hash") != job.options_hash:
+        return False
+    if row.get("input_size") != str(job.input_size) or row.get("input_mtime_ns") != str(job.input_mtime_ns):
+        return False
+    for out in filter(None, row.get("outputs", "").split(";")):
+        if "#" in out and job.store is not None:
+            if records[job.index] is None:
+                return False
+        elif not Path(out).is_file():
+            return False
+    return True
+
+
+def _partials(jobs, store) -> list[Path]:
+    """Temporary files that an interrupted run may have left beside its outputs (ours and Zarr's)."""
+    found = set()
+    for job in jobs:
+        stem = Path(job.stem)
+        if stem.parent.is_dir():
+            found.update(stem.parent.glob(f".{stem.name}*.tmp*"))
+    if store is not None and Path(store).is_dir():
+        found.update(Path(store).rglob("*.partial"))
+    return sorted(found)
+
+
+def _remove_partials(jobs, store) -> None:
+    for p in _partials(jobs, store):
+        p.unlink(missing_ok=True)
+
+
+def _worker_env(workers: int, memory_limit) -> dict:
+    """Environment of the local cluster's workers: numba threads shared out between them, and geoimg's
+    memory budget within each worker's limit (so that a too-large input is refused, not killed)."""
+    dask_utils = require("dask.utils", "geoimg batch")
+    psutil = require("psutil", "geoimg batch")
+    total = psutil.virtual_memory().total
+    per = total / workers if memory_limit in (None, "auto") else dask_utils.parse_bytes(str(memory_limit))
+    return {"NUMBA_NUM_THREADS": str(max(1, (os.cpu_count() or 1) // workers)),
+            "OMP_NUM_THREADS": "1", "GEOIMG_MAX_MEMORY": str(int(0.8 * per))}
+
+
+class _Cluster:
+    """The Dask client to run on: the one given, one connected to ``scheduler``, or an embedded local cluster
+    of worker processes (closed again on exit)."""
+
+    def __init__(self, client, scheduler, workers, memory_limit):
+        self.client, self.scheduler, self.workers, self.memory_limit = client, scheduler, workers, memory_limit
+        self.owned = []
+
+    def __enter__(self):
+        if self.client is not None:
+            return self.client
+        distributed = require("distributed", "geoimg batch")
+        dask = require("dask", "geoimg batch")
+        if self.scheduler:
+            self.client = distributed.Client(self.scheduler, timeout=30)
+            self.owned = [self.client]
+            return self.client
+        n = self.workers or os.cpu_count() or 1
+        with dask.config.set({"distributed.scheduler.allowed-failures": 0}):   # a crashing input fails once
+            cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                               memory_limit=self.memory_limit, dashboard_address=None,
+                                               silence_logs=logging.CRITICAL,
+                                               env=_worker_env(n, self.memory_limit))
+        self.client = distributed.Client(cluster)
+        self.owned = [self.client, cluster]
+        return self.client
+
+    def __exit__(self, *exc):
+        for thing in self.owned:
+            try:
+                thing.close()
+            except Exception:                   # closing after an interrupt may find it half-gone
+                pass
+
+
+def _counts(rows: dict, total: int, skipped: int, t0: float) -> dict:
+    statuses = [r["status"] for r in rows.values()]
+    done = len(statuses)
+    elapsed = time.perf_counter() - t0
+    rate = done / elapsed if elapsed > 0 and done else 0.0
+    left = total - skipped - done
+    return {"done": done + skipped, "ok": statuses.count("ok"), "refused": statuses.count("refused"),
+            "failed": statuses.count("failed"), "skipped": skipped, "total": total, "elapsed": elapsed,
+            "per_minute": 60 * rate, "eta": left / rate if rate else None}
+
+
+def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int | None = None,
+            memory_limit="auto", scheduler: str | None = None, force: bool = False, progress=None, **options):
+    """Convert every mesh of ``inputs`` into a geometry image, on Dask.
+
+    Parameters
+    ----------
+    inputs : path or sequence of paths
+        Files, folders (their mesh files, recursively) and glob patterns.
+    out : path
+        Output folder: one ``NAME.exr`` per input (``NAME_K.exr`` per piece of a mesh of several), named by
+        the input's path below the inputs' common folder; the quad meshes with ``quads=True``; the manifest.
+    client : dask.distributed.Client, optional
+        Run on this client's cluster. Default: ``scheduler``'s, else an embedded local cluster of
+        ``workers`` processes (default: one per core) with ``memory_limit`` each.
+    zarr : path, optional
+        Write the images into this Zarr store instead of EXR files (one item per input: the largest piece
+        unless ``component`` says otherwise; needs ``resolution``).
+    manifest : path, optional
+        The manifest (CSV, one row per input); default ``out/manifest.csv``.
+    force : bool
+        Redo every input, and write into a folder (or replace a store) that holds something else. Without
+        it, an input is skipped when an earlier run with the same options converted it (its outputs still
+        there) or refused it, and the file has not changed since.
+    progress : callable, optional
+        Called every half second with counts: ``done, ok, refused, failed, skipped, total, elapsed,
+        per_minute, eta``.
+    **options
+        Those of :class:`ConvertOptions`: ``resolution, s, method, axis, boundary, weights, n, tol,
+        sliver_rule, component, normals, steps, mode, nsr, quads, quads_format, psnr``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The manifest rows of ``inputs`` (see :data:`geoimg.batch.COLUMNS`); ``attrs["summary"]`` holds the
+        final counts and ``attrs["manifest"]`` the manifest's path. Skipped inputs keep their rows.
+
+    Raises
+    ------
+    InputError, FileNotFoundError, FileExistsError
+        Bad options, missing inputs, an output folder or store that holds something else: before any work.
+    """
+    pandas = require("pandas", "geoimg batch")
+    if zarr is not None:
+        options.setdefault("component", "largest")
+    try:
+        opts = ConvertOptions(**options)
+    except TypeError as e:
+        raise InputTypeError(f"convert: {e}") from None
+    if zarr is not None and opts.resolution is None:
+        raise InputError("a Zarr store holds same-size images: give the resolution (--res)")
+    if zarr is not None and opts.component == "all":
+        raise InputError("a Zarr store holds one image per input: component 'largest' or a piece number")
+    files = find_inputs(inputs)
+    out = Path(out)
+    for spec in [inputs] if isinstance(inputs, (str, os.PathLike)) else inputs:
+        if Path(spec).is_dir() and out.resolve().is_relative_to(Path(spec).resolve()):
+            raise InputError(f"the output folder {out} is inside the input folder {spec}: the outputs would be "
+                             "inputs of the next run; choose another output folder")
+    manifest = Path(manifest) if manifest is not None else out / MANIFEST_NAME
+    if out.exists() and not out.is_dir():
+        raise FileExistsError(f"{out} is a file, not an output folder")
+    if out.is_dir() and any(out.iterdir()) and not manifest.exists() and not force:
+        raise FileExistsError(f"{out} holds files that no geoimg batch wrote (no {manifest.name}); choose another "
+                              "folder or --force to write into it")
+    keys = [os.path.abspath(f) for f in files]
+    stems = [str(out.resolve() / s) for s in output_stems(files)]
+    if zarr is not None:
+        zarr = str(Path(zarr).resolve())
+    digest = opts.digest("zarr" if zarr else "exr", opts.resolution if zarr else "")
+    jobs = []
+    for i, (key, stem) in enumerate(zip(keys, stems)):
+        st = os.stat(key)
+        jobs.append(Job(key, stem, opts, digest, st.st_size, st.st_mtime_ns, zarr, i))
+    names = {str(Path(key).resolve()) for key in keys}
+    for stem in stems:
+        if any(str(Path(stem + ext)) in names for ext in (".exr", f"_quads.{opts.quads_format}")):
+            raise FileExistsError(f"{stem}: an output would replace an input; choose another output folder")
+    out.mkdir(parents=True, exist_ok=True)
+    old = {} if force else read_manifest(manifest)
+    records = [None] * len(jobs)
+    if zarr is not None:
+        open_store(zarr, keys, opts.resolution, opts.normals, digest, force=force)
+        records = store_records(zarr)
+    todo = [job for job in jobs if not _finished(old.get(job.input), job, records)]
+    skipped = len(jobs) - len(todo)
+    write_manifest(manifest, old.values())          # compacted (and in this version's columns) before appending
+    _remove_partials(jobs, zarr)                    # left by a run that was killed
+    rows: dict[str, dict] = {}
+    t0 = time.perf_counter()
+    say = progress or (lambda counts: None)
+    say(_counts(rows, len(jobs), skipped, t0))
+    pending_records: dict[int, dict] = {}
+    try:
+        if todo:
+            _run(todo, rows, pending_records, manifest, zarr, say, skipped, len(jobs), t0,
+                 _Cluster(client, scheduler, workers, memory_limit))
+    finally:
+        if zarr is not None and pending_records:
+            write_records(zarr, pending_records)
+        _remove_partials(todo, zarr)
+        merged = {**old, **rows}
+        write_manifest(manifest, [merged[k] for k in keys if k in merged] +
+                       [r for k, r in merged.items() if k not in set(keys)])
+    say(_counts(rows, len(jobs), skipped, t0))
+    table = pandas.read_csv(manifest)                  # one parse for old and new rows: the same types
+    present = set(table["input"])
+    table = table.set_index("input").reindex([k for k in keys if k in present]).reset_index()
+    table.attrs["summary"] = _counts(rows, len(jobs), skipped, t0)
+    table.attrs["manifest"] = str(manifest)
+    return table
+
+
+def _run(todo, rows, pending_records, manifest, zarr, say, skipped, total, t0, cluster) -> None:
+    """Submit ``todo`` (small inputs first, so that a few large ones do not hold up the many small ones),
+    collect rows as they finish, and cancel what is left on any interruption."""
+    distributed = require("distributed", "geoimg batch")
+    with cluster as client, ManifestLog(manifest) as log:
+        order = sorted(todo, key=lambda job: job.input_size)
+        run = uuid.uuid4().hex[:8]
+        futures = {client.submit(run_job, job, key=f"geoimg-{run}-{job.index}", pure=False,
+                                 priority=len(order) - rank): job for rank, job in enumerate(order)}
+        try:
+            ac = distributed.as_completed(list(futures))
+            last_progress = last_records = time.perf_counter()
+            while not ac.is_empty():
+                batch = ac.next_batch(block=False)
+                if not batch:
+                    time.sleep(0.05)
+                for fut in batch:
+                    job = futures[fut]
+                    if fut.status == "finished":
+                        row = fut.result()
+                    else:                                  # the worker died (a crash, or killed for memory)
+                        err = fut.exception()
+                        row = {"input": job.input, "status": "failed", "options_hash": job.options_hash,
+                               "input_size": job.input_size, "input_mtime_ns": job.input_mtime_ns,
+                               "message": f"{type(err).__name__}: {' '.join(str(err).split())[:300]}"}
+                    fut.release()
+                    record = row.pop("record", None)
+                    if record is not None:
+                        pending_records[job.index] = record
+                    log.add(row)
+                    rows[job.input] = row
+                now = time.perf_counter()
+                if zarr is not None and pending_records and now - last_records > RECORDS_EVERY:
+                    write_records(zarr, pending_records)
+                    pending_records.clear()
+                    last_records = now
+                if now - last_progress > PROGRESS_EVERY:
+                    say(_counts(rows, total, skipped, t0))
+                    last_progress = now
+        except BaseException:
+            client.cancel(list(futures), force=True)
+            raise

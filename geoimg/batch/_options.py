@@ -1,0 +1,102 @@
+"""The options of a batch conversion: checked once, before any work, and hashed to recognize finished outputs."""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+
+import filters
+
+from .. import __version__
+from .._steps import check_steps
+from ..errors import InputError, InputTypeError
+from ..mesh import MESH_FORMATS
+from ..parametrization import AXES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
+from ..surface import S_RANGE, SLIVER_RULES, WEIGHTS
+
+__all__ = ["ConvertOptions", "QUAD_FORMATS"]
+
+QUAD_FORMATS = tuple(f.lstrip(".") for f in MESH_FORMATS if f in (".obj", ".ply", ".off"))    # formats that keep quads
+
+
+def _choice(name, value, choices, optional=False):
+    if (value is None and optional) or value in choices:
+        return
+    raise InputError(f"{name}: expected one of {', '.join(map(str, choices))}, got {value!r}")
+
+
+@dataclasses.dataclass(frozen=True)
+class ConvertOptions:
+    """What :func:`geoimg.batch.convert` does to each input: the options of :func:`geoimg.mesh_to_images`,
+    then the filter ``steps`` (``(name, values)`` pairs of :data:`geoimg._steps.FILTER_STEPS`, with
+    ``mode`` and ``nsr``), and what to write besides the image (``quads`` in ``quads_format``) and
+    measure (``psnr``: the quad mesh against the input).
+
+    Examples
+    --------
+    >>> ConvertOptions(resolution=65, steps=[("mean", [3])]).steps
+    (('mean', (3,)),)
+    >>> ConvertOptions(s=0).digest() # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    geoimg.errors.InputError: s: expected a number from 0.001 to 1000, got 0
+    """
+    resolution: int | None = None
+    s: float = 1.0
+    method: str = "auto"
+    axis: str | None = None
+    boundary: str = "square"
+    weights: str = "gaussian"
+    n: int = 10
+    tol: float = 1e-10
+    sliver_rule: str = "robust"
+    component: str | int = "all"
+    normals: bool = True
+    steps: tuple = ()
+    mode: str | None = None
+    nsr: float = 1e-3
+    quads: bool = False
+    quads_format: str = "obj"
+    psnr: bool = True
+
+    def __post_init__(self):
+        if self.resolution is not None and (isinstance(self.resolution, bool) or not isinstance(self.resolution, int)
+                                            or self.resolution < 2):
+            raise InputError(f"resolution: expected a whole number of pixels of at least 2, got {self.resolution!r}")
+        for name in ("s", "tol", "nsr"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise InputTypeError(f"{name}: expected a number, got {type(value).__name__}")
+        if not (math.isfinite(self.s) and S_RANGE[0] <= self.s <= S_RANGE[1]):
+            raise InputError(f"s: expected a number from {S_RANGE[0]:g} to {S_RANGE[1]:g}, got {self.s!r}")
+        if not (math.isfinite(self.tol) and 0 <= self.tol < 1):
+            raise InputError(f"tol: expected a number from 0 (exact) to below 1, got {self.tol!r}")
+        if not (math.isfinite(self.nsr) and self.nsr > 0):
+            raise InputError(f"nsr: expected a positive number, got {self.nsr!r}")
+        if isinstance(self.n, bool) or not isinstance(self.n, int) or self.n < 1:
+            raise InputError(f"n: expected a positive whole number, got {self.n!r}")
+        _choice("method", self.method, PARAMETRIZATION_METHODS)
+        _choice("axis", self.axis, AXES, optional=True)
+        _choice("boundary", self.boundary, DISK_BOUNDARIES)
+        _choice("weights", self.weights, WEIGHTS)
+        _choice("sliver_rule", self.sliver_rule, SLIVER_RULES)
+        _choice("mode", self.mode, filters.PAD_MODES, optional=True)
+        _choice("quads_format", self.quads_format, QUAD_FORMATS)
+        if not (self.component in ("all", "largest") or (isinstance(self.component, int)
+                                                          and not isinstance(self.component, bool)
+                                                          and self.component >= 0)):
+            raise InputError(f"component: expected 'all', 'largest' or a piece number, got {self.component!r}")
+        object.__setattr__(self, "steps", check_steps(self.steps))
+
+    def image_options(self) -> dict:
+        """The keyword arguments of :func:`geoimg.mesh_to_images`."""
+        return dict(resolution=self.resolution, s=float(self.s), method=self.method, component=self.component,
+                    axis=self.axis, boundary=self.boundary, weights=self.weights, n=self.n, tol=float(self.tol),
+                    sliver_rule=self.sliver_rule, normals=self.normals)
+
+    def digest(self, *extra) -> str:
+        """A short hash of the options, this geoimg's version and ``extra`` (say, the output layout): equal
+        hashes mean equal outputs."""
+        record = dict(dataclasses.asdict(self), version=__version__, extra=list(map(str, extra)))
+        return hashlib.sha256(json.dumps(record, sort_keys=True, default=list).encode()).hexdigest()[:16]

@@ -1,0 +1,107 @@
+"""A Zarr store of same-size geometry images for learning pipelines: ``positions`` (N, R, R, 3) float32,
+``mask`` (N, R, R) bool and, when asked, ``normals`` (N, R, R, 3), one chunk per item, each written by the
+worker that made it; one metadata record per item in the group's attributes, written by the batch's driver
+when the item is complete (an item without a record is not there: it is redone on the next run)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .._optional import require
+from ..errors import InputError
+from ..image import Domain, GeometryImage
+
+__all__ = ["open_store", "write_item", "write_records", "read_item", "store_records"]
+
+KEY = "geoimg"
+
+
+def _zarr():
+    return require("zarr", "geoimg batch --zarr")
+
+
+def open_store(path, sources: list[str], resolution: int, normals: bool, options_hash: str, *,
+               force: bool = False):
+    """Create the store for ``sources`` (one item each) at ``resolution`` pixels a side, or open the one a
+    previous run of the same batch made. A store made from other inputs or options is refused unless
+    ``force`` (then it is replaced)."""
+    zarr = _zarr()
+    path = Path(path)
+    if path.exists() and not force:
+        try:
+            group = zarr.open_group(str(path), mode="r+")
+            info = dict(group.attrs).get(KEY)
+        except Exception as e:               # not a Zarr group at all: zarr raises several kinds
+            raise InputError(f"{path} exists and is not a geoimg Zarr store ({type(e).__name__}); choose "
+                             "another --zarr path or --force to replace it") from None
+        if not info or info.get("sources") != sources or info.get("options_hash") != options_hash:
+            raise InputError(f"{path} holds another batch (other inputs or options); choose another --zarr path "
+                             "or --force to replace it")
+        return group
+    group = zarr.open_group(str(path), mode="w")
+    n, r = len(sources), resolution
+    group.create_array("positions", shape=(n, r, r, 3), chunks=(1, r, r, 3), dtype="float32", fill_value=np.nan)
+    group.create_array("mask", shape=(n, r, r), chunks=(1, r, r), dtype="bool", fill_value=False)
+    if normals:
+        group.create_array("normals", shape=(n, r, r, 3), chunks=(1, r, r, 3), dtype="float32", fill_value=np.nan)
+    group.attrs[KEY] = {"sources": sources, "resolution": r, "options_hash": options_hash, "items": [None] * n}
+    return group
+
+
+def write_item(path, index: int, image: GeometryImage) -> None:
+    """Write one image into item ``index`` (top-left corner; the rest masked out)."""
+    group = _zarr().open_group(str(path), mode="r+")
+    r = group["positions"].shape[1]
+    H, W = image.shape
+    if H > r or W > r:
+        raise InputError(f"a {W} x {H} image does not fit the store's {r} x {r} items")
+    pos = np.full((r, r, 3), np.nan, np.float32)
+    pos[:H, :W] = image.pixels
+    mask = np.zeros((r, r), bool)
+    mask[:H, :W] = image.valid
+    group["positions"][index] = pos
+    group["mask"][index] = mask
+    if "normals" in group:
+        nrm = np.full((r, r, 3), np.nan, np.float32)
+        if image.normals is not None:
+            nrm[:H, :W] = image.normals
+        group["normals"][index] = nrm
+
+
+def write_records(path, records: dict[int, dict]) -> None:
+    """Record the items in ``records`` (index -> record) as complete."""
+    group = _zarr().open_group(str(path), mode="r+")
+    info = dict(group.attrs[KEY])
+    items = list(info["items"])
+    for i, rec in records.items():
+        items[i] = rec
+    info["items"] = items
+    group.attrs[KEY] = info
+
+
+def store_records(path) -> list[dict | None]:
+    """Each item's record, None for an item not written."""
+    return list(dict(_zarr().open_group(str(path), mode="r").attrs)[KEY]["items"])
+
+
+def read_item(path, index: int) -> GeometryImage:
+    """Item ``index`` of a store as a GeometryImage (its domain and metadata from the item's record).
+
+    Raises
+    ------
+    InputError
+        If the item was not written.
+    """
+    group = _zarr().open_group(str(path), mode="r")
+    records = dict(group.attrs)[KEY]["items"]
+    if not 0 <= index < len(records):
+        raise InputError(f"index: expected 0 to {len(records) - 1}, got {index}")
+    rec = records[index]
+    if rec is None:
+        raise InputError(f"item {index} of {path} was not written")
+    H, W = rec["shape"]
+    meta = rec["metadata"]
+    normals = group["normals"][index, :H, :W] if "normals" in group and rec.get("normals") else None
+    return GeometryImage(group["positions"][index, :H, :W], group["mask"][index, :H, :W],
+                         domain=Domain.from_metadata(rec["domain"], meta), normals=normals, metadata=meta)

@@ -1,0 +1,119 @@
+"""One input of a batch, on a worker: load, convert, filter, write, measure; every outcome is a manifest row
+(a refusal or a crash is a row too, never an exception that stops the batch)."""
+from __future__ import annotations
+
+import dataclasses
+import datetime
+import os
+import socket
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from .._atomic import write_all
+from .._convert import _timed, mesh_to_images
+from .._steps import apply_steps
+from ..errors import GeoimgError
+from ..mesh import Mesh, load_mesh, save_mesh, surface_distance, topology
+from ._options import ConvertOptions
+from ._store import write_item
+
+__all__ = ["Job", "run_job", "PSNR_SAMPLES"]
+
+PSNR_SAMPLES = 20000          # points on each surface for the quad mesh's distance to the input
+
+
+@dataclasses.dataclass(frozen=True)
+class Job:
+    """One input: its path, where its outputs go (``stem`` + extension, numbered per piece) or which item
+    of the Zarr store, the options and their hash, and the input's size and time stamp (to recognize it)."""
+    input: str
+    stem: str
+    options: ConvertOptions
+    options_hash: str
+    input_size: int
+    input_mtime_ns: int
+    store: str | None = None
+    index: int = 0
+
+
+def _one_line(error: BaseException) -> str:
+    text = " ".join(str(error).split()) or type(error).__name__
+    return text if isinstance(error, GeoimgError) else f"{type(error).__name__}: {text}"
+
+
+def _joined(meshes: list[Mesh]) -> Mesh:
+    """Several quad meshes as one (their vertices side by side)."""
+    offsets = np.cumsum([0] + [m.n_vertices for m in meshes[:-1]])
+    return Mesh(np.vstack([m.vertices for m in meshes]), np.vstack([np.where(m.faces >= 0, m.faces + o, -1) for m, o in zip(meshes, offsets)]))
+
+
+def _outputs(job: Job, images) -> list[tuple[Path, object]]:
+    """(path, writer) of every file of one input: NAME.exr, or NAME_K.exr for piece K of several; the quad
+    meshes beside them."""
+    many = len(images) > 1
+    jobs = []
+    for image in images:
+        name = job.stem + (f"_{image.metadata.get('component', 0)}" if many else "")
+        if job.store is None:
+            jobs.append((Path(name + ".exr"), lambda tmp, image=image: image.save(tmp, overwrite=True)))
+        if job.options.quads:
+            jobs.append((Path(f"{name}_quads.{job.options.quads_format}"),
+                         lambda tmp, image=image: save_mesh(image.to_mesh(), tmp, overwrite=True)))
+    return jobs
+
+
+def run_job(job: Job) -> dict:
+    """Convert one input as ``job`` says and return its manifest row (see :data:`COLUMNS`)."""
+    opts = job.options
+    row = {"input": job.input, "options_hash": job.options_hash, "input_size": job.input_size,
+           "input_mtime_ns": job.input_mtime_ns, "worker": f"{socket.gethostname()}:{os.getpid()}"}
+    timings: dict = {}
+    t0 = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            with _timed(timings, "load"):
+                mesh = load_mesh(job.input)
+            top = topology(mesh)
+            row.update(vertices=mesh.n_vertices, faces=mesh.n_faces, topology=top.describe())
+            images = mesh_to_images(mesh, opts.resolution, timings=timings, **{
+                k: v for k, v in opts.image_options().items() if k != "resolution"})
+            for image in images:
+                image.metadata["source"] = Path(job.input).name
+            if opts.steps:
+                with _timed(timings, "filter"):
+                    images = [apply_steps(img, opts.steps, mode=opts.mode, nsr=opts.nsr) for img in images]
+            with _timed(timings, "write"):
+                Path(job.stem).parent.mkdir(parents=True, exist_ok=True)
+                outputs = _outputs(job, images)
+                files = write_all(outputs, overwrite=True)             # all of this input's files, or none
+                if job.store is not None:
+                    write_item(job.store, job.index, images[0])
+            row.update(pieces=images[0].metadata.get("components", 1), domain=images[0].domain.kind,
+                       image_size=" ".join(f"{img.shape[1]}x{img.shape[0]}" for img in images))
+            row["outputs"] = ";".join([str(f) for f in files] + ([f"{job.store}#{job.index}"] if job.store else []))
+            if opts.psnr and (opts.component == "all" or row["pieces"] == 1):
+                with _timed(timings, "psnr"):
+                    dist = surface_distance(mesh, _joined([img.to_mesh() for img in images]), n=PSNR_SAMPLES)
+                row.update(psnr_db=round(dist["psnr_db"], 2), hausdorff=float(f"{dist['hausdorff'] / dist['diagonal']:.4g}"))
+            if job.store is not None:
+                row["record"] = {"source": job.input, "shape": list(images[0].shape), "domain": images[0].domain.kind,
+                                 "metadata": images[0].metadata_record(), "normals": images[0].normals is not None,
+                                 "psnr_db": row.get("psnr_db"), "options_hash": job.options_hash,
+                                 "timings": {k: round(v, 4) for k, v in timings.items()}}
+            row.update(status="ok", message="")
+        except GeoimgError as e:
+            row.update(status="refused", message=_one_line(e))
+        except Exception as e:               # a bug or a system error: recorded, and the batch goes on
+            row.update(status="failed", message=_one_line(e))
+    row["warnings"] = " | ".join(dict.fromkeys(" ".join(str(w.message).split()) for w in caught))
+    for stage, seconds in timings.items():
+        row[f"t_{stage}"] = round(seconds, 4)
+    row["t_total"] = round(time.perf_counter() - t0, 4)
+    row["finished"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    if job.store is not None and "record" in row:
+        row["record"]["timings"]["total"] = row["t_total"]
+    return row

@@ -1,0 +1,244 @@
+"""geoimg batch: a real local Dask cluster (worker processes) over a folder of good, corrupt and refused meshes
+with a duplicate file name; the manifest, the outputs, the Zarr store, skipping, interruption, refusals."""
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import geoimg
+from geoimg import batch, cli
+from geoimg.batch._task import Job, run_job
+from helpers import DATA
+from meshes import mobius, write
+
+distributed = pytest.importorskip("distributed")
+pd = pytest.importorskip("pandas")
+
+RES = 33
+
+
+@pytest.fixture(scope="module")
+def client():
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  silence_logs=50) as cluster, distributed.Client(cluster) as c:
+        yield c
+
+
+@pytest.fixture
+def inputs(tmp_path):
+    """a/sphere.obj, a/cube_no_bottom.obj, b/sphere.obj (the same name in another folder), b/bad.obj (not a
+    mesh), b/sub/moebius.off (refused: not orientable), b/notes.txt (not a mesh: not picked up)."""
+    root = tmp_path / "in"
+    for rel, src in (("a/sphere.obj", "sphere.obj"), ("a/cube_no_bottom.obj", "cube_no_bottom.obj"),
+                     ("b/sphere.obj", "sphere.obj")):
+        (root / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(DATA / src, root / rel)
+    (root / "b" / "bad.obj").write_bytes(b"\x00\x01 this is not a mesh \xff")
+    (root / "b" / "sub").mkdir()
+    write(mobius(), root / "b" / "sub" / "moebius.off")
+    (root / "b" / "notes.txt").write_text("hello")
+    return root
+
+
+def _status(table) -> dict:
+    return {Path(r.input).relative_to(r.input.split("/in/")[0] + "/in").as_posix(): r.status
+            for r in table.itertuples()}
+
+
+def test_manifest_outputs_and_a_second_run_that_skips_everything(client, inputs, tmp_path):
+    out = tmp_path / "out"
+    table = batch.convert([inputs], out, client=client, resolution=RES, quads=True)
+    assert _status(table) == {"a/cube_no_bottom.obj": "ok", "a/sphere.obj": "ok", "b/bad.obj": "refused",
+                              "b/sphere.obj": "ok", "b/sub/moebius.off": "refused"}
+    rows = table.set_index("input")
+    bad = rows.loc[str(inputs / "b" / "bad.obj")]
+    assert "no vertices" in bad.message and pd.isna(bad.outputs)
+    assert "orient" in rows.loc[str(inputs / "b" / "sub" / "moebius.off")].message
+    for name in ("a/sphere", "b/sphere", "a/cube_no_bottom"):           # equal names kept apart
+        assert (out / f"{name}.exr").is_file() and (out / f"{name}_quads.obj").is_file()
+    assert sorted(p.name for p in (out / "b").iterdir()) == ["sphere.exr", "sphere_quads.obj"]
+    sphere = rows.loc[str(inputs / "a" / "sphere.obj")]
+    assert sphere.domain == "octahedral" and sphere.image_size == f"{RES}x{RES}" and sphere.faces == 1280
+    assert sphere.topology.startswith("closed surface of genus 0") and sphere.psnr_db > 30
+    assert all(sphere[f"t_{s}"] > 0 for s in ("load", "parametrize", "fit", "sample", "write", "psnr"))
+    assert len(set(table.options_hash)) == 1
+    # the manifest on disk says the same
+    on_disk = batch.read_manifest(out / batch.MANIFEST_NAME)
+    assert {k: r["status"] for k, r in on_disk.items()} == dict(zip(table.input, table.status))
+
+    stamps = {p: p.stat().st_mtime_ns for p in out.rglob("*.exr")}
+    again = batch.convert([inputs], out, client=client, resolution=RES, quads=True)
+    assert again.attrs["summary"]["skipped"] == 5 and list(again.status) == list(table.status)
+    assert {p: p.stat().st_mtime_ns for p in out.rglob("*.exr")} == stamps      # nothing rewritten
+
+    changed = batch.convert([inputs], out, client=client, resolution=RES, quads=True, s=2.0)
+    assert changed.attrs["summary"]["skipped"] == 0 and set(changed.options_hash) != set(table.options_hash)
+
+
+def test_outputs_equal_geoimg_image_on_the_same_input(client, inputs, tmp_path):
+    out = tmp_path / "out"
+    batch.convert([inputs / "a"], out, client=client, resolution=RES, steps=[("mean", [3])])
+    for name in ("sphere", "cube_no_bottom"):
+        single = tmp_path / f"{name}.exr"
+        assert cli.main(["image", str(inputs / "a" / f"{name}.obj"), "-o", str(single), "--res", str(RES), "-q"]) == 0
+        assert cli.main(["filter", str(single), "-o", str(single), "--mean", "3", "--force", "-q"]) == 0
+        a, b = geoimg.load_image(out / f"{name}.exr"), geoimg.load_image(single)
+        np.testing.assert_array_equal(a.pixels, b.pixels)
+        np.testing.assert_array_equal(a.valid, b.valid)
+        np.testing.assert_array_equal(a.normals, b.normals)
+        assert a.domain == b.domain and a.metadata["filters"] == b.metadata["filters"]
+
+
+def test_zarr_store_shapes_records_and_items(client, inputs, tmp_path):
+    store = tmp_path / "data.zarr"
+    table = batch.convert([inputs], tmp_path / "out", client=client, zarr=store, resolution=RES)
+    zarr = pytest.importorskip("zarr")
+    group = zarr.open_group(str(store), mode="r")
+    assert group["positions"].shape == (5, RES, RES, 3) and group["positions"].dtype == np.float32
+    assert group["mask"].shape == (5, RES, RES) and group["normals"].shape == (5, RES, RES, 3)
+    records = batch.store_records(store)
+    for i, row in enumerate(table.itertuples()):
+        assert (records[i] is not None) == (row.status == "ok")
+        if row.status == "ok":
+            assert records[i]["source"] == row.input and records[i]["psnr_db"] == pytest.approx(row.psnr_db)
+            item = batch.read_item(store, i)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")                     # the cube's UV seams, said in the manifest
+                ref = geoimg.mesh_to_images(row.input, RES, component="largest")[0]
+            np.testing.assert_array_equal(item.pixels[item.valid], ref.pixels[ref.valid].astype(np.float32))
+            assert item.domain == ref.domain
+        else:
+            assert not group["mask"][i].any()
+            with pytest.raises(geoimg.InputError, match="not written"):
+                batch.read_item(store, i)
+    assert not list((tmp_path / "out").rglob("*.exr"))                 # the images went into the store
+    again = batch.convert([inputs], tmp_path / "out", client=client, zarr=store, resolution=RES)
+    assert again.attrs["summary"]["skipped"] == 5
+    with pytest.raises(geoimg.InputError, match="another batch"):      # same store, other options
+        batch.convert([inputs], tmp_path / "out", client=client, zarr=store, resolution=RES, s=2.0)
+
+
+def test_a_scheduler_address_runs_the_same_tasks(client, inputs, tmp_path):
+    table = batch.convert([inputs / "a" / "sphere.obj"], tmp_path / "out", scheduler=client.scheduler.address,
+                          resolution=RES)
+    assert list(table.status) == ["ok"] and (tmp_path / "out" / "sphere.exr").is_file()
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    (dict(zarr="x.zarr"), geoimg.InputError, "resolution"),
+    (dict(zarr="x.zarr", resolution=33, component="all"), geoimg.InputError, "one image per input"),
+    (dict(s=0.0), geoimg.InputError, "s: expected"),
+    (dict(s="soft"), geoimg.InputTypeError, "s: expected a number"),
+    (dict(method="magic"), geoimg.InputError, "method"),
+    (dict(resolution=1), geoimg.InputError, "resolution"),
+    (dict(steps=[("blur", [3])]), geoimg.InputError, "unknown filter step"),
+    (dict(steps=[("mean", [])]), geoimg.InputError, "takes 1 value"),
+    (dict(quads_format="stl"), geoimg.InputError, "quads_format"),
+    (dict(colour="red"), geoimg.InputTypeError, "colour"),
+])
+def test_bad_options_are_refused_before_any_work(inputs, tmp_path, kwargs, error, match):
+    with pytest.raises(error, match=match):
+        batch.convert([inputs], tmp_path / "out", client=object(), **kwargs)    # no client is ever asked
+    assert not (tmp_path / "out").exists()
+
+
+def test_bad_paths_are_refused_before_any_work(inputs, tmp_path):
+    with pytest.raises(FileNotFoundError, match="no such file or folder"):
+        batch.convert([tmp_path / "nowhere"], tmp_path / "out", client=object())
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(geoimg.InputError, match="no mesh files"):
+        batch.convert([tmp_path / "empty"], tmp_path / "out", client=object())
+    foreign = tmp_path / "foreign"
+    foreign.mkdir()
+    (foreign / "thesis.tex").write_text("precious")
+    with pytest.raises(FileExistsError, match="no geoimg batch wrote"):
+        batch.convert([inputs], foreign, client=object())
+    with pytest.raises(geoimg.InputError, match="inside the input folder"):
+        batch.convert([inputs], inputs / "a" / "images", client=object())
+    shutil.copy(inputs / "a" / "sphere.obj", inputs / "a" / "sphere_quads.obj")
+    with pytest.raises(FileExistsError, match="would replace an input"):
+        batch.convert([inputs / "a" / "sphere.obj", inputs / "a" / "sphere_quads.obj"], inputs / "a", client=object(),
+                      quads=True, force=True)
+    (tmp_path / "file").write_text("")
+    with pytest.raises(FileExistsError, match="is a file"):
+        batch.convert([inputs], tmp_path / "file", client=object())
+    assert (foreign / "thesis.tex").read_text() == "precious"
+
+
+def test_globs_and_output_names(inputs):
+    found = batch.find_inputs([str(inputs / "**" / "*.obj"), inputs / "a" / "sphere.obj"])
+    assert [p.relative_to(inputs).as_posix() for p in found] == [
+        "a/cube_no_bottom.obj", "a/sphere.obj", "b/bad.obj", "b/sphere.obj"]
+    assert [s.as_posix() for s in batch.output_stems(found)] == ["a/cube_no_bottom", "a/sphere", "b/bad", "b/sphere"]
+
+
+def test_a_job_that_cannot_write_is_failed_not_raised(tmp_path):
+    src = str(DATA / "sphere.obj")
+    st = os.stat(src)
+    opts = batch.ConvertOptions(resolution=17, psnr=False)
+    (tmp_path / "a_file").write_text("")
+    row = run_job(Job(src, str(tmp_path / "a_file" / "sphere"), opts, "h", st.st_size, st.st_mtime_ns))
+    assert row["status"] == "failed" and row["message"].startswith("FileExistsError")
+    assert row["t_parametrize"] > 0 and row["faces"] == 1280
+
+
+def _batch_command(*args):
+    return [sys.executable, "-m", "geoimg", "batch", *map(str, args)]
+
+
+def test_cli_exit_status_summary_and_usage_errors(inputs, tmp_path):
+    out = tmp_path / "out"
+    run = subprocess.run(_batch_command(inputs / "a", "-o", out, "--res", RES, "--workers", 1),
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert "2 inputs: 2 converted, 0 refused, 0 failed" in run.stdout
+    run = subprocess.run(_batch_command(inputs, "-o", out, "--res", RES, "--workers", 1, "--force"),
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 1
+    assert "2 of 5 inputs were not converted" in run.stderr and "bad.obj: refused:" in run.stderr
+    for args in (["--zarr", tmp_path / "z.zarr"], ["--quads", "stl"], ["--workers", "0"], ["--mean", "x"]):
+        run = subprocess.run(_batch_command(inputs, "-o", tmp_path / "o2", *args), capture_output=True,
+                             text=True, timeout=60)
+        assert run.returncode == 2 and "Traceback" not in run.stderr and not (tmp_path / "o2").exists()
+
+
+def test_an_interrupted_run_leaves_nothing_partial_and_resumes(tmp_path):
+    root = tmp_path / "in"
+    root.mkdir()
+    for k in range(8):
+        shutil.copy(DATA / "spot.obj", root / f"spot{k}.obj")
+    out = tmp_path / "out"
+    proc = subprocess.Popen(_batch_command(root, "-o", out, "--res", 129, "--workers", 1, "--quads", "-q"),
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    manifest = out / batch.MANIFEST_NAME
+    deadline = time.time() + 240
+    while time.time() < deadline and proc.poll() is None:
+        if manifest.is_file() and len(batch.read_manifest(manifest)) >= 1:
+            break
+        time.sleep(0.05)
+    assert proc.poll() is None, "the batch ended before it could be interrupted"
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=120) == 128 + signal.SIGTERM
+    assert not [p for p in out.rglob("*") if ".tmp" in p.name or p.name.endswith(".partial")]
+    rows = batch.read_manifest(manifest)
+    assert 1 <= len(rows) < 8 and all(r["status"] == "ok" for r in rows.values())
+    for r in rows.values():
+        for f in r["outputs"].split(";"):
+            assert Path(f).is_file()
+        geoimg.load_image(r["outputs"].split(";")[0])
+    for exr in out.glob("*.exr"):                          # every image there is whole
+        geoimg.load_image(exr)
+    run = subprocess.run(_batch_command(root, "-o", out, "--res", 129, "--workers", 1, "--quads"),
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert f"{len(rows)} of them done before" in run.stdout
+    assert len(batch.read_manifest(manifest)) == 8 and len(list(out.glob("*.exr"))) == 8
