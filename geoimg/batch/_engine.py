@@ -57,6 +57,11 @@ def _remove_partials(jobs, store) -> None:
         p.unlink(missing_ok=True)
 
 
+def _threads_per_worker(workers: int) -> int:
+    """numba threads for each of ``workers`` worker processes on this machine: its cores shared out."""
+    return max(1, (os.cpu_count() or 1) // workers)
+
+
 def _worker_env(workers: int, memory_limit) -> dict:
     """Environment of the local cluster's workers: numba threads shared out between them, and geoimg's
     memory budget within each worker's limit (so that a too-large input is refused, not killed)."""
@@ -64,7 +69,7 @@ def _worker_env(workers: int, memory_limit) -> dict:
     psutil = require("psutil", "geoimg batch")
     total = psutil.virtual_memory().total
     per = total / workers if memory_limit in (None, "auto") else dask_utils.parse_bytes(str(memory_limit))
-    return {"NUMBA_NUM_THREADS": str(max(1, (os.cpu_count() or 1) // workers)),
+    return {"NUMBA_NUM_THREADS": str(_threads_per_worker(workers)),
             "OMP_NUM_THREADS": "1", "GEOIMG_MAX_MEMORY": str(int(0.8 * per))}
 
 
@@ -127,7 +132,10 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
         the input's path below the inputs' common folder; the quad meshes with ``quads=True``; the manifest.
     client : dask.distributed.Client, optional
         Run on this client's cluster. Default: ``scheduler``'s, else an embedded local cluster of
-        ``workers`` processes (default: one per core) with ``memory_limit`` each.
+        ``workers`` processes (default: one per core) with ``memory_limit`` each, the cores shared out
+        between their numba threads. On a cluster of your own, set ``NUMBA_NUM_THREADS`` in each worker's
+        environment to the cores it may use: workers that each run a thread per core slow each other down
+        many times over.
     zarr : path, optional
         Write the images into this Zarr store instead of EXR files (one item per input: the largest piece
         unless ``component`` says otherwise; needs ``resolution``).
@@ -183,10 +191,13 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
     if zarr is not None:
         zarr = str(Path(zarr).resolve())
     digest = opts.digest("zarr" if zarr else "exr", opts.resolution if zarr else "")
+    # numba threads per task: the cores shared out between the local cluster's workers; a cluster of someone
+    # else's keeps its own settings
+    threads = _threads_per_worker(workers or os.cpu_count() or 1) if client is None and not scheduler else None
     jobs = []
     for i, (key, stem) in enumerate(zip(keys, stems)):
         st = os.stat(key)
-        jobs.append(Job(key, stem, opts, digest, st.st_size, st.st_mtime_ns, zarr, i))
+        jobs.append(Job(key, stem, opts, digest, st.st_size, st.st_mtime_ns, zarr, i, threads))
     names = {str(Path(key).resolve()) for key in keys}
     for stem in stems:
         if any(str(Path(stem + ext)) in names for ext in (".exr", f"_quads.{opts.quads_format}")):
