@@ -242,3 +242,41 @@ def test_an_interrupted_run_leaves_nothing_partial_and_resumes(tmp_path):
     assert run.returncode == 0, run.stderr
     assert f"{len(rows)} of them done before" in run.stdout
     assert len(batch.read_manifest(manifest)) == 8 and len(list(out.glob("*.exr"))) == 8
+
+
+class _Stream:
+    def __init__(self, tty):
+        self.tty, self.text = tty, ""
+
+    def isatty(self):
+        return self.tty
+
+    def write(self, s):
+        self.text += s
+
+    def flush(self):
+        pass
+
+
+def _counts(done, elapsed, total=10):
+    return {"done": done, "ok": done, "refused": 0, "failed": 0, "skipped": 0, "total": total, "elapsed": elapsed,
+            "per_minute": 60 * done / elapsed if elapsed else 0.0, "eta": (total - done) * elapsed / done if done else None}
+
+
+def test_progress_lines_off_a_terminal_a_bar_on_one_and_nothing_when_quiet():
+    logs = _Stream(tty=False)
+    p = cli.BatchProgress(every=5.0, stream=logs)
+    for done, t in ((0, 0.0), (1, 1.0), (2, 4.0), (3, 5.5), (4, 7.0), (10, 12.0)):
+        p(_counts(done, t))
+    lines = logs.text.splitlines()
+    assert [line.split("]")[0] for line in lines] == ["[0s", "[6s", "[12s"]       # every 5 s, and the end
+    assert lines[1].endswith("3/10 done, 0 refused, 0 failed, 32.7/min, 13s left")
+    assert lines[-1].startswith("[12s] 10/10 done") and "left" not in lines[-1]
+    term = _Stream(tty=True)
+    p = cli.BatchProgress(stream=term)
+    p(_counts(5, 10.0))
+    p(_counts(10, 20.0))
+    assert term.text.startswith("\r[###############...............] 5/10") and term.text.endswith("\n")
+    quiet = _Stream(tty=True)
+    cli.BatchProgress(quiet=True, stream=quiet)(_counts(5, 1.0))
+    assert quiet.text == ""

@@ -23,7 +23,7 @@ from ._store import write_item
 
 __all__ = ["Job", "run_job", "PSNR_SAMPLES"]
 
-PSNR_SAMPLES = 20000          # points on each surface for the quad mesh's distance to the input
+PSNR_SAMPLES = 10000          # area samples on each surface for the quad mesh's distance to the input (±0.2 dB)
 
 
 @dataclasses.dataclass(frozen=True)
