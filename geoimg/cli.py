@@ -592,6 +592,9 @@ def main(argv=None) -> int:
             warnings.simplefilter("ignore" if getattr(args, "quiet", False) else "default")
             warnings.showwarning = _one_line_warning(args.command)
             return args.func(args)
+    except KeyboardInterrupt:               # Ctrl-C: what was being written has been removed on the way out
+        print(f"geoimg {args.command}: interrupted", file=sys.stderr)
+        return 128 + signal.SIGINT
     except BrokenPipeError:                 # the reader of our output went away (geoimg info x | head)
         try:                                # so that the interpreter's last flush does not complain either
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())

@@ -211,14 +211,16 @@ def test_cli_exit_status_summary_and_usage_errors(inputs, tmp_path):
         assert run.returncode == 2 and "Traceback" not in run.stderr and not (tmp_path / "o2").exists()
 
 
-def test_an_interrupted_run_leaves_nothing_partial_and_resumes(tmp_path):
+@pytest.mark.parametrize("how", ["SIGTERM to the batch", "Ctrl-C to every process"])
+def test_an_interrupted_run_leaves_nothing_partial_and_resumes(tmp_path, how):
     root = tmp_path / "in"
     root.mkdir()
     for k in range(8):
         shutil.copy(DATA / "spot.obj", root / f"spot{k}.obj")
     out = tmp_path / "out"
     proc = subprocess.Popen(_batch_command(root, "-o", out, "--res", 129, "--workers", 1, "--quads", "-q"),
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))   # as in a terminal
     manifest = out / batch.MANIFEST_NAME
     deadline = time.time() + 240
     while time.time() < deadline and proc.poll() is None:
@@ -226,8 +228,13 @@ def test_an_interrupted_run_leaves_nothing_partial_and_resumes(tmp_path):
             break
         time.sleep(0.05)
     assert proc.poll() is None, "the batch ended before it could be interrupted"
-    proc.send_signal(signal.SIGTERM)
-    assert proc.wait(timeout=120) == 128 + signal.SIGTERM
+    if how.startswith("SIGTERM"):
+        proc.send_signal(signal.SIGTERM)
+    else:
+        os.killpg(proc.pid, signal.SIGINT)        # a terminal's Ctrl-C reaches the workers too
+    assert proc.wait(timeout=120) == 128 + (signal.SIGTERM if how.startswith("SIGTERM") else signal.SIGINT)
+    err = proc.stderr.read()
+    assert "Traceback" not in err and (how.startswith("SIGTERM") or err.strip() == "geoimg batch: interrupted")
     assert not [p for p in out.rglob("*") if ".tmp" in p.name or p.name.endswith(".partial")]
     rows = batch.read_manifest(manifest)
     assert 1 <= len(rows) < 8 and all(r["status"] == "ok" for r in rows.values())

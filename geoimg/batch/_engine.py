@@ -94,7 +94,7 @@ class _Cluster:
         with dask.config.set({"distributed.scheduler.allowed-failures": 0}):   # a crashing input fails once
             cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                                memory_limit=self.memory_limit, dashboard_address=None,
-                                               silence_logs=logging.CRITICAL,
+                                               silence_logs=logging.CRITICAL, preload=["geoimg.batch._worker"],
                                                env=_worker_env(n, self.memory_limit))
         self.client = distributed.Client(cluster)
         self.owned = [self.client, cluster]
@@ -246,6 +246,24 @@ def _run(todo, rows, pending_records, manifest, zarr, say, skipped, total, t0, c
         run = uuid.uuid4().hex[:8]
         futures = {client.submit(run_job, job, key=f"geoimg-{run}-{job.index}", pure=False,
                                  priority=len(order) - rank): job for rank, job in enumerate(order)}
+
+        def collect(fut) -> None:
+            """The finished task's row: into the manifest, its item record queued for the store."""
+            job = futures.pop(fut)
+            if fut.status == "finished":
+                row = fut.result()
+            else:                                      # the worker died (a crash, or killed for memory)
+                err = fut.exception()
+                row = {"input": job.input, "status": "failed", "options_hash": job.options_hash,
+                       "input_size": job.input_size, "input_mtime_ns": job.input_mtime_ns,
+                       "message": f"{type(err).__name__}: {' '.join(str(err).split())[:300]}"}
+            fut.release()
+            item = row.pop("record", None)
+            if item is not None:
+                pending_records[job.index] = item
+            log.add(row)
+            rows[job.input] = row
+
         try:
             ac = distributed.as_completed(list(futures))
             last_progress = last_records = time.perf_counter()
@@ -254,20 +272,7 @@ def _run(todo, rows, pending_records, manifest, zarr, say, skipped, total, t0, c
                 if not batch:
                     time.sleep(0.05)
                 for fut in batch:
-                    job = futures[fut]
-                    if fut.status == "finished":
-                        row = fut.result()
-                    else:                                  # the worker died (a crash, or killed for memory)
-                        err = fut.exception()
-                        row = {"input": job.input, "status": "failed", "options_hash": job.options_hash,
-                               "input_size": job.input_size, "input_mtime_ns": job.input_mtime_ns,
-                               "message": f"{type(err).__name__}: {' '.join(str(err).split())[:300]}"}
-                    fut.release()
-                    record = row.pop("record", None)
-                    if record is not None:
-                        pending_records[job.index] = record
-                    log.add(row)
-                    rows[job.input] = row
+                    collect(fut)
                 now = time.perf_counter()
                 if zarr is not None and pending_records and now - last_records > RECORDS_EVERY:
                     write_records(zarr, pending_records)
@@ -277,5 +282,7 @@ def _run(todo, rows, pending_records, manifest, zarr, say, skipped, total, t0, c
                     say(_counts(rows, total, skipped, t0))
                     last_progress = now
         except BaseException:
+            for fut in [f for f in futures if f.status == "finished"]:    # done before the stop: recorded
+                collect(fut)
             client.cancel(list(futures), force=True)
             raise
