@@ -81,7 +81,8 @@ def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: s
 
 
 def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: str = "auto", *,
-                  axis: str | None = None, boundary: str = "square", weights: str = "gaussian", n: int = 10,
+                  axis: str | None = None, boundary: str = "square", balance: str = "slim",
+                  weights: str = "gaussian", n: int = 10,
                   tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True,
                   parametrization: Parametrization | None = None, progress=None,
                   timings: dict | None = None) -> GeometryImage:
@@ -99,7 +100,7 @@ def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: st
         (65, 129, 257, 513, ...).
     s : float, per-face values or SmoothnessMap; default 1.0
         Smoothness (see :func:`geoimg.fit_surface`).
-    method, axis, boundary
+    method, axis, boundary, balance
         The parametrization (see :func:`geoimg.parametrize`); ignored when ``parametrization`` is given.
     weights, n, tol, sliver_rule
         The fit (see :func:`geoimg.fit_surface`).
@@ -132,7 +133,8 @@ def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: st
     if parametrization is None:
         say(f"{mesh.n_vertices} vertices, {mesh.n_faces} faces; parametrizing ({method})")
         with _timed(timings, "parametrize"):
-            parametrization = parametrize(mesh, method, axis=axis, boundary=boundary, progress=progress)
+            parametrization = parametrize(mesh, method, axis=axis, boundary=boundary, balance=balance,
+                                          progress=progress)
     say(f"parametrized by {parametrization.method}; fitting the surface (s={s}, {weights} weights)")
     with _timed(timings, "fit"):
         surface = fit_surface(mesh, parametrization, s, weights=weights, n=n, tol=tol, sliver_rule=sliver_rule)

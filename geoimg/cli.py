@@ -27,7 +27,7 @@ from .errors import GeoimgError, InputError
 from .image import (grid_normals, image_curvature, image_region, load_image, load_mask, save_colormap,
                     save_normal_map, save_scalar, uv_region)
 from .mesh import MESH_FORMATS, load_mesh, save_mesh, surface_distance, topology
-from .parametrization import AXES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
+from .parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
 from .surface import SLIVER_RULES, WEIGHTS
 
 SAMPLE_MESH = Path(__file__).resolve().parent / "data" / "mountain.obj"    # package data: works from a wheel
@@ -82,8 +82,8 @@ def cmd_image(args) -> int:
     progress = Progress(args.quiet)
     component = _component(args.component or "all")
     images = mesh_to_images(args.mesh, args.res, args.s, args.method, component=component, axis=args.axis,
-                            boundary=args.boundary, weights=args.weights, n=args.n, tol=args.tol,
-                            sliver_rule=args.sliver_rule, progress=progress)
+                            boundary=args.boundary, balance=args.balance, weights=args.weights, n=args.n,
+                            tol=args.tol, sliver_rule=args.sliver_rule, progress=progress)
     many = len(images) > 1
     outputs = [(img, _numbered(args.output, img.metadata.get("component", 0), many),
                 _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]
@@ -391,6 +391,7 @@ def _duration(seconds: float) -> str:
 
 def cmd_batch(args) -> int:
     options = dict(resolution=args.res, s=args.s, method=args.method, axis=args.axis, boundary=args.boundary,
+                   balance=args.balance,
                    weights=args.weights, n=args.n, tol=args.tol, sliver_rule=args.sliver_rule,
                    normals=not args.no_normals, steps=args.ops or (), mode=args.mode, nsr=args.nsr,
                    quads=args.quads is not None, quads_format=args.quads or "obj", psnr=not args.no_psnr)
@@ -441,6 +442,9 @@ def build_parser() -> argparse.ArgumentParser:
     conversion.add_argument("--axis", choices=AXES, default=None, help="up axis of a height field")
     conversion.add_argument("--boundary", choices=DISK_BOUNDARIES, default="square",
                             help="disk meshes: boundary on the unit square (default) or kept (a convex planar outline)")
+    conversion.add_argument("--balance", choices=DISK_BALANCES, default="slim",
+                            help="disk meshes: relax the mean-value map with SLIM, opening up squeezed parts "
+                                 "(default slim), or keep it (none)")
     conversion.add_argument("--weights", choices=WEIGHTS, default="gaussian")
     conversion.add_argument("--n", type=int, default=10, help="face centres per local weight (--weights local)")
     conversion.add_argument("--tol", type=float, default=1e-10, help="truncation tolerance; 0 = exact sum")

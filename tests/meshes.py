@@ -196,3 +196,28 @@ def torus_grid(n_major: int = 24, n_minor: int = 12, R: float = 1.0, r: float = 
     a, b, c, d = i, np.roll(i, -1, 0), np.roll(np.roll(i, -1, 0), -1, 1), np.roll(i, -1, 1)
     faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
     return geoimg.Mesh(v, faces)
+
+
+def finger(segments: int = 24, rows: int = 30, length: float = 3.0, radius: float = 0.25,
+           cap_rings: int = 6) -> geoimg.Mesh:
+    """A tube open at one end with a rounded tip (a disk): what sticks out, which a mean-value map onto the
+    square squeezes about geometrically along its length."""
+    t = np.linspace(0, 2 * np.pi, segments, endpoint=False)
+    v = []
+    for z in np.linspace(0, length, rows):
+        v += [[radius * np.cos(a), radius * np.sin(a), z] for a in t]
+    for k in range(1, cap_rings):
+        phi = k / cap_rings * np.pi / 2
+        v += [[radius * np.cos(phi) * np.cos(a), radius * np.cos(phi) * np.sin(a), length + radius * np.sin(phi)]
+              for a in t]
+    v.append([0.0, 0.0, length + radius])
+    f = []
+    rings = rows + cap_rings - 1
+    for r in range(rings - 1):
+        for i in range(segments):
+            j = (i + 1) % segments
+            a, b, c, d = r * segments + i, r * segments + j, (r + 1) * segments + j, (r + 1) * segments + i
+            f += [[a, b, c], [a, c, d]]
+    tip = len(v) - 1
+    f += [[(rings - 1) * segments + i, (rings - 1) * segments + (i + 1) % segments, tip] for i in range(segments)]
+    return geoimg.Mesh(np.array(v), f)

@@ -5,6 +5,7 @@ import geoimg
 from geoimg.cli import main
 
 from helpers import MOUNTAIN
+import meshes
 from meshes import l_hexagon, mobius, write
 
 
@@ -77,6 +78,19 @@ def test_boundary_option_for_disk_meshes(tmp_path, capsys):
     ell = write(l_hexagon(), tmp_path / "L.off")
     assert main(["image", str(ell), "-o", str(tmp_path / "l.exr"), "--method", "disk", "--boundary", "keep"]) == 2
     assert "reflex" in capsys.readouterr().err
+
+
+def test_balance_option_for_disk_meshes(tmp_path, capsys):
+    finger = write(meshes.finger(), tmp_path / "finger.obj")
+    for flag in ("slim", "none"):
+        assert main(["image", finger, "-o", str(tmp_path / f"{flag}.exr"), "--balance", flag, "--res", "33",
+                     "-q"]) == 0
+    a, b = (geoimg.load_image(tmp_path / f"{flag}.exr") for flag in ("slim", "none"))
+    assert a.metadata["parametrization"] == b.metadata["parametrization"] == "disk"
+    assert not np.array_equal(a.pixels, b.pixels)
+    with pytest.raises(SystemExit) as e:
+        main(["image", finger, "-o", str(tmp_path / "x.exr"), "--balance", "stretch"])
+    assert e.value.code == 2 and "invalid choice: 'stretch'" in capsys.readouterr().err
 
 
 def test_os_errors_are_one_line_and_a_closed_pipe_is_quiet(tmp_path, capsys, monkeypatch):

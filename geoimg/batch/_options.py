@@ -12,7 +12,7 @@ from .. import __version__
 from .._steps import check_steps
 from ..errors import InputError, InputTypeError
 from ..mesh import MESH_FORMATS
-from ..parametrization import AXES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
+from ..parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
 from ..surface import S_RANGE, SLIVER_RULES, WEIGHTS
 
 __all__ = ["ConvertOptions", "QUAD_FORMATS"]
@@ -47,6 +47,7 @@ class ConvertOptions:
     method: str = "auto"
     axis: str | None = None
     boundary: str = "square"
+    balance: str = "slim"
     weights: str = "gaussian"
     n: int = 10
     tol: float = 1e-10
@@ -79,6 +80,7 @@ class ConvertOptions:
         _choice("method", self.method, PARAMETRIZATION_METHODS)
         _choice("axis", self.axis, AXES, optional=True)
         _choice("boundary", self.boundary, DISK_BOUNDARIES)
+        _choice("balance", self.balance, DISK_BALANCES)
         _choice("weights", self.weights, WEIGHTS)
         _choice("sliver_rule", self.sliver_rule, SLIVER_RULES)
         _choice("mode", self.mode, filters.PAD_MODES, optional=True)
@@ -92,7 +94,8 @@ class ConvertOptions:
     def image_options(self) -> dict:
         """The keyword arguments of :func:`geoimg.mesh_to_images`."""
         return dict(resolution=self.resolution, s=float(self.s), method=self.method, component=self.component,
-                    axis=self.axis, boundary=self.boundary, weights=self.weights, n=self.n, tol=float(self.tol),
+                    axis=self.axis, boundary=self.boundary, balance=self.balance, weights=self.weights, n=self.n,
+                    tol=float(self.tol),
                     sliver_rule=self.sliver_rule, normals=self.normals)
 
     def digest(self, *extra) -> str:

@@ -58,7 +58,8 @@ def _one_line(error: BaseException) -> str:
 def _joined(meshes: list[Mesh]) -> Mesh:
     """Several quad meshes as one (their vertices side by side)."""
     offsets = np.cumsum([0] + [m.n_vertices for m in meshes[:-1]])
-    return Mesh(np.vstack([m.vertices for m in meshes]), np.vstack([np.where(m.faces >= 0, m.faces + o, -1) for m, o in zip(meshes, offsets)]))
+    faces = [np.where(m.faces >= 0, m.faces + o, -1) for m, o in zip(meshes, offsets)]
+    return Mesh(np.vstack([m.vertices for m in meshes]), np.vstack(faces))
 
 
 def _outputs(job: Job, images) -> list[tuple[Path, object]]:
@@ -110,9 +111,11 @@ def run_job(job: Job) -> dict:
             if opts.psnr and (opts.component == "all" or row["pieces"] == 1):
                 with _timed(timings, "psnr"):
                     dist = surface_distance(mesh, _joined([img.to_mesh() for img in images]), n=PSNR_SAMPLES)
-                row.update(psnr_db=round(dist["psnr_db"], 2), hausdorff=float(f"{dist['hausdorff'] / dist['diagonal']:.4g}"))
+                row.update(psnr_db=round(dist["psnr_db"], 2),
+                           hausdorff=float(f"{dist['hausdorff'] / dist['diagonal']:.4g}"))
             if job.store is not None:
-                row["record"] = {"source": job.input, "shape": list(images[0].shape), "domain": images[0].domain.kind,
+                row["record"] = {"source": job.input, "shape": list(images[0].shape),
+                                 "domain": images[0].domain.kind,
                                  "metadata": images[0].metadata_record(), "normals": images[0].normals is not None,
                                  "psnr_db": row.get("psnr_db"), "options_hash": job.options_hash,
                                  "timings": {k: round(v, 4) for k, v in timings.items()}}

@@ -25,13 +25,11 @@ import numpy as np
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._laplacian import mean_value_weights, solve_free
+from ._slim import relax
 
 __all__ = ["cut_coords", "perimeter_point", "QUANTA_PER_SIDE"]
 
 QUANTA_PER_SIDE = 64
-SLIM_MAX_STEPS = 20          # SLIM steps at most (about 0.7 s a step per 70,000 faces on this project's machines)
-SLIM_PROGRESS = 0.02         # ... and only while each lowers the area distortion by 2 %
-SLIM_STIFFNESS = 1e11
 
 
 def _cut_open(vertices: np.ndarray, tris: np.ndarray):
@@ -161,46 +159,6 @@ def _on_edge(src, weight, p, q):
         return float(weight[x]) if a == A else 1.0 - float(weight[x])
 
     return np.array([A, B]), (w(p), w(q))
-
-
-def _area_log_rms(area3: np.ndarray, uv: np.ndarray, f: np.ndarray) -> float:
-    """RMS of the log of each triangle's share of the parameter area over its share of the surface area."""
-    e1, e2 = uv[f[:, 1]] - uv[f[:, 0]], uv[f[:, 2]] - uv[f[:, 0]]
-    a2 = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-    ok = (a2 > 0) & (area3 > 0)
-    r = (a2[ok] / a2[ok].sum()) / (area3[ok] / area3[ok].sum())
-    return float(np.sqrt(np.mean(np.log(r) ** 2)))
-
-
-def _relax(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray):
-    """Lower the map's distortion with libigl's SLIM (symmetric Dirichlet energy, Rabinovich et al. 2017),
-    the boundary held where it is: every step keeps every triangle the right way round. Steps go on while
-    the area distortion (log-RMS) falls by more than 2 % a step, at most ``SLIM_MAX_STEPS``. The boundary,
-    held by a stiff penalty, is put back exactly afterwards; if that would turn a triangle over, the map
-    before the steps is kept. Returns the coordinates and the steps taken."""
-    area3 = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1)
-    total = float(area3.sum())
-    if not total > 0:
-        return coords, 0
-    data = igl.slim_precompute(np.asfortranarray(v / np.sqrt(total)), np.asfortranarray(f, np.int32),
-                               np.asfortranarray(coords), igl.MappingEnergyType.SYMMETRIC_DIRICHLET,
-                               np.ascontiguousarray(loop, np.int32), np.asfortranarray(coords[loop]), SLIM_STIFFNESS)
-    distortion = _area_log_rms(area3, coords, f)
-    out, steps = coords, 0
-    while steps < SLIM_MAX_STEPS:
-        out = np.array(igl.slim_solve(data, 1), dtype=np.float64)[:, :2]
-        steps += 1
-        now = _area_log_rms(area3, out, f)
-        if not np.isfinite(now) or distortion - now < SLIM_PROGRESS * distortion:
-            break
-        distortion = now
-    out[loop] = coords[loop]
-    e1, e2 = out[f[:, 1]] - out[f[:, 0]], out[f[:, 2]] - out[f[:, 0]]
-    b1, b2 = coords[f[:, 1]] - coords[f[:, 0]], coords[f[:, 2]] - coords[f[:, 0]]
-    sign = np.sign(b1[:, 0] * b2[:, 1] - b1[:, 1] * b2[:, 0])
-    if not np.isfinite(out).all() or np.any((e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) * sign <= 0):
-        return coords, 0
-    return out, steps
 
 
 def _segments(loop: np.ndarray, source: np.ndarray, lengths: np.ndarray):
@@ -360,7 +318,7 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE):
     free = np.setdiff1d(np.arange(len(v)), loop)
     if len(free):
         coords[free] = solve_free(mean_value_weights(v, f), loop, coords[loop], free)
-        coords, slim_steps = _relax(v, f, coords, loop)
+        coords, slim_steps = relax(v, f, coords, loop)
     else:
         slim_steps = 0
     layout = {"quantum": int(quanta_per_side),

@@ -134,7 +134,7 @@ def _normalize(coords: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, tuple,
 
 
 def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, boundary: str = "square",
-                progress=None) -> Parametrization:
+                balance: str = "slim", progress=None) -> Parametrization:
     """Parametrize a mesh over a planar rectangle or the sphere.
 
     Parameters
@@ -158,6 +158,10 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
         two are within 15 degrees (terrains are stored axis-up; ``info["snapped_to_axis"]`` says so).
     boundary : {"square", "keep"}
         For ``disk``: the boundary on the unit square, or kept as it is when it is a convex planar polygon.
+    balance : {"slim", "none"}
+        For ``disk``: after the mean-value map, lower its distortion with SLIM (the boundary held, every
+        step fold-free), which opens up what the mean-value map squeezes (fingers, ears, a snout); or keep
+        the mean-value map (``"none"``). ``info`` records both maps' area distortion.
     progress : callable, optional
         For ``sphere``: called with a short message as the map improves.
 
@@ -182,11 +186,11 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
         raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
     _check_area(mesh)
     if method == "auto":
-        return _auto(mesh, axis, boundary, progress)
-    return _by_method(mesh, method, axis, boundary, progress)
+        return _auto(mesh, axis, boundary, balance, progress)
+    return _by_method(mesh, method, axis, boundary, balance, progress)
 
 
-def _by_method(mesh: Mesh, method: str, axis, boundary, progress, topo=None) -> Parametrization:
+def _by_method(mesh: Mesh, method: str, axis, boundary, balance, progress, topo=None) -> Parametrization:
     """One method, on a mesh already checked (``topo``: its topology, when known)."""
     used = mesh.referenced_vertices()
     info: dict = {}
@@ -200,7 +204,7 @@ def _by_method(mesh: Mesh, method: str, axis, boundary, progress, topo=None) -> 
     if method == "cut":
         return _cut(mesh, topo)
     if method == "disk":
-        raw, info = disk_coords(mesh, boundary)
+        raw, info = disk_coords(mesh, boundary, balance)
     elif method == "uv":
         if axis is not None:
             raise ParametrizationError("axis: only used with method='heightfield'")
@@ -293,7 +297,7 @@ def _outline_gap(mesh: Mesh, coords: np.ndarray, topo) -> float:
     return float(max(0.0, 1.0 - inside / hull)) if hull > 0 else 0.0
 
 
-def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrization:
+def _auto(mesh: Mesh, axis: str | None, boundary: str, balance: str, progress) -> Parametrization:
     tried = []
     topo = topology(mesh)
     candidates = (["uv"] if mesh.uv is not None and axis is None else []) + ["heightfield"]
@@ -301,7 +305,7 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrizat
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
-                p = _by_method(mesh, method, axis, boundary, progress)
+                p = _by_method(mesh, method, axis, boundary, balance, progress)
             except ParametrizationError as e:
                 tried.append(f"{method}: {e}")
                 continue
@@ -317,9 +321,9 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, progress) -> Parametrizat
     single = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0 \
         and topo.genus == 0
     if single and topo.boundary_loops == 1 and axis is None:
-        return _by_method(mesh, "disk", None, boundary, progress)
+        return _by_method(mesh, "disk", None, boundary, balance, progress)
     if single and topo.closed and axis is None:
-        return _by_method(mesh, "sphere", None, boundary, progress)
+        return _by_method(mesh, "sphere", None, boundary, balance, progress)
     manifold = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0
     if manifold and axis is None and topo.genus is not None:
         return _cut(mesh, topo)

@@ -5,7 +5,7 @@ import pytest
 from geoimg import Mesh, ParametrizationError, parametrize
 from geoimg.parametrization import disk_coords
 import geoimg
-from geoimg.mesh import boundary_loops, topology
+from geoimg.mesh import boundary_loops, surface_distance, topology
 
 from checks import check_disk_map, check_disk_surface
 import meshes
@@ -69,3 +69,26 @@ def test_auto_maps_a_winding_flat_outline_onto_the_square_so_the_image_keeps_it_
     assert p.method == "disk"
     image = geoimg.fit_surface(u_shape, p, 1.0).sample(65)
     assert topology(image.to_mesh()).boundary_loops == 1 and topology(image.to_mesh()).components == 1
+
+
+def test_slim_opens_up_a_squeezed_finger_without_folding_and_holds_the_boundary():
+    m = meshes.finger()
+    plain = parametrize(m, "disk", balance="none")
+    balanced = parametrize(m, "disk")                              # the default
+    assert plain.info["slim_steps"] == 0 and plain.info["area_log_rms"] == plain.info["mean_value_area_log_rms"]
+    assert plain.info["area_log_rms"] > 8                            # the tip squeezed to e^-8 of its share
+    assert balanced.info["balance"] == "slim" and balanced.info["slim_steps"] > 0
+    assert balanced.flipped_faces == 0 and balanced.info["area_log_rms"] < 1.5
+    assert balanced.info["mean_value_area_log_rms"] == plain.info["area_log_rms"]
+    loop = boundary_loops(m)[0]
+    np.testing.assert_array_equal(balanced.coords[loop], plain.coords[loop])       # boundary held exactly
+    # and the geometry image samples the tip: the quad mesh lies far closer to the finger
+    d = {name: surface_distance(m, geoimg.mesh_to_image(m, 65, parametrization=p).to_mesh(), n=20000)
+         for name, p in (("plain", plain), ("balanced", balanced))}
+    assert d["balanced"]["psnr_db"] > d["plain"]["psnr_db"] + 15
+    assert d["balanced"]["hausdorff"] < d["plain"]["hausdorff"] / 2
+
+
+def test_a_bad_balance_is_refused():
+    with pytest.raises(geoimg.ParametrizationError, match="balance: expected one of"):
+        parametrize(meshes.finger(rows=4), "disk", balance="stretch")
