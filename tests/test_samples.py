@@ -78,3 +78,11 @@ def test_cut_open_sample(tmp_path, renderer_or_skip):
     stats = load_sample("cut_open").run(tmp_path, res=129, size=(80, 60))
     assert Path(stats["png"]).is_file() and stats["domain"] == "cut"
     assert stats["genus in"] == stats["genus out"] == 1 and stats["closed out"] and stats["psnr_db"] > 45
+
+
+def test_balanced_disk_sample(tmp_path, renderer_or_skip):
+    stats = load_sample("balanced_disk").run(tmp_path, res=65, size=(80, 60))
+    plain, slim = stats["none"], stats["slim"]
+    assert plain["folds"] == slim["folds"] == 0
+    assert plain["area_log_rms"] > 5 and slim["area_log_rms"] < 1.5
+    assert slim["psnr_db"] > plain["psnr_db"] + 10 and slim["hausdorff"] < plain["hausdorff"] / 3
