@@ -24,7 +24,7 @@ from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError,
     save_animation, save_glb, save_png
 from . import __version__
 from .errors import GeoimgError, InputError
-from .image import (grid_normals, image_curvature, image_region, load_image, load_mask, save_colormap,
+from .image import (IMAGE_FORMATS, grid_normals, image_curvature, image_region, load_image, load_mask, save_colormap,
                     save_normal_map, save_scalar, uv_region)
 from .mesh import MESH_FORMATS, load_mesh, save_mesh, surface_distance, topology
 from .parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
@@ -66,8 +66,8 @@ class ProgressBar:
 
 
 def _load_shape(path):
-    """A mesh file or a geometry image (.exr)."""
-    return load_image(path) if Path(path).suffix.lower() == ".exr" else load_mesh(path)
+    """A mesh file or a geometry image (.exr, .npz)."""
+    return load_image(path) if Path(path).suffix.lower() in IMAGE_FORMATS else load_mesh(path)
 
 
 def _numbered(path, k: int, many: bool) -> Path | None:
@@ -122,7 +122,7 @@ def cmd_mesh(args) -> int:
 
 def cmd_info(args) -> int:
     path = Path(args.file)
-    if path.suffix.lower() == ".exr":
+    if path.suffix.lower() in IMAGE_FORMATS:
         img = load_image(path)
         H, W = img.shape
         print(f"{path}: geometry image {W} x {H}, domain {img.domain.kind}, {int(img.valid.sum())} valid pixels, "
@@ -462,21 +462,21 @@ def build_parser() -> argparse.ArgumentParser:
 
     im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)", parents=[common, conversion])
     im.add_argument("mesh", help=f"input mesh ({', '.join(MESH_FORMATS)})")
-    im.add_argument("-o", "--output", required=True, help="output .exr")
+    im.add_argument("-o", "--output", required=True, help="output .exr (or .npz: NumPy arrays)")
     im.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")
     im.add_argument("--force", action="store_true", help="overwrite existing files")
     im.set_defaults(func=cmd_image)
 
     me = sub.add_parser("mesh", help="geometry image -> quad mesh", parents=[common])
-    me.add_argument("image", help="input .exr")
+    me.add_argument("image", help="input geometry image (.exr, .npz)")
     me.add_argument("-o", "--output", required=True, help="output mesh (.obj/.ply/.off keep quads)")
     me.add_argument("--force", action="store_true", help="overwrite an existing file")
     me.set_defaults(func=cmd_mesh)
 
     fi = sub.add_parser("filter", help="smooth, sharpen or Fourier-filter a geometry image", parents=[common, steps],
                         description="Operations run in the order given; a mask restricts every one of them.")
-    fi.add_argument("image", help="input .exr")
-    fi.add_argument("-o", "--output", required=True, help="output .exr")
+    fi.add_argument("image", help="input geometry image (.exr, .npz)")
+    fi.add_argument("-o", "--output", required=True, help="output .exr or .npz")
     fi.add_argument("--mask", default=None, help="image file (same size): where to filter, 0..1")
     fi.add_argument("--region", type=float, nargs=4, metavar=("X", "Y", "Z", "R"), default=None,
                     help="filter within distance R of the point (X, Y, Z) of the surface")
@@ -490,7 +490,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     cu = sub.add_parser("curvature", help="Gaussian and mean curvature maps and a normal map of a geometry image",
                         parents=[common])
-    cu.add_argument("image", help="input .exr")
+    cu.add_argument("image", help="input geometry image (.exr, .npz)")
     cu.add_argument("-o", "--output", required=True,
                     help="output stem: writes STEM_gaussian.exr/.png, STEM_mean.exr/.png, STEM_normals.png")
     cu.add_argument("--force", action="store_true", help="overwrite existing files")
@@ -504,14 +504,14 @@ def build_parser() -> argparse.ArgumentParser:
     view.add_argument("--up", choices=UP_AXES, default="y", help="the shape's up axis (default y)")
 
     re_ = sub.add_parser("render", help="shade a mesh or geometry image to PNG (headless)", parents=[common, view])
-    re_.add_argument("file", help="mesh or .exr geometry image")
+    re_.add_argument("file", help="mesh or geometry image (.exr, .npz)")
     re_.add_argument("-o", "--output", required=True, help="output .png")
     re_.add_argument("--force", action="store_true", help="overwrite an existing file")
     re_.set_defaults(func=cmd_render)
 
     mo = sub.add_parser("morph", help="morph between shapes: glTF with morph targets, GIF/MP4, frame files",
                         parents=[common, view])
-    mo.add_argument("shapes", nargs="+", help="two or more meshes or .exr geometry images, in order")
+    mo.add_argument("shapes", nargs="+", help="two or more meshes or geometry images (.exr, .npz), in order")
     mo.add_argument("-o", "--output", default=None, help="output .glb (morph targets + weights animation)")
     mo.add_argument("--frames", type=int, default=30, help="frames in all (default 30)")
     mo.add_argument("--fps", type=_positive(float), default=24.0)

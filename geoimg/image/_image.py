@@ -14,6 +14,7 @@ from .._raster import FLOAT, UINT16, write_raster
 from ..errors import GeoimgError, ImageError, ImageFileError, InputError, InputTypeError
 from ..mesh import Mesh
 from ._domain import Domain
+from ._npz import write_npz
 
 __all__ = ["GeometryImage", "DEFAULT_PAD"]
 
@@ -102,7 +103,7 @@ class GeometryImage:
         elif not isinstance(domain, Domain):
             raise InputTypeError(f"domain: expected a geoimg Domain or a kind name, got {type(domain).__name__}")
         own = domain.to_metadata()
-        for key in Domain.METADATA_KEYS:       # the domain's own fields live in the domain
+        for key in own:                        # the domain's own fields live in the domain
             if key in meta and meta.pop(key) != own[key]:
                 raise ImageError(f"metadata: {key}={self.metadata[key]!r} contradicts the domain's {own[key]!r} "
                                  "(the domain's fields belong to the domain)")
@@ -264,19 +265,27 @@ class GeometryImage:
         return out
 
     def save(self, path, *, overwrite: bool = False):
-        """Write the image to OpenEXR (float32, lossless, with metadata), atomically.
+        """Write the image to OpenEXR (``.exr``) or a NumPy archive (``.npz``), float32, lossless, with
+        its metadata, atomically.
 
-        Channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask, and
+        EXR: channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask, and
         ``N.X, N.Y, N.Z`` when it has normals; the metadata and the domain's fields as JSON in
-        ``geoimg:metadata``, the domain's kind also in ``geoimg:domain``. float32 pixels round-trip bit
-        for bit (:func:`geoimg.load_image`).
+        ``geoimg:metadata``, the domain's kind also in ``geoimg:domain``. NPZ: arrays ``positions``,
+        ``mask``, ``normals`` and the same JSON as ``metadata`` (:mod:`geoimg.image._npz`). float32 pixels
+        round-trip bit for bit (:func:`geoimg.load_image`).
 
         Returns
         -------
         pathlib.Path
         """
-        path = _suffixed(path, ".exr", "geometry images are saved as OpenEXR; use a .exr name "
-                                       "(previews: GeometryImage.preview)")
+        path = Path(path)
+        if path.suffix.lower() == ".npz":
+            record = self.metadata_record()
+            with atomic_path(path, overwrite) as tmp:
+                write_npz(tmp, self.pixels, self.mask, self.normals, record)
+            return path
+        path = _suffixed(path, ".exr", "geometry images are saved as OpenEXR (.exr) or NumPy (.npz); use one of "
+                                       "those names (previews: GeometryImage.preview)")
         planes, names = [self.pixels.astype(np.float32)], ["R", "G", "B"]
         if self.mask is not None:
             planes.append(self.mask.astype(np.float32)[..., None])

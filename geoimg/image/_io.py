@@ -10,22 +10,26 @@ import numpy as np
 
 from .._atomic import atomic_path
 from .._raster import FLOAT, UINT8, read_raster, write_raster
-from ..errors import ImageFileError, InputError, InputTypeError
+from ..errors import GeoimgError, ImageFileError, InputError, InputTypeError
 from ._domain import Domain
 from ._image import GeometryImage
+from ._npz import read_npz
 
-__all__ = ["save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
+__all__ = ["IMAGE_FORMATS", "save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
            "save_normal_map"]
 
 
+IMAGE_FORMATS = (".exr", ".npz")
+
+
 def save_image(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
-    """Write a geometry image to OpenEXR, atomically (see :meth:`GeometryImage.save`).
+    """Write a geometry image to OpenEXR or NumPy ``.npz``, atomically (see :meth:`GeometryImage.save`).
 
     Parameters
     ----------
     image : GeometryImage
     path : str or path-like
-        Must end in ``.exr``.
+        Ending in ``.exr`` or ``.npz``.
     overwrite : bool, default False
 
     Returns
@@ -46,15 +50,19 @@ def save_image(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
 
 
 def load_image(path) -> GeometryImage:
-    """Read a geometry image written by :func:`save_image` (or any float EXR with R, G, B channels).
+    """Read a geometry image written by :func:`save_image`: OpenEXR (or any float EXR with R, G, B
+    channels) or a NumPy ``.npz`` archive (``positions`` and optionally ``mask``, ``normals``,
+    ``metadata``; see :mod:`geoimg.image._npz`).
 
     Raises
     ------
     FileNotFoundError
         If there is no such file.
     ImageFileError
-        If the file cannot be read or has no R, G, B channels.
+        If the file cannot be read, has no R, G, B channels, or is not a geoimg archive.
     """
+    if Path(path).suffix.lower() == ".npz":
+        return _load_npz(path)
     data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"),
                                      integers="its pixels are integers, not coordinates: a preview or picture cannot "
                                               "become geometry (geometry images are float OpenEXR files written by geoimg)")
@@ -81,6 +89,17 @@ def load_image(path) -> GeometryImage:
         raise ImageFileError(f"{path}: {e}") from None
     return GeometryImage(xyz, None if mask is None else mask[..., 0] > 0.5, domain=dom, normals=normals,
                          metadata=meta)
+
+
+def _load_npz(path) -> GeometryImage:
+    if not Path(path).is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    positions, mask, normals, record = read_npz(path)
+    try:
+        return GeometryImage(positions, mask, domain=record.get("domain", "planar"), normals=normals,
+                             metadata=record)
+    except (GeoimgError, ValueError) as e:
+        raise ImageFileError(f"{path}: {e}") from None
 
 
 def save_preview(image: GeometryImage, path, *, overwrite: bool = False) -> Path:

@@ -1,0 +1,88 @@
+"""Geometry images as NumPy ``.npz`` archives: ``positions`` (H, W, 3) float32, ``mask`` (H, W) bool and
+``normals`` (H, W, 3) float32 when the image has them, and ``metadata``: the metadata and the domain's
+fields as JSON text (the same record the EXR keeps). Plain arrays, no pickles: ``np.load(path)`` reads
+them anywhere, and :func:`geoimg.load_image` reads them back bit for bit.
+"""
+from __future__ import annotations
+
+import json
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from .._budget import check_memory
+from ..errors import ImageFileError
+
+__all__ = ["write_npz", "read_npz", "NPZ_ARRAYS"]
+
+NPZ_ARRAYS = ("positions", "mask", "normals", "metadata")
+_SHAPES = {"positions": 3, "normals": 3, "mask": 2, "metadata": 0}
+_KINDS = {"positions": "f", "normals": "f", "mask": "b", "metadata": "U"}
+
+
+def write_npz(path: Path, pixels: np.ndarray, mask, normals, record: dict) -> None:
+    """Write the arrays and the metadata ``record`` (plain JSON types) to ``path`` (compressed)."""
+    arrays = {"positions": np.asarray(pixels, np.float32), "metadata": np.array(json.dumps(record, sort_keys=True))}
+    if mask is not None:
+        arrays["mask"] = np.asarray(mask, bool)
+    if normals is not None:
+        arrays["normals"] = np.asarray(normals, np.float32)
+    with open(path, "wb") as f:
+        np.savez_compressed(f, **arrays)
+
+
+def _header(archive: zipfile.ZipFile, name: str):
+    """(shape, dtype) of one member array, read from its header alone (nothing is unpacked)."""
+    with archive.open(name + ".npy") as f:
+        version = np.lib.format.read_magic(f)
+        read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+        shape, _, dtype = read(f)
+    return shape, dtype
+
+
+def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict]:
+    """``(positions, mask, normals, record)`` of a file written by :func:`write_npz`, each array's header
+    checked (kind, dimensions, the memory it would take) before it is read.
+
+    Raises
+    ------
+    ImageFileError
+        Not a zip archive of arrays, pickled objects, a missing or unknown member, wrong kinds or shapes,
+        metadata that is not a JSON object.
+    """
+    path = Path(path)
+    try:
+        with zipfile.ZipFile(path) as archive:
+            names = {n[:-4] for n in archive.namelist() if n.endswith(".npy")}
+            unknown = sorted(set(archive.namelist()) - {n + ".npy" for n in NPZ_ARRAYS})
+            if unknown or "positions" not in names:
+                raise ImageFileError(f"{path}: not a geoimg .npz geometry image (members: "
+                                     f"{', '.join(sorted(archive.namelist())) or 'none'}; expected positions and "
+                                     "optionally mask, normals, metadata)")
+            for name in names:
+                shape, dtype = _header(archive, name)
+                if dtype.kind != _KINDS[name] or len(shape) != _SHAPES[name]:
+                    raise ImageFileError(f"{path}: {name} is a {len(shape)}-D {dtype} array; expected "
+                                         f"{_SHAPES[name]}-D of kind {_KINDS[name]!r}")
+                check_memory(float(np.prod(shape, dtype=np.float64)) * dtype.itemsize, f"{path}: {name}")
+    except zipfile.BadZipFile as e:
+        raise ImageFileError(f"{path}: not a .npz archive ({e})") from None
+    except ImageFileError:
+        raise
+    except ValueError as e:                         # a corrupt .npy header
+        raise ImageFileError(f"{path}: {e}") from None
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {name: data[name] for name in names}
+    except (ValueError, OSError, zipfile.BadZipFile, EOFError) as e:
+        raise ImageFileError(f"{path}: cannot be read ({e})") from None
+    record = {}
+    if "metadata" in arrays:
+        try:
+            record = json.loads(str(arrays["metadata"]))
+        except json.JSONDecodeError as e:
+            raise ImageFileError(f"{path}: metadata is not valid JSON ({e})") from None
+        if not isinstance(record, dict):
+            raise ImageFileError(f"{path}: metadata is not a JSON object")
+    return arrays["positions"], arrays.get("mask"), arrays.get("normals"), record
