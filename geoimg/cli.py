@@ -24,8 +24,8 @@ from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError,
     save_animation, save_glb, save_png
 from . import __version__
 from .errors import GeoimgError, InputError
-from .image import (IMAGE_FORMATS, grid_normals, image_curvature, image_region, load_image, load_mask, save_colormap,
-                    save_normal_map, save_scalar, uv_region)
+from .image import (ASSUMABLE_DOMAINS, EXR_LAYOUTS, IMAGE_FORMATS, grid_normals, image_curvature, image_region,
+                    load_image, load_mask, save_colormap, save_normal_map, save_scalar, uv_region)
 from .mesh import MESH_FORMATS, load_mesh, save_mesh, surface_distance, topology
 from .parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
 from .surface import SLIVER_RULES, WEIGHTS
@@ -65,9 +65,9 @@ class ProgressBar:
               file=self.stream, flush=True)
 
 
-def _load_shape(path):
+def _load_shape(path, assume=None):
     """A mesh file or a geometry image (.exr, .npz)."""
-    return load_image(path) if Path(path).suffix.lower() in IMAGE_FORMATS else load_mesh(path)
+    return load_image(path, assume=assume) if Path(path).suffix.lower() in IMAGE_FORMATS else load_mesh(path)
 
 
 def _numbered(path, k: int, many: bool) -> Path | None:
@@ -89,7 +89,7 @@ def cmd_image(args) -> int:
                 _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]
     jobs = []
     for image, out, preview in outputs:
-        jobs.append((out, lambda tmp, image=image: image.save(tmp, overwrite=True)))
+        jobs.append((out, lambda tmp, image=image: image.save(tmp, overwrite=True, layout=args.layout)))
         if preview:
             jobs.append((preview, lambda tmp, image=image: image.preview(tmp, overwrite=True)))
     write_all(jobs, overwrite=args.force)                  # all or none
@@ -112,7 +112,7 @@ def _component(text: str) -> str | int:
 
 
 def cmd_mesh(args) -> int:
-    image = load_image(args.image)
+    image = load_image(args.image, assume=args.assume)
     mesh = image.to_mesh()
     out = save_mesh(mesh, args.output, overwrite=args.force)
     if not args.quiet:
@@ -123,7 +123,7 @@ def cmd_mesh(args) -> int:
 def cmd_info(args) -> int:
     path = Path(args.file)
     if path.suffix.lower() in IMAGE_FORMATS:
-        img = load_image(path)
+        img = load_image(path, assume=args.assume)
         H, W = img.shape
         print(f"{path}: geometry image {W} x {H}, domain {img.domain.kind}, {int(img.valid.sum())} valid pixels, "
               f"normals {'yes' if img.normals is not None else 'no'}")
@@ -224,7 +224,7 @@ class _Op(argparse.Action):
 def cmd_filter(args) -> int:
     if not getattr(args, "ops", None):
         raise InputError("no operation given: add e.g. --mean 5 or --sharpen 3 (see geoimg filter --help)")
-    image = load_image(args.image)
+    image = load_image(args.image, assume=args.assume)
     given = [m for m in (args.mask, args.region, args.uv_region) if m is not None]
     if len(given) > 1:
         raise InputError("give one of --mask, --region, --uv-region")
@@ -239,7 +239,7 @@ def cmd_filter(args) -> int:
         raise InputError("the mask selects no pixel")
     out = apply_steps(image, args.ops, mode=args.mode, nsr=args.nsr, mask=mask, feather=args.feather)
     out.metadata["source"] = Path(args.image).name
-    jobs = [(args.output, lambda tmp: out.save(tmp, overwrite=True))]
+    jobs = [(args.output, lambda tmp: out.save(tmp, overwrite=True, layout=args.layout))]
     if args.preview:
         jobs.append((args.preview, lambda tmp: out.preview(tmp, overwrite=True)))
     if args.mesh:
@@ -255,7 +255,7 @@ def cmd_filter(args) -> int:
 
 
 def cmd_curvature(args) -> int:
-    image = load_image(args.image)
+    image = load_image(args.image, assume=args.assume)
     K, H = image_curvature(image)
     stem = Path(args.output)
     jobs = []
@@ -275,7 +275,7 @@ def cmd_curvature(args) -> int:
 
 
 def cmd_render(args) -> int:
-    shape = _load_shape(args.file)
+    shape = _load_shape(args.file, args.assume)
     with Renderer(args.width, args.height) as r:
         rgb = r.render(shape, r.camera_for(shape, azimuth=args.azimuth, elevation=args.elevation, up=args.up))
     out = save_png(rgb, args.output, overwrite=args.force)
@@ -310,7 +310,7 @@ def cmd_morph(args) -> int:
     shapes = []
     for f in args.shapes:
         progress(f"loading {f}")
-        shapes.append(_load_shape(f))
+        shapes.append(_load_shape(f, args.assume))
     m = morph(*shapes, frames=args.frames, easing=args.easing, align=args.align, rotate=not args.no_rotate,
               resolution=args.res, resample=True, progress=progress)
     jobs = []
@@ -460,20 +460,30 @@ def build_parser() -> argparse.ArgumentParser:
     steps.add_argument("--mode", choices=filters.PAD_MODES, default=None,
                        help="boundary rule (default: octahedral for spherical images, reflect for planar ones)")
 
-    im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)", parents=[common, conversion])
+    reading = argparse.ArgumentParser(add_help=False)           # commands that read geometry images
+    reading.add_argument("--assume", choices=ASSUMABLE_DOMAINS, default=None,
+                         help="read an image without geoimg metadata (from another program) as this domain "
+                              "(default: refuse it)")
+    writing = argparse.ArgumentParser(add_help=False)           # commands that write geometry images
+    writing.add_argument("--layout", choices=EXR_LAYOUTS, default="geoimg",
+                         help="EXR channels: R, G, B, mask, N.X, N.Y, N.Z (geoimg, the default) or the mask as A "
+                              "(rgba: alpha for compositing tools)")
+
+    im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)", parents=[common, conversion, writing])
     im.add_argument("mesh", help=f"input mesh ({', '.join(MESH_FORMATS)})")
     im.add_argument("-o", "--output", required=True, help="output .exr (or .npz: NumPy arrays)")
     im.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")
     im.add_argument("--force", action="store_true", help="overwrite existing files")
     im.set_defaults(func=cmd_image)
 
-    me = sub.add_parser("mesh", help="geometry image -> quad mesh", parents=[common])
+    me = sub.add_parser("mesh", help="geometry image -> quad mesh", parents=[common, reading])
     me.add_argument("image", help="input geometry image (.exr, .npz)")
     me.add_argument("-o", "--output", required=True, help="output mesh (.obj/.ply/.off keep quads)")
     me.add_argument("--force", action="store_true", help="overwrite an existing file")
     me.set_defaults(func=cmd_mesh)
 
-    fi = sub.add_parser("filter", help="smooth, sharpen or Fourier-filter a geometry image", parents=[common, steps],
+    fi = sub.add_parser("filter", help="smooth, sharpen or Fourier-filter a geometry image",
+                        parents=[common, steps, reading, writing],
                         description="Operations run in the order given; a mask restricts every one of them.")
     fi.add_argument("image", help="input geometry image (.exr, .npz)")
     fi.add_argument("-o", "--output", required=True, help="output .exr or .npz")
@@ -489,7 +499,7 @@ def build_parser() -> argparse.ArgumentParser:
     fi.set_defaults(func=cmd_filter, ops=None)
 
     cu = sub.add_parser("curvature", help="Gaussian and mean curvature maps and a normal map of a geometry image",
-                        parents=[common])
+                        parents=[common, reading])
     cu.add_argument("image", help="input geometry image (.exr, .npz)")
     cu.add_argument("-o", "--output", required=True,
                     help="output stem: writes STEM_gaussian.exr/.png, STEM_mean.exr/.png, STEM_normals.png")
@@ -503,14 +513,15 @@ def build_parser() -> argparse.ArgumentParser:
     view.add_argument("--elevation", type=float, default=20.0, help="degrees above the horizon (default 20)")
     view.add_argument("--up", choices=UP_AXES, default="y", help="the shape's up axis (default y)")
 
-    re_ = sub.add_parser("render", help="shade a mesh or geometry image to PNG (headless)", parents=[common, view])
+    re_ = sub.add_parser("render", help="shade a mesh or geometry image to PNG (headless)",
+                         parents=[common, view, reading])
     re_.add_argument("file", help="mesh or geometry image (.exr, .npz)")
     re_.add_argument("-o", "--output", required=True, help="output .png")
     re_.add_argument("--force", action="store_true", help="overwrite an existing file")
     re_.set_defaults(func=cmd_render)
 
     mo = sub.add_parser("morph", help="morph between shapes: glTF with morph targets, GIF/MP4, frame files",
-                        parents=[common, view])
+                        parents=[common, view, reading])
     mo.add_argument("shapes", nargs="+", help="two or more meshes or geometry images (.exr, .npz), in order")
     mo.add_argument("-o", "--output", default=None, help="output .glb (morph targets + weights animation)")
     mo.add_argument("--frames", type=int, default=30, help="frames in all (default 30)")
@@ -559,7 +570,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="redo every input; write into a folder (or replace a store) that holds something else")
     ba.set_defaults(func=cmd_batch, ops=None)
 
-    info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common])
+    info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common, reading])
     info.add_argument("file")
     info.set_defaults(func=cmd_info)
 

@@ -16,9 +16,10 @@ from ..mesh import Mesh
 from ._domain import Domain
 from ._npz import write_npz
 
-__all__ = ["GeometryImage", "DEFAULT_PAD"]
+__all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS"]
 
 DEFAULT_PAD = 16
+EXR_LAYOUTS = ("geoimg", "rgba")      # the mask as channel "mask", or as "A" (alpha) for compositing tools
 
 
 def _boundary_aware(op):
@@ -264,20 +265,24 @@ class GeometryImage:
             raise ImageError(f"{name}: returned NaN or infinite values")
         return out
 
-    def save(self, path, *, overwrite: bool = False):
+    def save(self, path, *, overwrite: bool = False, layout: str = "geoimg"):
         """Write the image to OpenEXR (``.exr``) or a NumPy archive (``.npz``), float32, lossless, with
         its metadata, atomically.
 
         EXR: channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask, and
         ``N.X, N.Y, N.Z`` when it has normals; the metadata and the domain's fields as JSON in
-        ``geoimg:metadata``, the domain's kind also in ``geoimg:domain``. NPZ: arrays ``positions``,
-        ``mask``, ``normals`` and the same JSON as ``metadata`` (:mod:`geoimg.image._npz`). float32 pixels
-        round-trip bit for bit (:func:`geoimg.load_image`).
+        ``geoimg:metadata``, the domain's kind also in ``geoimg:domain``. ``layout="rgba"`` names the mask
+        ``A`` instead and always writes it (1 everywhere for an image without a mask), which compositing
+        tools take as alpha. NPZ: arrays ``positions``, ``mask``, ``normals`` and the same JSON as
+        ``metadata`` (:mod:`geoimg.image._npz`). float32 pixels round-trip bit for bit
+        (:func:`geoimg.load_image`, either layout).
 
         Returns
         -------
         pathlib.Path
         """
+        if layout not in EXR_LAYOUTS:
+            raise InputError(f"layout: expected one of {', '.join(EXR_LAYOUTS)}, got {layout!r}")
         path = Path(path)
         if path.suffix.lower() == ".npz":
             record = self.metadata_record()
@@ -287,9 +292,9 @@ class GeometryImage:
         path = _suffixed(path, ".exr", "geometry images are saved as OpenEXR (.exr) or NumPy (.npz); use one of "
                                        "those names (previews: GeometryImage.preview)")
         planes, names = [self.pixels.astype(np.float32)], ["R", "G", "B"]
-        if self.mask is not None:
-            planes.append(self.mask.astype(np.float32)[..., None])
-            names.append("mask")
+        if self.mask is not None or layout == "rgba":
+            planes.append(self.valid.astype(np.float32)[..., None])
+            names.append("A" if layout == "rgba" else "mask")
         if self.normals is not None:
             planes.append(np.asarray(self.normals, np.float32))
             names += ["N.X", "N.Y", "N.Z"]

@@ -4,6 +4,7 @@ and scalar, colour and normal maps.
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +16,7 @@ from ._domain import Domain
 from ._image import GeometryImage
 from ._npz import read_npz
 
-__all__ = ["IMAGE_FORMATS", "save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
+__all__ = ["IMAGE_FORMATS", "ASSUMABLE_DOMAINS", "save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
            "save_normal_map"]
 
 
@@ -49,24 +50,48 @@ def save_image(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
     return image.save(path, overwrite=overwrite)
 
 
-def load_image(path) -> GeometryImage:
-    """Read a geometry image written by :func:`save_image`: OpenEXR (or any float EXR with R, G, B
-    channels) or a NumPy ``.npz`` archive (``positions`` and optionally ``mask``, ``normals``,
-    ``metadata``; see :mod:`geoimg.image._npz`).
+ASSUMABLE_DOMAINS = ("planar", "octahedral")     # a cut-open image cannot be read without its recorded layout
+
+
+def _unmarked(path, assume: str | None) -> str:
+    """The domain of a file that has no geoimg metadata: refused, unless the caller names one (then read with a
+    warning)."""
+    if assume is None:
+        raise ImageFileError(f"{path}: has no geoimg metadata (it was not written by geoimg), so its domain is "
+                             "unknown; name it to read the file anyway: load_image(path, assume='planar') "
+                             "(--assume planar on the command line)")
+    if assume not in ASSUMABLE_DOMAINS:
+        raise InputError(f"assume: expected one of {', '.join(ASSUMABLE_DOMAINS)}, got {assume!r} (a cut-open "
+                         "image needs the layout geoimg records)")
+    warnings.warn(f"{path}: no geoimg metadata; read as a geometry image of the {assume} domain, as asked",
+                  stacklevel=3)
+    return assume
+
+
+def load_image(path, *, assume: str | None = None) -> GeometryImage:
+    """Read a geometry image written by :func:`save_image`: OpenEXR or a NumPy ``.npz`` archive
+    (``positions`` and optionally ``mask``, ``normals``, ``metadata``; see :mod:`geoimg.image._npz`). The mask
+    is the ``mask`` channel, or ``A`` (the RGBA layout). A file without geoimg's metadata (an EXR from
+    another program, arrays saved by hand) is refused unless ``assume`` names its domain (``"planar"`` or
+    ``"octahedral"``); it is then read with a warning.
 
     Raises
     ------
     FileNotFoundError
         If there is no such file.
     ImageFileError
-        If the file cannot be read, has no R, G, B channels, or is not a geoimg archive.
+        If the file cannot be read, has no R, G, B channels, has no geoimg metadata and no ``assume``, or
+        is not a geoimg archive.
     """
     if Path(path).suffix.lower() == ".npz":
-        return _load_npz(path)
+        return _load_npz(path, assume)
     data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"),
                                      integers="its pixels are integers, not coordinates: a preview or picture cannot "
                                               "become geometry (geometry images are float OpenEXR files written by geoimg)")
-    meta_json, domain = attrs[0], attrs[1] or "planar"
+    meta_json, domain = attrs[0], attrs[1]
+    if meta_json is None and domain is None:
+        domain = _unmarked(path, assume)
+    domain = domain or "planar"
     def channels(keys):
         if all(k in names for k in keys):
             return np.stack([data[..., names.index(k)] for k in keys], axis=2)
@@ -76,6 +101,9 @@ def load_image(path) -> GeometryImage:
     if xyz is None:
         raise ImageFileError(f"{path}: no R, G, B channels (found {', '.join(names)})")
     mask = channels(["mask"])
+    if mask is None and "A" in names:              # the RGBA layout: all valid reads as no mask
+        mask = channels(["A"])
+        mask = None if np.all(mask > 0.5) else mask
     normals = channels(["N.X", "N.Y", "N.Z"])
     try:
         meta = json.loads(meta_json) if meta_json else {}
@@ -91,13 +119,13 @@ def load_image(path) -> GeometryImage:
                          metadata=meta)
 
 
-def _load_npz(path) -> GeometryImage:
+def _load_npz(path, assume: str | None) -> GeometryImage:
     if not Path(path).is_file():
         raise FileNotFoundError(f"{path}: no such file")
     positions, mask, normals, record = read_npz(path)
+    domain = record.get("domain") or (_unmarked(path, assume) if not record else "planar")
     try:
-        return GeometryImage(positions, mask, domain=record.get("domain", "planar"), normals=normals,
-                             metadata=record)
+        return GeometryImage(positions, mask, domain=domain, normals=normals, metadata=record)
     except (GeoimgError, ValueError) as e:
         raise ImageFileError(f"{path}: {e}") from None
 

@@ -80,6 +80,7 @@ def _huge_header_archive(path):
 
 
 P = np.zeros((4, 4, 3), np.float32)
+META = np.array('{"domain": "planar"}')
 
 
 @pytest.mark.parametrize("make, error, match", [
@@ -92,8 +93,11 @@ P = np.zeros((4, 4, 3), np.float32)
     (lambda p: _archive(p, positions=P.astype(np.int32)), geoimg.ImageFileError, "kind 'f'"),
     (lambda p: _archive(p, positions=P, metadata=np.array("{not json")), geoimg.ImageFileError, "not valid JSON"),
     (lambda p: _archive(p, positions=P, metadata=np.array("[1, 2]")), geoimg.ImageFileError, "not a JSON object"),
-    (lambda p: _archive(p, positions=P, mask=np.ones((3, 3), bool)), geoimg.ImageFileError, "mask: expected shape"),
-    (lambda p: _archive(p, positions=np.full((4, 4, 3), np.nan, np.float32)), geoimg.ImageFileError, "NaN"),
+    (lambda p: _archive(p, positions=P, mask=np.ones((3, 3), bool), metadata=META), geoimg.ImageFileError,
+     "mask: expected shape"),
+    (lambda p: _archive(p, positions=np.full((4, 4, 3), np.nan, np.float32), metadata=META), geoimg.ImageFileError,
+     "NaN"),
+    (lambda p: _archive(p, positions=P), geoimg.ImageFileError, "has no geoimg metadata"),
     (lambda p: _archive(p, positions=P, metadata=np.array('{"domain": "klein bottle"}')), geoimg.ImageFileError,
      "klein bottle"),
     (_huge_header_archive, ResourceError, "positions would need about"),
@@ -120,3 +124,12 @@ def test_the_command_line_reads_and_writes_npz(tmp_path, capsys):
     assert main(["mesh", str(tmp_path / "f.exr"), "-o", str(tmp_path / "f.obj"), "-q"]) == 0
     assert main(["image", str(data_file("sphere.obj")), "-o", str(tmp_path / "x.tif"), "--res", "17"]) == 2
     assert ".exr) or NumPy (.npz)" in capsys.readouterr().err
+
+
+def test_arrays_without_metadata_are_read_only_when_their_domain_is_named(tmp_path):
+    path = _archive(tmp_path / "mine.npz", positions=np.random.default_rng(2).random((5, 5, 3)).astype(np.float32))
+    with pytest.warns(UserWarning, match="read as a geometry image of the octahedral domain"):
+        img = geoimg.load_image(path, assume="octahedral")
+    assert img.domain.kind == "octahedral"
+    with pytest.raises(geoimg.InputError, match="assume: expected one of planar, octahedral"):
+        geoimg.load_image(path, assume="cut")
