@@ -78,7 +78,20 @@ def _numbered(path, k: int, many: bool) -> Path | None:
     return path.with_name(f"{path.stem}_{k}{path.suffix}") if many else path
 
 
+def _check_outputs(force: bool, *outputs) -> None:
+    """Before any work: each ``(path, suffixes, what)`` with a path given must end in one of ``suffixes``, its
+    folder must exist, and it must not exist unless ``force``."""
+    for path, suffixes, what in outputs:
+        if path is None:
+            continue
+        if Path(path).suffix.lower() not in suffixes:
+            raise InputError(f"{path}: {what} must be named {' or '.join(f'*{x}' for x in suffixes)}")
+        check_writable(path, force)
+
+
 def cmd_image(args) -> int:
+    _check_outputs(args.force, (args.output, IMAGE_FORMATS, "the geometry image"),
+                   (args.preview, (".png",), "the preview"))
     progress = Progress(args.quiet)
     component = _component(args.component or "all")
     images = mesh_to_images(args.mesh, args.res, args.s, args.method, component=component, axis=args.axis,
@@ -112,6 +125,7 @@ def _component(text: str) -> str | int:
 
 
 def cmd_mesh(args) -> int:
+    _check_outputs(args.force, (args.output, MESH_FORMATS, "the quad mesh"))
     image = load_image(args.image, assume=args.assume)
     mesh = image.to_mesh()
     out = save_mesh(mesh, args.output, overwrite=args.force)
@@ -224,6 +238,8 @@ class _Op(argparse.Action):
 def cmd_filter(args) -> int:
     if not getattr(args, "ops", None):
         raise InputError("no operation given: add e.g. --mean 5 or --sharpen 3 (see geoimg filter --help)")
+    _check_outputs(args.force, (args.output, IMAGE_FORMATS, "the geometry image"),
+                   (args.preview, (".png",), "the preview"), (args.mesh, MESH_FORMATS, "the quad mesh"))
     image = load_image(args.image, assume=args.assume)
     given = [m for m in (args.mask, args.region, args.uv_region) if m is not None]
     if len(given) > 1:
@@ -275,6 +291,7 @@ def cmd_curvature(args) -> int:
 
 
 def cmd_render(args) -> int:
+    _check_outputs(args.force, (args.output, (".png",), "the picture"))
     shape = _load_shape(args.file, args.assume)
     with Renderer(args.width, args.height) as r:
         rgb = r.render(shape, r.camera_for(shape, azimuth=args.azimuth, elevation=args.elevation, up=args.up))
@@ -299,9 +316,8 @@ def cmd_morph(args) -> int:
     if args.gif or args.mp4:                          # the pictures are held until they are written
         check_memory(float(args.frames) * args.width * args.height * 3, f"{args.frames} pictures of "
                      f"{args.width} x {args.height}")
-    for path in (args.output, args.gif, args.mp4):
-        if path:
-            check_writable(path, args.force)
+    _check_outputs(args.force, (args.output, (".glb",), "the glTF morph"), (args.gif, (".gif",), "the GIF"),
+                   (args.mp4, (".mp4",), "the MP4"))
     if args.frames_dir and not args.force:
         taken = sorted(Path(args.frames_dir).glob(f"frame_*.{args.frame_format}"))
         if taken:
@@ -445,10 +461,16 @@ def build_parser() -> argparse.ArgumentParser:
     conversion.add_argument("--balance", choices=DISK_BALANCES, default="slim",
                             help="disk meshes: relax the mean-value map with SLIM, opening up squeezed parts "
                                  "(default slim), or keep it (none)")
-    conversion.add_argument("--weights", choices=WEIGHTS, default="gaussian")
-    conversion.add_argument("--n", type=int, default=10, help="face centres per local weight (--weights local)")
-    conversion.add_argument("--tol", type=float, default=1e-10, help="truncation tolerance; 0 = exact sum")
-    conversion.add_argument("--sliver-rule", choices=SLIVER_RULES, default="robust")
+    conversion.add_argument("--weights", choices=WEIGHTS, default="gaussian",
+                            help="the weight of each face: rational Gaussian (default gaussian) or local (its n "
+                                 "nearest face centres)")
+    conversion.add_argument("--n", type=int, default=10,
+                            help="face centres per local weight (--weights local; default 10)")
+    conversion.add_argument("--tol", type=float, default=1e-10,
+                            help="truncation tolerance; 0 = exact sum (default 1e-10)")
+    conversion.add_argument("--sliver-rule", choices=SLIVER_RULES, default="robust",
+                            help="long thin faces: a smaller Gaussian and the plane of their neighbours (default "
+                                 "robust), or the paper's enclosing circle (paper)")
     conversion.add_argument("--component", default=None, metavar="all|largest|K",
                             help="a mesh of several pieces gives NAME_0.exr, NAME_1.exr, ... (largest first; "
                                  "the default, all), or keep one (the default with --zarr: largest)")
@@ -456,7 +478,8 @@ def build_parser() -> argparse.ArgumentParser:
     for name, (_, kinds, metavar, text) in FILTER_STEPS.items():
         steps.add_argument(f"--{name}", dest=name, action=_Op, nargs=len(kinds) if len(kinds) > 1 else None,
                            metavar=metavar, help=text)
-    steps.add_argument("--nsr", type=_positive(float), default=1e-3, help="Wiener noise-to-signal ratio of --sharpen")
+    steps.add_argument("--nsr", type=_positive(float), default=1e-3,
+                       help="Wiener noise-to-signal ratio of --sharpen (default 0.001)")
     steps.add_argument("--mode", choices=filters.PAD_MODES, default=None,
                        help="boundary rule (default: octahedral for spherical images, reflect for planar ones)")
 
@@ -507,8 +530,8 @@ def build_parser() -> argparse.ArgumentParser:
     cu.set_defaults(func=cmd_curvature)
 
     view = argparse.ArgumentParser(add_help=False)
-    view.add_argument("--width", type=int, default=800)
-    view.add_argument("--height", type=int, default=600)
+    view.add_argument("--width", type=_positive(int), default=800, help="picture width in pixels (default 800)")
+    view.add_argument("--height", type=_positive(int), default=600, help="picture height in pixels (default 600)")
     view.add_argument("--azimuth", type=float, default=30.0, help="degrees about the up axis (default 30)")
     view.add_argument("--elevation", type=float, default=20.0, help="degrees above the horizon (default 20)")
     view.add_argument("--up", choices=UP_AXES, default="y", help="the shape's up axis (default y)")
@@ -525,16 +548,19 @@ def build_parser() -> argparse.ArgumentParser:
     mo.add_argument("shapes", nargs="+", help="two or more meshes or geometry images (.exr, .npz), in order")
     mo.add_argument("-o", "--output", default=None, help="output .glb (morph targets + weights animation)")
     mo.add_argument("--frames", type=int, default=30, help="frames in all (default 30)")
-    mo.add_argument("--fps", type=_positive(float), default=24.0)
-    mo.add_argument("--easing", default="smoothstep", choices=tuple(EASINGS))
+    mo.add_argument("--fps", type=_positive(float), default=24.0, help="frames per second (default 24)")
+    mo.add_argument("--easing", default="smoothstep", choices=tuple(EASINGS),
+                    help="how the blend moves between keys (default smoothstep)")
     mo.add_argument("--align", choices=ALIGNMENTS, default="similarity",
-                    help="bring shapes 2.. onto shape 1: centre (and scale: similarity)")
+                    help="bring shapes 2.. onto shape 1: centre, centre and scale (similarity, the default), "
+                         "or none")
     mo.add_argument("--no-rotate", action="store_true", help="spherical images: keep the spheres as they are")
     mo.add_argument("--res", type=_positive(int), default=129, help="pixels per side for meshes (default 129)")
     mo.add_argument("--gif", default=None, help="also render an animated GIF")
     mo.add_argument("--mp4", default=None, help="also render an MP4 (needs imageio-ffmpeg)")
     mo.add_argument("--frames-dir", default=None, help="also write every frame to this folder")
-    mo.add_argument("--frame-format", choices=FRAME_FORMATS, default="obj")
+    mo.add_argument("--frame-format", choices=FRAME_FORMATS, default="obj",
+                    help="file format of --frames-dir's frames (default obj)")
     mo.add_argument("--force", action="store_true", help="overwrite existing files")
     mo.set_defaults(func=cmd_morph)
 
@@ -571,13 +597,13 @@ def build_parser() -> argparse.ArgumentParser:
     ba.set_defaults(func=cmd_batch, ops=None)
 
     info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common, reading])
-    info.add_argument("file")
+    info.add_argument("file", help="a mesh file or a geometry image (.exr, .npz)")
     info.set_defaults(func=cmd_info)
 
     demo = sub.add_parser("demo", help="run the whole pipeline on the bundled terrain", parents=[common])
     demo.add_argument("-o", "--output", default="geoimg-demo", help="output folder (default ./geoimg-demo)")
-    demo.add_argument("--res", type=_positive(int), default=256)
-    demo.add_argument("--s", type=_positive(float), default=2.0)
+    demo.add_argument("--res", type=_positive(int), default=256, help="pixels along the longer side (default 256)")
+    demo.add_argument("--s", type=_positive(float), default=2.0, help="smoothness s (default 2)")
     demo.add_argument("--mesh", default=None, help="another mesh instead of the bundled sample")
     demo.add_argument("--force", action="store_true",
                       help="write into a folder that an earlier demo did not make (its files are replaced)")

@@ -186,3 +186,45 @@ def test_reprs_are_short():
 def test_the_demo_is_quiet_when_asked(tmp_path, capsys):
     assert main(["demo", "-o", str(tmp_path / "d"), "--res", "9", "-q"]) == 0
     assert capsys.readouterr().out == ""
+
+
+def test_every_option_has_help_and_shows_its_default():
+    import argparse
+    from geoimg.cli import build_parser
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    missing = []
+    for command, parser in sub.choices.items():
+        for action in parser._actions:
+            if isinstance(action, argparse._HelpAction):
+                continue
+            if not action.help:
+                missing.append(f"{command} {action.option_strings or action.dest}: no help")
+            elif action.option_strings and action.default not in (None, False) \
+                    and "default" not in action.help:
+                missing.append(f"{command} {action.option_strings}: default {action.default!r} not shown")
+    assert not missing, "\n".join(missing)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["image", "M", "-o", "out.txt"], "out.txt: the geometry image must be named *.exr or *.npz"),
+    (["image", "M", "-o", "out.exr", "--preview", "p.jpg"], "p.jpg: the preview must be named *.png"),
+    (["image", "M", "-o", "nowhere/out.exr"], "folder nowhere does not exist"),
+    (["mesh", "I", "-o", "q.xyz"], "q.xyz: the quad mesh must be named"),
+    (["filter", "I", "-o", "f.png", "--mean", "3"], "f.png: the geometry image must be named"),
+    (["filter", "I", "-o", "f.exr", "--mean", "3", "--mesh", "f.xyz"], "f.xyz: the quad mesh must be named"),
+    (["render", "I", "-o", "r.jpg"], "r.jpg: the picture must be named *.png"),
+    (["morph", "I", "I", "-o", "m.gltf"], "m.gltf: the glTF morph must be named *.glb"),
+    (["morph", "I", "I", "--gif", "m.png"], "m.png: the GIF must be named *.gif"),
+])
+def test_outputs_are_checked_before_any_work(tmp_path, monkeypatch, capsys, argv, message):
+    import geoimg.cli as cli
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("work started before the outputs were checked")
+    for name in ("mesh_to_images", "load_image", "load_mesh", "morph"):
+        monkeypatch.setattr(cli, name, no_work)
+    monkeypatch.chdir(tmp_path)
+    argv = [str(MOUNTAIN) if a == "M" else "in.exr" if a == "I" else a for a in argv]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and ".tmp" not in err and len(err.strip().splitlines()) == 1
