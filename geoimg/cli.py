@@ -65,9 +65,14 @@ class ProgressBar:
               file=self.stream, flush=True)
 
 
-def _load_shape(path, assume=None):
-    """A mesh file or a geometry image (.exr, .npz)."""
-    return load_image(path, assume=assume) if Path(path).suffix.lower() in IMAGE_FORMATS else load_mesh(path)
+def _read_image(path, args):
+    """A geometry image, read as the command's --assume and --approximate say."""
+    return load_image(path, assume=args.assume, approximate=args.approximate)
+
+
+def _load_shape(path, args):
+    """A mesh file or a geometry image (.exr, .npz, or a preview .png with --approximate)."""
+    return _read_image(path, args) if Path(path).suffix.lower() in IMAGE_FORMATS + (".png",) else load_mesh(path)
 
 
 def _numbered(path, k: int, many: bool) -> Path | None:
@@ -126,7 +131,7 @@ def _component(text: str) -> str | int:
 
 def cmd_mesh(args) -> int:
     _check_outputs(args.force, (args.output, MESH_FORMATS, "the quad mesh"))
-    image = load_image(args.image, assume=args.assume)
+    image = _read_image(args.image, args)
     mesh = image.to_mesh()
     out = save_mesh(mesh, args.output, overwrite=args.force)
     if not args.quiet:
@@ -136,8 +141,8 @@ def cmd_mesh(args) -> int:
 
 def cmd_info(args) -> int:
     path = Path(args.file)
-    if path.suffix.lower() in IMAGE_FORMATS:
-        img = load_image(path, assume=args.assume)
+    if path.suffix.lower() in IMAGE_FORMATS + (".png",):
+        img = _read_image(path, args)
         H, W = img.shape
         print(f"{path}: geometry image {W} x {H}, domain {img.domain.kind}, {int(img.valid.sum())} valid pixels, "
               f"normals {'yes' if img.normals is not None else 'no'}")
@@ -240,7 +245,7 @@ def cmd_filter(args) -> int:
         raise InputError("no operation given: add e.g. --mean 5 or --sharpen 3 (see geoimg filter --help)")
     _check_outputs(args.force, (args.output, IMAGE_FORMATS, "the geometry image"),
                    (args.preview, (".png",), "the preview"), (args.mesh, MESH_FORMATS, "the quad mesh"))
-    image = load_image(args.image, assume=args.assume)
+    image = _read_image(args.image, args)
     given = [m for m in (args.mask, args.region, args.uv_region) if m is not None]
     if len(given) > 1:
         raise InputError("give one of --mask, --region, --uv-region")
@@ -271,7 +276,7 @@ def cmd_filter(args) -> int:
 
 
 def cmd_curvature(args) -> int:
-    image = load_image(args.image, assume=args.assume)
+    image = _read_image(args.image, args)
     K, H = image_curvature(image)
     stem = Path(args.output)
     jobs = []
@@ -292,7 +297,7 @@ def cmd_curvature(args) -> int:
 
 def cmd_render(args) -> int:
     _check_outputs(args.force, (args.output, (".png",), "the picture"))
-    shape = _load_shape(args.file, args.assume)
+    shape = _load_shape(args.file, args)
     with Renderer(args.width, args.height) as r:
         rgb = r.render(shape, r.camera_for(shape, azimuth=args.azimuth, elevation=args.elevation, up=args.up))
     out = save_png(rgb, args.output, overwrite=args.force)
@@ -326,7 +331,7 @@ def cmd_morph(args) -> int:
     shapes = []
     for f in args.shapes:
         progress(f"loading {f}")
-        shapes.append(_load_shape(f, args.assume))
+        shapes.append(_load_shape(f, args))
     m = morph(*shapes, frames=args.frames, easing=args.easing, align=args.align, rotate=not args.no_rotate,
               resolution=args.res, resample=True, progress=progress)
     jobs = []
@@ -487,6 +492,9 @@ def build_parser() -> argparse.ArgumentParser:
     reading.add_argument("--assume", choices=ASSUMABLE_DOMAINS, default=None,
                          help="read an image without geoimg metadata (from another program) as this domain "
                               "(default: refuse it)")
+    reading.add_argument("--approximate", action="store_true",
+                         help="read a 16-bit PNG preview written by geoimg as geometry, to within half of its "
+                              "1/65534 steps (default: refuse it)")
     writing = argparse.ArgumentParser(add_help=False)           # commands that write geometry images
     writing.add_argument("--layout", choices=EXR_LAYOUTS, default="geoimg",
                          help="EXR channels: R, G, B, mask, N.X, N.Y, N.Z (geoimg, the default) or the mask as A "

@@ -19,7 +19,8 @@ from ._npz import write_npz
 __all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS"]
 
 DEFAULT_PAD = 16
-EXR_LAYOUTS = ("geoimg", "rgba")      # the mask as channel "mask", or as "A" (alpha) for compositing tools
+EXR_LAYOUTS = ("geoimg", "rgba")
+PREVIEW_LEVELS = 65534                # a preview's valid pixels take the levels 1 to 65535; 0 is masked      # the mask as channel "mask", or as "A" (alpha) for compositing tools
 
 
 def _boundary_aware(op):
@@ -320,16 +321,21 @@ class GeometryImage:
             raise ImageError(f"metadata: cannot be written as JSON ({e})") from None
 
     def preview(self, path, *, overwrite: bool = False):
-        """Write a 16-bit PNG with each channel stretched to its range over valid pixels (masked: black)."""
+        """Write a 16-bit PNG: X, Y, Z each stretched over its range on the valid pixels to the levels 1 to
+        65535, masked pixels black (0). The PNG records each channel's offset and step and the image's
+        metadata (text attribute ``geoimg:preview``), so that ``load_image(path, approximate=True)`` can
+        read it back as geometry, to within half a step (1/131068 of each axis' range)."""
         path = _suffixed(path, ".png", "previews are PNG; use a .png name")
         valid = self.valid
         p = np.asarray(self.pixels, np.float64)
         lo = p[valid].min(axis=0)
-        span = np.maximum(p[valid].max(axis=0) - lo, 1e-300)
-        q = np.clip(np.round((p - lo) / span * 65535.0), 0, 65535).astype(np.uint16)
+        step = np.maximum(p[valid].max(axis=0) - lo, 1e-300) / PREVIEW_LEVELS
+        q = np.clip(1.0 + np.round((p - lo) / step), 1, 65535).astype(np.uint16)
         q[~valid] = 0
+        record = json.dumps({**self.metadata_record(), "preview_offset": lo.tolist(), "preview_step": step.tolist()},
+                            sort_keys=True)
         with atomic_path(path, overwrite) as tmp:
-            write_raster(tmp, q, ["R", "G", "B"], UINT16)
+            write_raster(tmp, q, ["R", "G", "B"], UINT16, [("geoimg:preview", record)])
         return path
 
 

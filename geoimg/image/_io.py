@@ -68,12 +68,44 @@ def _unmarked(path, assume: str | None) -> str:
     return assume
 
 
-def load_image(path, *, assume: str | None = None) -> GeometryImage:
+def _load_preview(path, approximate: bool) -> GeometryImage:
+    """A 16-bit preview (:meth:`GeometryImage.preview`) decoded back to coordinates, when asked."""
+    data, _, attrs = read_raster(path, ("geoimg:preview",))
+    if attrs[0] is None:
+        raise ImageFileError(f"{path}: its pixels are integers, not coordinates, and it is not a geoimg preview: a "
+                             "picture cannot become geometry (geometry images are float EXR or .npz files)")
+    if not approximate:
+        raise ImageFileError(f"{path}: a 16-bit preview, its coordinates rounded to 1/65534 of each axis' range; "
+                             "to read it as approximate geometry, say so: load_image(path, approximate=True) "
+                             "(--approximate on the command line)")
+    try:
+        record = json.loads(attrs[0])
+        offset = np.asarray(record.pop("preview_offset"), np.float64)
+        step = np.asarray(record.pop("preview_step"), np.float64)
+        if offset.shape != (3,) or step.shape != (3,) or not (np.isfinite(offset).all() and np.isfinite(step).all()):
+            raise ValueError("offset and step must be 3 finite numbers each")
+    except (json.JSONDecodeError, KeyError, TypeError, ValueError, AttributeError) as e:
+        raise ImageFileError(f"{path}: geoimg:preview is damaged ({e})") from None
+    if data.ndim != 3 or data.shape[2] != 3:
+        raise ImageFileError(f"{path}: a preview has 3 channels, this file {data.shape[-1]}")
+    q = np.round(data.astype(np.float64) * 65535.0)
+    valid = q.min(axis=2) >= 1
+    pixels = np.where(valid[..., None], offset + (q - 1.0) * step, offset).astype(np.float32)
+    record["approximate"] = f"read from a 16-bit preview; within half a step {step.tolist()} of the original"
+    try:
+        return GeometryImage(pixels, None if valid.all() else valid, domain=record.get("domain", "planar"),
+                             metadata=record)
+    except (GeoimgError, ValueError) as e:
+        raise ImageFileError(f"{path}: {e}") from None
+
+
+def load_image(path, *, assume: str | None = None, approximate: bool = False) -> GeometryImage:
     """Read a geometry image written by :func:`save_image`: OpenEXR or a NumPy ``.npz`` archive
     (``positions`` and optionally ``mask``, ``normals``, ``metadata``; see :mod:`geoimg.image._npz`). The mask
     is the ``mask`` channel, or ``A`` (the RGBA layout). A file without geoimg's metadata (an EXR from
     another program, arrays saved by hand) is refused unless ``assume`` names its domain (``"planar"`` or
-    ``"octahedral"``); it is then read with a warning.
+    ``"octahedral"``); it is then read with a warning. A 16-bit PNG preview written by geoimg is read,
+    as approximate geometry (its recorded offset and step), only with ``approximate=True``.
 
     Raises
     ------
@@ -85,6 +117,8 @@ def load_image(path, *, assume: str | None = None) -> GeometryImage:
     """
     if Path(path).suffix.lower() == ".npz":
         return _load_npz(path, assume)
+    if Path(path).suffix.lower() == ".png":
+        return _load_preview(path, approximate)
     data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"),
                                      integers="its pixels are integers, not coordinates: a preview or picture cannot "
                                               "become geometry (geometry images are float OpenEXR files written by geoimg)")
