@@ -6,6 +6,7 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 import filters
@@ -320,18 +321,36 @@ class GeometryImage:
         except (TypeError, ValueError) as e:
             raise ImageError(f"metadata: cannot be written as JSON ({e})") from None
 
+    def _levels(self, top: int):
+        """X, Y, Z each stretched over its range on the valid pixels to the levels 1 to ``top`` (masked pixels
+        0); with each axis' offset and step."""
+        valid = self.valid
+        p = np.asarray(self.pixels, np.float64)
+        lo = p[valid].min(axis=0)
+        step = np.maximum(p[valid].max(axis=0) - lo, 1e-300) / (top - 1)
+        q = np.clip(1.0 + np.round((p - lo) / step), 1, top)
+        q[~valid] = 0
+        return q, lo, step
+
+    def _repr_png_(self) -> bytes:
+        """A notebook's picture of the image: X, Y, Z as red, green, blue (masked pixels black); a small image
+        enlarged a whole number of times to at least 256 pixels (nearest pixel, so the grid stays visible), a
+        large one shrunk to 512."""
+        q = self._levels(255)[0].astype(np.uint8)
+        H, W = self.shape
+        scale = 512 / max(H, W) if max(H, W) > 512 else -(-256 // max(H, W))
+        size = (max(1, round(W * scale)), max(1, round(H * scale)))
+        ok, png = cv2.imencode(".png", cv2.resize(q[..., ::-1], size, interpolation=cv2.INTER_NEAREST))
+        return png.tobytes()
+
     def preview(self, path, *, overwrite: bool = False):
         """Write a 16-bit PNG: X, Y, Z each stretched over its range on the valid pixels to the levels 1 to
         65535, masked pixels black (0). The PNG records each channel's offset and step and the image's
         metadata (text attribute ``geoimg:preview``), so that ``load_image(path, approximate=True)`` can
         read it back as geometry, to within half a step (1/131068 of each axis' range)."""
         path = _suffixed(path, ".png", "previews are PNG; use a .png name")
-        valid = self.valid
-        p = np.asarray(self.pixels, np.float64)
-        lo = p[valid].min(axis=0)
-        step = np.maximum(p[valid].max(axis=0) - lo, 1e-300) / PREVIEW_LEVELS
-        q = np.clip(1.0 + np.round((p - lo) / step), 1, 65535).astype(np.uint16)
-        q[~valid] = 0
+        q, lo, step = self._levels(PREVIEW_LEVELS + 1)
+        q = q.astype(np.uint16)
         record = json.dumps({**self.metadata_record(), "preview_offset": lo.tolist(), "preview_step": step.tolist()},
                             sort_keys=True)
         with atomic_path(path, overwrite) as tmp:

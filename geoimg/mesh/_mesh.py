@@ -136,12 +136,30 @@ class Mesh:
         object.__setattr__(self, "faces", f)
         object.__setattr__(self, "face_sizes", sizes)
 
-    def __repr__(self) -> str:
+    def _face_kinds(self) -> str:
+        """``"5856 triangles"``, ``"348 triangles, 22117 quads"``: the faces by number of corners."""
         sizes, counts = np.unique(self.face_sizes, return_counts=True)
-        kinds = ", ".join(f"{c} {'triangles' if k == 3 else 'quads' if k == 4 else f'{k}-gons'}"
-                          for k, c in zip(sizes.tolist(), counts.tolist()))
-        extras = "".join(f", {name}" for name, value in (("uv", self.uv), ("normals", self.normals)) if value is not None)
+        return ", ".join(f"{c} {'triangles' if k == 3 else 'quads' if k == 4 else f'{k}-gons'}"
+                         for k, c in zip(sizes.tolist(), counts.tolist()))
+
+    def __repr__(self) -> str:
+        kinds = self._face_kinds()
+        extras = "".join(f", {name}" for name, value in (("uv", self.uv), ("normals", self.normals))
+                         if value is not None)
         return f"Mesh({self.n_vertices} vertices, {self.n_faces} faces: {kinds}{extras})"
+
+    def _repr_html_(self) -> str:
+        """A notebook's summary: counts, faces by kind, bounding box."""
+        used = self.referenced_vertices()
+        lo, hi = (self.vertices[used].min(axis=0), self.vertices[used].max(axis=0)) if used.any() else ((), ())
+        yes = {True: "yes", False: "no"}
+        rows = [("vertices", f"{self.n_vertices} ({int((~used).sum())} unreferenced)"),
+                ("faces", f"{self.n_faces}: {self._face_kinds()}"),
+                ("bounding box", f"{np.round(lo, 6).tolist()} .. {np.round(hi, 6).tolist()}"),
+                ("UVs, normals", f"{yes[self.uv is not None]}, {yes[self.normals is not None]}")]
+        return "<table><caption>geoimg.Mesh</caption>" + "".join(
+            f"<tr><th style='text-align:left'>{k}</th><td style='text-align:left'>{v}</td></tr>" for k, v in rows) + \
+            "</table>"
 
     @property
     def n_vertices(self) -> int:

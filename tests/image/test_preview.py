@@ -70,3 +70,22 @@ def test_the_command_line_reads_a_preview_only_with_approximate(images, tmp_path
     assert "--approximate" in capsys.readouterr().err
     assert main(["mesh", str(path), "-o", str(tmp_path / "q.obj"), "--approximate", "-q"]) == 0
     assert geoimg.load_mesh(tmp_path / "q.obj").n_faces == images["octahedral"].to_mesh().n_faces
+
+
+@pytest.mark.parametrize("shape, side", [((9, 11), 264), ((600, 300), 512)])
+def test_a_notebook_shows_the_image_as_a_picture(shape, side):
+    import cv2
+    rng = np.random.default_rng(6)
+    mask = np.ones(shape, bool)
+    mask[0, 0] = False
+    img = geoimg.GeometryImage(rng.random(shape + (3,)).astype(np.float32), mask)
+    rgb = cv2.imdecode(np.frombuffer(img._repr_png_(), np.uint8), cv2.IMREAD_COLOR)
+    assert max(rgb.shape[:2]) == side and rgb.shape[2] == 3
+    assert not rgb[0, 0].any() and rgb[-1, -1].all()               # masked pixels black, valid ones lit
+
+
+def test_a_notebook_shows_a_mesh_as_a_table():
+    m = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [5, 5, 5]], [[0, 1, 2, 3], [0, 1, 2, -1]])
+    html = m._repr_html_()
+    assert html.startswith("<table>") and "5 (1 unreferenced)" in html and "1 triangles, 1 quads" in html
+    assert "[0.0, 0.0, 0.0] .. [1.0, 1.0, 0.0]" in html
