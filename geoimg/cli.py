@@ -36,11 +36,12 @@ BATCH_PROBLEMS_SHOWN = 10         # refused or failed inputs listed on stderr af
 
 
 class Progress:
-    """Stage messages with timings on stderr, shown on a terminal unless quiet (never in a pipeline)."""
+    """Stage messages with timings on stderr: on a terminal, or anywhere with ``always`` (--progress); never
+    when quiet."""
 
-    def __init__(self, quiet: bool = False, stream=None):
+    def __init__(self, quiet: bool = False, stream=None, always: bool = False):
         self.stream = stream or sys.stderr
-        self.on = not quiet and self.stream.isatty()
+        self.on = not quiet and (always or self.stream.isatty())
         self.t0 = time.perf_counter()
 
     def __call__(self, message: str) -> None:
@@ -49,15 +50,24 @@ class Progress:
 
 
 class ProgressBar:
-    """``[#####.....] 12/30 what`` on stderr, redrawn in place, on a terminal unless quiet."""
+    """``[#####.....] 12/30 what`` on stderr, redrawn in place on a terminal; with ``always`` (--progress) off a
+    terminal, a line at each tenth of the way (logs, CI). Nothing when quiet."""
 
-    def __init__(self, what: str, quiet: bool = False, stream=None, width: int = 30):
+    def __init__(self, what: str, quiet: bool = False, stream=None, width: int = 30, always: bool = False):
         self.stream = stream or sys.stderr
-        self.on = not quiet and self.stream.isatty()
+        self.tty = self.stream.isatty()
+        self.on = not quiet and (always or self.tty)
         self.what, self.width = what, width
+        self.shown = -1
 
     def __call__(self, done: int, total: int) -> None:
         if not self.on:
+            return
+        if not self.tty:
+            tenth = 10 * done // max(total, 1)
+            if tenth > self.shown:
+                self.shown = tenth
+                print(f"{done}/{total} {self.what}", file=self.stream, flush=True)
             return
         fill = int(self.width * done / max(total, 1))
         end = "\n" if done >= total else ""
@@ -97,7 +107,7 @@ def _check_outputs(force: bool, *outputs) -> None:
 def cmd_image(args) -> int:
     _check_outputs(args.force, (args.output, IMAGE_FORMATS, "the geometry image"),
                    (args.preview, (".png",), "the preview"))
-    progress = Progress(args.quiet)
+    progress = Progress(args.quiet, always=args.progress)
     component = _component(args.component or "all")
     images = mesh_to_images(args.mesh, args.res, args.s, args.method, component=component, axis=args.axis,
                             boundary=args.boundary, balance=args.balance, weights=args.weights, n=args.n,
@@ -185,7 +195,7 @@ def _demo_pictures(image, stem: Path, progress) -> list:
 
 
 def cmd_demo(args) -> int:
-    progress = Progress(args.quiet)
+    progress = Progress(args.quiet, always=args.progress)
     src = Path(args.mesh) if args.mesh else SAMPLE_MESH
     if not src.is_file():
         raise FileNotFoundError(f"sample mesh {src} not found: run from a source checkout (pip install -e .) "
@@ -307,7 +317,7 @@ def cmd_render(args) -> int:
 
 
 def cmd_morph(args) -> int:
-    progress = Progress(args.quiet)
+    progress = Progress(args.quiet, always=args.progress)
     if not (args.output or args.gif or args.mp4 or args.frames_dir):
         raise InputError("nothing to write: give -o OUT.glb, --gif, --mp4 or --frames-dir")
     # what the outputs need, checked before any work: the packages and the paths
@@ -340,14 +350,14 @@ def cmd_morph(args) -> int:
     written = []
     if args.frames_dir:                               # written with the rest: all or none
         Path(args.frames_dir).mkdir(parents=True, exist_ok=True)
-        jobs += frame_jobs(m, args.frames_dir, args.frame_format, ProgressBar(f"{args.frame_format} frames",
-                                                                             args.quiet))
+        jobs += frame_jobs(m, args.frames_dir, args.frame_format,
+                           ProgressBar(f"{args.frame_format} frames", args.quiet, always=args.progress))
         written.append(Path(args.frames_dir))
     animations = [path for path in (args.gif, args.mp4) if path]
     if animations:                                   # rendered once, written in each format asked for
         with Renderer(args.width, args.height) as r:
             cam = r.camera_for(*m.keys, azimuth=args.azimuth, elevation=args.elevation, up=args.up)
-            bar = ProgressBar("pictures", args.quiet)
+            bar = ProgressBar("pictures", args.quiet, always=args.progress)
             pictures = []
             for i, frame in enumerate(m.frames()):
                 pictures.append(r.render(frame, cam))
@@ -452,6 +462,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"geoimg {__version__}")
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
+    common.add_argument("--progress", action="store_true",
+                        help="show progress off a terminal too (logs, CI); on a terminal it is always shown")
     sub = p.add_subparsers(dest="command", required=True)
 
     conversion = argparse.ArgumentParser(add_help=False)        # mesh -> image: geoimg image and geoimg batch

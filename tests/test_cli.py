@@ -228,3 +228,21 @@ def test_outputs_are_checked_before_any_work(tmp_path, monkeypatch, capsys, argv
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert message in err and ".tmp" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_progress_off_a_terminal_only_when_asked(tmp_path, capsys):
+    out = tmp_path / "m.exr"
+    assert main(["image", str(MOUNTAIN), "-o", str(out), "--res", "16"]) == 0
+    assert capsys.readouterr().err == ""                          # a pipe or a log: quiet by default
+    assert main(["image", str(MOUNTAIN), "-o", str(out), "--res", "16", "--force", "--progress"]) == 0
+    err = capsys.readouterr().err
+    assert "parametrizing" in err and "sampling 16 pixels" in err and err.startswith("[")
+    assert main(["image", str(MOUNTAIN), "-o", str(out), "--res", "16", "--force", "--progress", "-q"]) == 0
+    assert capsys.readouterr().err == ""                          # quiet wins
+    frames = tmp_path / "frames"
+    assert main(["morph", str(out), str(out), "--frames", "20", "--frames-dir", str(frames), "--progress", "-q"]) == 0
+    assert capsys.readouterr().err == ""
+    assert main(["morph", str(out), str(out), "--frames", "20", "--frames-dir", str(frames), "--progress",
+                 "--force"]) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if "obj frames" in line]
+    assert lines == [f"{k}/20 obj frames" for k in (1, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20)]   # each tenth
