@@ -69,10 +69,14 @@ class ProgressBar:
                 self.shown = tenth
                 print(f"{done}/{total} {self.what}", file=self.stream, flush=True)
             return
-        fill = int(self.width * done / max(total, 1))
-        end = "\n" if done >= total else ""
-        print(f"\r[{'#' * fill}{'.' * (self.width - fill)}] {done}/{total} {self.what}", end=end,
+        print(f"\r{_bar(done, total, self.width)} {done}/{total} {self.what}", end="\n" if done >= total else "",
               file=self.stream, flush=True)
+
+
+def _bar(done: int, total: int, width: int) -> str:
+    """``[#####.....]``: ``done`` of ``total`` in ``width`` characters."""
+    fill = int(width * done / max(total, 1))
+    return f"[{'#' * fill}{'.' * (width - fill)}]"
 
 
 def _read_image(path, args):
@@ -406,8 +410,7 @@ class BatchProgress:
             return
         finished = counts["done"] >= counts["total"]
         if self.tty:
-            fill = int(self.width * counts["done"] / max(counts["total"], 1))
-            print(f"\r[{'#' * fill}{'.' * (self.width - fill)}] {self._describe(counts)}\x1b[K",
+            print(f"\r{_bar(counts['done'], counts['total'], self.width)} {self._describe(counts)}\x1b[K",
                   end="\n" if finished else "", file=self.stream, flush=True)
         elif self.last is None or finished or counts["elapsed"] - self.last >= self.every:
             self.last = counts["elapsed"]
@@ -607,7 +610,8 @@ def build_parser() -> argparse.ArgumentParser:
     ba.add_argument("--manifest", default=None, metavar="CSV", help="manifest CSV (default OUTPUT/manifest.csv)")
     ba.add_argument("--workers", type=_positive(int), default=None, metavar="N",
                     help="local worker processes (default: one per core)")
-    ba.add_argument("--memory-limit", default="auto", metavar="SIZE", help="memory per local worker, e.g. 4GB (default: shared out)")
+    ba.add_argument("--memory-limit", default="auto", metavar="SIZE",
+                    help="memory per local worker, e.g. 4GB (default: shared out)")
     ba.add_argument("--scheduler", default=None, metavar="ADDRESS",
                     help="run on this existing Dask scheduler (e.g. tcp://host:8786) instead of a local cluster")
     ba.add_argument("--progress-every", type=_positive(float), default=5.0, metavar="SECONDS",

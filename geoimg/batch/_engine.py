@@ -2,6 +2,7 @@
 an earlier run with the same options finished, records every input in the manifest, and stops cleanly."""
 from __future__ import annotations
 
+import fnmatch
 import logging
 import os
 import time
@@ -41,12 +42,17 @@ def _finished(row: dict | None, job: Job, records) -> bool:
 
 
 def _partials(jobs, store) -> list[Path]:
-    """Temporary files that an interrupted run may have left beside its outputs (ours and Zarr's)."""
-    found = set()
+    """Temporary files that an interrupted run may have left beside its outputs (ours and Zarr's): each
+    output folder is listed once, whatever the number of inputs in it."""
+    names: dict[Path, list[str]] = {}
     for job in jobs:
         stem = Path(job.stem)
-        if stem.parent.is_dir():
-            found.update(stem.parent.glob(f".{stem.name}*.tmp*"))
+        names.setdefault(stem.parent, []).append("." + stem.name)
+    found = set()
+    for folder, prefixes in names.items():
+        if folder.is_dir():
+            found.update(p for p in folder.glob(".*.tmp*")          # few: only what a killed run left
+                         if any(fnmatch.fnmatchcase(p.name, f"{prefix}*.tmp*") for prefix in prefixes))
     if store is not None and Path(store).is_dir():
         found.update(Path(store).rglob("*.partial"))
     return sorted(found)
@@ -226,8 +232,9 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
             write_records(zarr, pending_records)
         _remove_partials(todo, zarr)
         merged = {**old, **rows}
+        these = set(keys)
         write_manifest(manifest, [merged[k] for k in keys if k in merged] +
-                       [r for k, r in merged.items() if k not in set(keys)])
+                       [r for k, r in merged.items() if k not in these])
     say(_counts(rows, len(jobs), skipped, t0))
     table = pandas.read_csv(manifest)                  # one parse for old and new rows: the same types
     present = set(table["input"])

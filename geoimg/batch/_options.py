@@ -95,8 +95,7 @@ class ConvertOptions:
         """The keyword arguments of :func:`geoimg.mesh_to_images`."""
         return dict(resolution=self.resolution, s=float(self.s), method=self.method, component=self.component,
                     axis=self.axis, boundary=self.boundary, balance=self.balance, weights=self.weights, n=self.n,
-                    tol=float(self.tol),
-                    sliver_rule=self.sliver_rule, normals=self.normals)
+                    tol=float(self.tol), sliver_rule=self.sliver_rule, normals=self.normals)
 
     def digest(self, *extra) -> str:
         """A short hash of the options, this geoimg's version and ``extra`` (say, the output layout): equal

@@ -20,8 +20,8 @@ from ._npz import write_npz
 __all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS"]
 
 DEFAULT_PAD = 16
-EXR_LAYOUTS = ("geoimg", "rgba")
-PREVIEW_LEVELS = 65534                # a preview's valid pixels take the levels 1 to 65535; 0 is masked      # the mask as channel "mask", or as "A" (alpha) for compositing tools
+EXR_LAYOUTS = ("geoimg", "rgba")      # the mask as channel "mask", or as "A" (alpha) for compositing tools
+PREVIEW_LEVELS = 65534                # a preview's valid pixels take the levels 1 to 65535; 0 is masked
 
 
 def _boundary_aware(op):

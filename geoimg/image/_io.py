@@ -13,11 +13,11 @@ from .._atomic import atomic_path
 from .._raster import FLOAT, UINT8, read_raster, write_raster
 from ..errors import GeoimgError, ImageFileError, InputError, InputTypeError
 from ._domain import Domain
-from ._image import GeometryImage
+from ._image import PREVIEW_LEVELS, GeometryImage
 from ._npz import read_npz
 
-__all__ = ["IMAGE_FORMATS", "ASSUMABLE_DOMAINS", "save_image", "load_image", "save_preview", "save_scalar", "save_colormap", "diverging_colors",
-           "save_normal_map"]
+__all__ = ["IMAGE_FORMATS", "ASSUMABLE_DOMAINS", "save_image", "load_image", "save_preview", "save_scalar",
+           "save_colormap", "diverging_colors", "save_normal_map"]
 
 
 IMAGE_FORMATS = (".exr", ".npz")
@@ -75,9 +75,9 @@ def _load_preview(path, approximate: bool) -> GeometryImage:
         raise ImageFileError(f"{path}: its pixels are integers, not coordinates, and it is not a geoimg preview: a "
                              "picture cannot become geometry (geometry images are float EXR or .npz files)")
     if not approximate:
-        raise ImageFileError(f"{path}: a 16-bit preview, its coordinates rounded to 1/65534 of each axis' range; "
-                             "to read it as approximate geometry, say so: load_image(path, approximate=True) "
-                             "(--approximate on the command line)")
+        raise ImageFileError(f"{path}: a 16-bit preview, its coordinates rounded to 1/{PREVIEW_LEVELS} of each "
+                             "axis' range; to read it as approximate geometry, say so: load_image(path, "
+                             "approximate=True) (--approximate on the command line)")
     try:
         record = json.loads(attrs[0])
         offset = np.asarray(record.pop("preview_offset"), np.float64)
@@ -88,13 +88,17 @@ def _load_preview(path, approximate: bool) -> GeometryImage:
         raise ImageFileError(f"{path}: geoimg:preview is damaged ({e})") from None
     if data.ndim != 3 or data.shape[2] != 3:
         raise ImageFileError(f"{path}: a preview has 3 channels, this file {data.shape[-1]}")
-    q = np.round(data.astype(np.float64) * 65535.0)
+    q = np.round(data.astype(np.float64) * (PREVIEW_LEVELS + 1))             # the 16-bit levels 0 .. 65535
     valid = q.min(axis=2) >= 1
     pixels = np.where(valid[..., None], offset + (q - 1.0) * step, offset).astype(np.float32)
     record["approximate"] = f"read from a 16-bit preview; within half a step {step.tolist()} of the original"
+    return _image_of_file(path, pixels, None if valid.all() else valid, record.get("domain", "planar"), None, record)
+
+
+def _image_of_file(path, pixels, mask, domain, normals, metadata) -> GeometryImage:
+    """The GeometryImage of a file's arrays; what the image refuses is the file's fault, said with its name."""
     try:
-        return GeometryImage(pixels, None if valid.all() else valid, domain=record.get("domain", "planar"),
-                             metadata=record)
+        return GeometryImage(pixels, mask, domain=domain, normals=normals, metadata=metadata)
     except (GeoimgError, ValueError) as e:
         raise ImageFileError(f"{path}: {e}") from None
 
@@ -158,10 +162,7 @@ def _load_npz(path, assume: str | None) -> GeometryImage:
         raise FileNotFoundError(f"{path}: no such file")
     positions, mask, normals, record = read_npz(path)
     domain = record.get("domain") or (_unmarked(path, assume) if not record else "planar")
-    try:
-        return GeometryImage(positions, mask, domain=domain, normals=normals, metadata=record)
-    except (GeoimgError, ValueError) as e:
-        raise ImageFileError(f"{path}: {e}") from None
+    return _image_of_file(path, positions, mask, domain, normals, record)
 
 
 def save_preview(image: GeometryImage, path, *, overwrite: bool = False) -> Path:

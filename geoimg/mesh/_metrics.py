@@ -28,9 +28,8 @@ def point_mesh_distance(points: np.ndarray, mesh: Mesh, k: int = 16, chunk: int 
     return out
 
 
-def sample_surface(mesh: Mesh, n: int, seed: int = 0, vertices: bool = True) -> np.ndarray:
-    """``n`` points spread uniformly over the mesh's area, followed by its vertices (unless ``vertices`` is
-    false)."""
+def sample_surface(mesh: Mesh, n: int, seed: int = 0) -> np.ndarray:
+    """``n`` points spread uniformly over the mesh's area, followed by its vertices."""
     tris, _ = mesh.triangulate()
     p = mesh.vertices[tris]
     area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
@@ -40,7 +39,7 @@ def sample_surface(mesh: Mesh, n: int, seed: int = 0, vertices: bool = True) -> 
     flip = r1 + r2 > 1
     r1, r2 = np.where(flip, 1 - r1, r1), np.where(flip, 1 - r2, r2)
     pts = p[t, 0] + r1[:, None] * (p[t, 1] - p[t, 0]) + r2[:, None] * (p[t, 2] - p[t, 0])
-    return np.vstack([pts, mesh.vertices[mesh.referenced_vertices()]]) if vertices else pts
+    return np.vstack([pts, mesh.vertices[mesh.referenced_vertices()]])
 
 
 def surface_distance(reference: Mesh, other: Mesh, n: int = 200000) -> dict:
