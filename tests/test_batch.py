@@ -127,6 +127,17 @@ def test_zarr_store_shapes_records_and_items(client, inputs, tmp_path):
         batch.convert([inputs], tmp_path / "out", client=client, zarr=store, resolution=RES, s=2.0)
 
 
+def test_a_scheduler_that_cannot_be_reached_leaves_nothing(inputs, tmp_path, monkeypatch):
+    from geoimg.batch import _engine
+    monkeypatch.setattr(_engine, "CONNECT_TIMEOUT", 2)               # not the 30 s a real network gets
+    distributed_ = pytest.importorskip("distributed")
+    with distributed_.LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+        address = cluster.scheduler_address
+    with pytest.raises(OSError):                                   # the scheduler is gone: refused to connect
+        batch.convert([inputs / "a"], tmp_path / "out", scheduler=address, resolution=RES, zarr=tmp_path / "z.zarr")
+    assert not (tmp_path / "out").exists() and not (tmp_path / "z.zarr").exists()
+
+
 def test_a_scheduler_address_runs_the_same_tasks(client, inputs, tmp_path):
     table = batch.convert([inputs / "a" / "sphere.obj"], tmp_path / "out", scheduler=client.scheduler.address,
                           resolution=RES)
@@ -144,6 +155,7 @@ def test_a_scheduler_address_runs_the_same_tasks(client, inputs, tmp_path):
     (dict(steps=[("mean", [])]), geoimg.InputError, "takes 1 value"),
     (dict(quads_format="stl"), geoimg.InputError, "quads_format"),
     (dict(colour="red"), geoimg.InputTypeError, "colour"),
+    (dict(memory_limit="lots"), geoimg.InputError, "memory_limit: expected a size"),
 ])
 def test_bad_options_are_refused_before_any_work(inputs, tmp_path, kwargs, error, match):
     with pytest.raises(error, match=match):

@@ -2,6 +2,7 @@
 an earlier run with the same options finished, records every input in the manifest, and stops cleanly."""
 from __future__ import annotations
 
+import contextlib
 import fnmatch
 import logging
 import os
@@ -22,6 +23,7 @@ __all__ = ["convert", "MANIFEST_NAME"]
 MANIFEST_NAME = "manifest.csv"
 RECORDS_EVERY = 5.0          # seconds between writes of the Zarr store's item records
 PROGRESS_EVERY = 0.5         # seconds between calls of the progress callback
+CONNECT_TIMEOUT = 30         # seconds to reach a scheduler given by its address
 
 
 def _finished(row: dict | None, job: Job, records) -> bool:
@@ -93,7 +95,7 @@ class _Cluster:
         distributed = require("distributed", "geoimg batch")
         dask = require("dask", "geoimg batch")
         if self.scheduler:
-            self.client = distributed.Client(self.scheduler, timeout=30)
+            self.client = distributed.Client(self.scheduler, timeout=CONNECT_TIMEOUT)
             self.owned = [self.client]
             return self.client
         n = self.workers or os.cpu_count() or 1
@@ -180,6 +182,11 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
         raise InputError("a Zarr store holds same-size images: give the resolution (--res)")
     if zarr is not None and opts.component == "all":
         raise InputError("a Zarr store holds one image per input: component 'largest' or a piece number")
+    if memory_limit not in (None, "auto"):
+        try:
+            require("dask.utils", "geoimg batch").parse_bytes(str(memory_limit))
+        except ValueError:
+            raise InputError(f"memory_limit: expected a size such as 4GB or auto, got {memory_limit!r}") from None
     files = find_inputs(inputs)
     out = Path(out)
     for spec in [inputs] if isinstance(inputs, (str, os.PathLike)) else inputs:
@@ -208,33 +215,40 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
     for stem in stems:
         if any(str(Path(stem + ext)) in names for ext in (".exr", f"_quads.{opts.quads_format}")):
             raise FileExistsError(f"{stem}: an output would replace an input; choose another output folder")
-    out.mkdir(parents=True, exist_ok=True)
     old = {} if force else read_manifest(manifest)
     records = [None] * len(jobs)
-    if zarr is not None:
-        open_store(zarr, keys, opts.resolution, opts.normals, digest, force=force)
+    reused = zarr is not None and Path(zarr).exists() and not force
+    if reused:                                      # refused here if it holds another batch
+        open_store(zarr, keys, opts.resolution, opts.normals, digest)
         records = store_records(zarr)
     todo = [job for job in jobs if not _finished(old.get(job.input), job, records)]
     skipped = len(jobs) - len(todo)
-    write_manifest(manifest, old.values())          # compacted (and in this version's columns) before appending
-    _remove_partials(jobs, zarr)                    # left by a run that was killed
     rows: dict[str, dict] = {}
-    t0 = time.perf_counter()
-    say = progress or (lambda counts: None)
-    say(_counts(rows, len(jobs), skipped, t0))
     pending_records: dict[int, dict] = {}
+    say = progress or (lambda counts: None)
+    t0 = time.perf_counter()
+    started = False
     try:
-        if todo:
-            _run(todo, rows, pending_records, manifest, zarr, say, skipped, len(jobs), t0,
-                 _Cluster(client, scheduler, workers, memory_limit))
-    finally:
-        if zarr is not None and pending_records:
-            write_records(zarr, pending_records)
-        _remove_partials(todo, zarr)
-        merged = {**old, **rows}
-        these = set(keys)
-        write_manifest(manifest, [merged[k] for k in keys if k in merged] +
-                       [r for k, r in merged.items() if k not in these])
+        # the cluster first: a scheduler that cannot be reached (or a cluster that cannot start) leaves nothing
+        with _Cluster(client, scheduler, workers, memory_limit) if todo else contextlib.nullcontext() as dask_client:
+            out.mkdir(parents=True, exist_ok=True)
+            if zarr is not None and not reused:
+                open_store(zarr, keys, opts.resolution, opts.normals, digest, force=force)
+            write_manifest(manifest, old.values())  # compacted (and in this version's columns) before appending
+            _remove_partials(jobs, zarr)            # left by a run that was killed
+            started = True
+            say(_counts(rows, len(jobs), skipped, t0))
+            if todo:
+                _run(dask_client, todo, rows, pending_records, manifest, zarr, say, skipped, len(jobs), t0)
+    finally:                                        # after the cluster has closed: no worker is writing now
+        if started:
+            if zarr is not None and pending_records:
+                write_records(zarr, pending_records)
+            _remove_partials(todo, zarr)
+            merged = {**old, **rows}
+            these = set(keys)
+            write_manifest(manifest, [merged[k] for k in keys if k in merged] +
+                           [r for k, r in merged.items() if k not in these])
     say(_counts(rows, len(jobs), skipped, t0))
     table = pandas.read_csv(manifest)                  # one parse for old and new rows: the same types
     present = set(table["input"])
@@ -244,11 +258,11 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
     return table
 
 
-def _run(todo, rows, pending_records, manifest, zarr, say, skipped, total, t0, cluster) -> None:
-    """Submit ``todo`` (small inputs first, so that a few large ones do not hold up the many small ones),
-    collect rows as they finish, and cancel what is left on any interruption."""
+def _run(client, todo, rows, pending_records, manifest, zarr, say, skipped, total, t0) -> None:
+    """Submit ``todo`` to ``client`` (small inputs first, so that a few large ones do not hold up the many small
+    ones), collect rows as they finish, and cancel what is left on any interruption."""
     distributed = require("distributed", "geoimg batch")
-    with cluster as client, ManifestLog(manifest) as log:
+    with ManifestLog(manifest) as log:
         order = sorted(todo, key=lambda job: job.input_size)
         run = uuid.uuid4().hex[:8]
         futures = {client.submit(run_job, job, key=f"geoimg-{run}-{job.index}", pure=False,
