@@ -5,11 +5,14 @@ import time
 from contextlib import contextmanager
 from pathlib import Path
 
+import numpy as np
+
 from .errors import InputTypeError, MeshError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair
 from .parametrization import Parametrization, parametrize
 from .surface import fit_surface
+from .surface._attributes import sample_colors
 
 __all__ = ["mesh_to_image", "mesh_to_images", "COMPONENT_CHOICES"]
 
@@ -83,7 +86,7 @@ def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: s
 def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: str = "auto", *,
                   axis: str | None = None, boundary: str = "square", balance: str = "slim",
                   weights: str = "gaussian", n: int = 10,
-                  tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True,
+                  tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True, colors: bool = True,
                   parametrization: Parametrization | None = None, progress=None,
                   timings: dict | None = None) -> GeometryImage:
     """The geometry image of a mesh: :func:`~geoimg.parametrize`, :func:`~geoimg.fit_surface` and
@@ -106,13 +109,17 @@ def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: st
         The fit (see :func:`geoimg.fit_surface`).
     normals : bool, default True
         Also store exact normals.
+    colors : bool, default True
+        Also store the mesh's colours, when it has a texture (OBJ with an MTL ``map_Kd``) or vertex colours
+        (PLY, OBJ ``v x y z r g b``): each pixel's colour interpolated in the face that holds it (see
+        :mod:`geoimg.surface._attributes`).
     parametrization : Parametrization, optional
         Use this one (for example shared by meshes with the same faces) instead of making one.
     progress : callable, optional
         Called with a short message at each stage.
     timings : dict, optional
         Seconds spent per stage are added to it (``load``, ``repair``, ``parametrize``, ``fit``,
-        ``sample``; summed over pieces).
+        ``sample``, ``colors``; summed over pieces).
 
     Returns
     -------
@@ -142,6 +149,15 @@ def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: st
     say(f"sampling {res} pixels along the longer side")
     with _timed(timings, "sample"):
         image = surface.sample(res, normals=normals)
+    if colors and (mesh.colors is not None or mesh.texture is not None):
+        say("sampling the colours")
+        with _timed(timings, "colors"):
+            rgb = sample_colors(mesh, parametrization, image.domain, image.shape, image.valid)
+        image = image if rgb is None else GeometryImage(image.pixels, image.mask, image.domain, image.normals,
+                                                        image.metadata, colors=rgb)
     image.metadata["source"] = source
     image.metadata["parametrization"] = parametrization.method
+    normal = parametrization.info.get("normal")
+    if normal is not None:                       # a terrain's up axis, for pictures
+        image.metadata["up"] = "xyz"[int(np.argmax(np.abs(normal)))]
     return image

@@ -115,7 +115,7 @@ def cmd_image(args) -> int:
     component = _component(args.component or "all")
     images = mesh_to_images(args.mesh, args.res, args.s, args.method, component=component, axis=args.axis,
                             boundary=args.boundary, balance=args.balance, weights=args.weights, n=args.n,
-                            tol=args.tol, sliver_rule=args.sliver_rule, progress=progress)
+                            tol=args.tol, sliver_rule=args.sliver_rule, colors=not args.no_colors, progress=progress)
     many = len(images) > 1
     outputs = [(img, _numbered(args.output, img.metadata.get("component", 0), many),
                 _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]
@@ -149,7 +149,9 @@ def cmd_mesh(args) -> int:
     mesh = image.to_mesh()
     out = save_mesh(mesh, args.output, overwrite=args.force)
     if not args.quiet:
-        print(f"wrote {out}: {mesh.n_vertices} vertices, {mesh.n_faces} quads")
+        beside = f" (its material {out.with_suffix('.mtl').name} and texture {out.with_suffix('.png').name} beside it)" \
+            if mesh.texture is not None and out.suffix.lower() == ".obj" else ""
+        print(f"wrote {out}: {mesh.n_vertices} vertices, {mesh.n_faces} quads{beside}")
     return 0
 
 
@@ -159,7 +161,7 @@ def cmd_info(args) -> int:
         img = _read_image(path, args)
         H, W = img.shape
         print(f"{path}: geometry image {W} x {H}, domain {img.domain.kind}, {int(img.valid.sum())} valid pixels, "
-              f"normals {'yes' if img.normals is not None else 'no'}")
+              f"normals {'yes' if img.normals is not None else 'no'}, colours {'yes' if img.colors is not None else 'no'}")
         lo, hi = img.pixels[img.valid].min(axis=0), img.pixels[img.valid].max(axis=0)
         print(f"  bounding box {np.round(lo, 6).tolist()} .. {np.round(hi, 6).tolist()}")
         for key, value in sorted(img.metadata.items()):
@@ -170,6 +172,11 @@ def cmd_info(args) -> int:
     kinds = ", ".join(f"{c} {'tri' if k == 3 else 'quad' if k == 4 else f'{k}-gon'}" for k, c in zip(sizes, counts))
     used = mesh.referenced_vertices()
     print(f"{path}: {mesh.n_vertices} vertices ({int((~used).sum())} unreferenced), {mesh.n_faces} faces ({kinds})")
+    look = [name for name, value in (("vertex colours", mesh.colors), ("texture coordinates", mesh.face_uv))
+            if value is not None]
+    look += [f"a {mesh.texture.shape[1]} x {mesh.texture.shape[0]} texture"] if mesh.texture is not None else []
+    if look:
+        print(f"  {', '.join(look)}")
     v = mesh.vertices[used]
     print(f"  bounding box {np.round(v.min(axis=0), 6).tolist()} .. {np.round(v.max(axis=0), 6).tolist()}, "
           f"diagonal {mesh.bounding_box_diagonal():.6g}")
@@ -312,7 +319,7 @@ def cmd_curvature(args) -> int:
 def cmd_render(args) -> int:
     _check_outputs(args.force, (args.output, (".png",), "the picture"))
     shape = _load_shape(args.file, args)
-    with Renderer(args.width, args.height) as r:
+    with Renderer(args.width, args.height, background=None if args.transparent else (1.0, 1.0, 1.0)) as r:
         rgb = r.render(shape, r.camera_for(shape, azimuth=args.azimuth, elevation=args.elevation, up=args.up))
     out = save_png(rgb, args.output, overwrite=args.force)
     if not args.quiet:
@@ -427,7 +434,8 @@ def cmd_batch(args) -> int:
     options = dict(resolution=args.res, s=args.s, method=args.method, axis=args.axis, boundary=args.boundary,
                    balance=args.balance,
                    weights=args.weights, n=args.n, tol=args.tol, sliver_rule=args.sliver_rule,
-                   normals=not args.no_normals, steps=args.ops or (), mode=args.mode, nsr=args.nsr,
+                   normals=not args.no_normals, colors=not args.no_colors, steps=args.ops or (), mode=args.mode,
+                   nsr=args.nsr,
                    quads=args.quads is not None, quads_format=args.quads or "obj", psnr=not args.no_psnr)
     if args.component is not None:
         options["component"] = _component(args.component)
@@ -494,6 +502,9 @@ def build_parser() -> argparse.ArgumentParser:
     conversion.add_argument("--component", default=None, metavar="all|largest|K",
                             help="a mesh of several pieces gives NAME_0.exr, NAME_1.exr, ... (largest first; "
                                  "the default, all), or keep one (the default with --zarr: largest)")
+    conversion.add_argument("--no-colors", action="store_true",
+                            help="leave out the mesh's colours (an OBJ's texture, PLY or OBJ vertex colours), which "
+                                 "are resampled into the image by default")
     steps = argparse.ArgumentParser(add_help=False)             # filter steps: geoimg filter and geoimg batch
     for name, (_, kinds, metavar, text) in FILTER_STEPS.items():
         steps.add_argument(f"--{name}", dest=name, action=_Op, nargs=len(kinds) if len(kinds) > 1 else None,
@@ -557,13 +568,16 @@ def build_parser() -> argparse.ArgumentParser:
     view.add_argument("--height", type=_positive(int), default=600, help="picture height in pixels (default 600)")
     view.add_argument("--azimuth", type=float, default=30.0, help="degrees about the up axis (default 30)")
     view.add_argument("--elevation", type=float, default=20.0, help="degrees above the horizon (default 20)")
-    view.add_argument("--up", choices=UP_AXES, default="y", help="the shape's up axis (default y)")
+    view.add_argument("--up", choices=UP_AXES, default=None,
+                      help="the shape's up axis (default: the one a geometry image records, a terrain's; else y)")
 
     re_ = sub.add_parser("render", help="shade a mesh or geometry image to PNG (headless)",
                          parents=[common, view, reading])
     re_.add_argument("file", help="mesh or geometry image (.exr, .npz)")
     re_.add_argument("-o", "--output", required=True, help="output .png")
     re_.add_argument("--force", action="store_true", help="overwrite an existing file")
+    re_.add_argument("--transparent", action="store_true",
+                     help="a transparent background (an RGBA PNG) instead of white (default: white)")
     re_.set_defaults(func=cmd_render)
 
     mo = sub.add_parser("morph", help="morph between shapes: glTF with morph targets, GIF/MP4, frame files",
@@ -601,7 +615,7 @@ def build_parser() -> argparse.ArgumentParser:
     ba.add_argument("-o", "--output", required=True,
                     help="output folder: NAME.exr per input (its path below the inputs' common folder), the manifest")
     ba.add_argument("--zarr", default=None, metavar="STORE",
-                    help="write the images into this Zarr store instead: (N, R, R, 3) float32, mask, normals "
+                    help="write the images into this Zarr store instead: (N, R, R, 3) float32, mask, normals, colors "
                          "(needs --res; one image per input, the largest piece unless --component K)")
     ba.add_argument("--quads", nargs="?", const="obj", default=None, choices=QUAD_FORMATS,
                     help="also write the quad mesh, NAME_quads.obj (or .ply, .off)")

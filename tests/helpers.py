@@ -93,3 +93,13 @@ def glue_spread(image, pixels):
     flat = np.asarray(pixels, np.float64).reshape(len(group), -1)
     means = np.stack([np.bincount(group, flat[:, c]) / np.bincount(group) for c in range(flat.shape[1])], 1)
     return float(np.abs(flat - means[group]).max())
+
+
+def textured_spot(folder: Path) -> Path:
+    """Spot (bundled) with its bundled public-domain texture, as an OBJ + MTL + PNG in ``folder``."""
+    folder = Path(folder)
+    (folder / "spot.mtl").write_text("newmtl spot\nKd 1 1 1\nmap_Kd spot_texture.png\n")
+    (folder / "spot_texture.png").write_bytes(data_file("spot_texture.png").read_bytes())
+    obj = folder / "spot.obj"
+    obj.write_text("mtllib spot.mtl\nusemtl spot\n" + data_file("spot.obj").read_text())
+    return obj

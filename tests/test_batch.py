@@ -299,3 +299,17 @@ def test_progress_lines_off_a_terminal_a_bar_on_one_and_nothing_when_quiet():
     quiet = _Stream(tty=True)
     cli.BatchProgress(quiet=True, stream=quiet)(_counts(5, 1.0))
     assert quiet.text == ""
+
+
+def test_zarr_items_keep_their_colours(tmp_path):
+    from geoimg.batch._store import open_store, write_item
+    pixels = np.random.default_rng(0).random((5, 5, 3)).astype(np.float32)
+    coloured = geoimg.GeometryImage(pixels, colors=np.full((5, 5, 3), 0.25, np.float32))
+    store = tmp_path / "s.zarr"
+    open_store(store, ["a", "b"], 5, False, "h", colors=True)
+    write_item(store, 0, coloured)
+    write_item(store, 1, geoimg.GeometryImage(pixels))
+    batch._store.write_records(store, {i: {"shape": [5, 5], "domain": "planar", "metadata": {}, "colors": i == 0}
+                                        for i in range(2)})
+    assert np.array_equal(batch.read_item(store, 0).colors, coloured.colors)
+    assert batch.read_item(store, 1).colors is None

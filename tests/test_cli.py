@@ -167,10 +167,12 @@ def test_version_module_entry_and_one_line_warnings(tmp_path, capsys):
     assert capsys.readouterr().out.strip() == f"geoimg {geoimg.__version__}"
     run = subprocess.run([sys.executable, "-m", "geoimg", "--version"], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0 and run.stdout.strip() == f"geoimg {geoimg.__version__}"
-    seams = str(__import__("helpers").data_file("spot.obj"))            # its UV seams give a warning
+    seams = tmp_path / "mixed.obj"                  # colours on one 'v' line only give a warning
+    seams.write_text("v 0 0 0 1 0 0\nv 1 0 0\nv 1 1 0.5\nv 0 1 0\nf 1 2 3 4\n")
+    seams = str(seams)
     assert main(["image", seams, "-o", str(tmp_path / "s.exr"), "--res", "9"]) == 0
     err = capsys.readouterr().err
-    assert err.startswith("geoimg image: warning: ") and "UV seams" in err and ".py:" not in err
+    assert err.startswith("geoimg image: warning: ") and "some 'v' lines have colours" in err and ".py:" not in err
     assert main(["image", seams, "-o", str(tmp_path / "t.exr"), "--res", "9", "-q"]) == 0
     assert capsys.readouterr().err == ""
 
@@ -246,3 +248,22 @@ def test_progress_off_a_terminal_only_when_asked(tmp_path, capsys):
                  "--force"]) == 0
     lines = [line for line in capsys.readouterr().err.splitlines() if "obj frames" in line]
     assert lines == [f"{k}/20 obj frames" for k in (1, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20)]   # each tenth
+
+
+def test_colours_travel_from_a_textured_obj_to_a_textured_quad_mesh(tmp_path, capsys):
+    from helpers import textured_spot
+    obj = str(textured_spot(tmp_path))
+    exr, plain = tmp_path / "s.exr", tmp_path / "p.exr"
+    assert main(["image", obj, "-o", str(exr), "--res", "17"]) == 0
+    assert main(["image", obj, "-o", str(plain), "--res", "17", "--no-colors"]) == 0
+    assert geoimg.load_image(exr).colors.shape == (17, 17, 3) and geoimg.load_image(plain).colors is None
+    capsys.readouterr()
+    assert main(["info", str(exr)]) == 0 and "colours yes" in capsys.readouterr().out
+    assert main(["info", obj]) == 0 and "1024 x 1024 texture" in capsys.readouterr().out
+    assert main(["mesh", str(exr), "-o", str(tmp_path / "q.obj")]) == 0
+    assert "texture q.png beside it" in capsys.readouterr().out
+    q = geoimg.load_mesh(tmp_path / "q.obj")
+    assert q.texture.shape == (17, 17, 3) and q.colors is not None
+    (tmp_path / "r.mtl").write_text("someone else's")               # a file in the way: nothing written
+    assert main(["mesh", str(exr), "-o", str(tmp_path / "r.obj")]) == 2
+    assert "r.mtl exists" in capsys.readouterr().err and not (tmp_path / "r.obj").exists()

@@ -1,9 +1,13 @@
 """Morph animation files: glTF 2.0 binary with morph targets (pygltflib), and per-frame mesh or EXR sequences.
 
 The GLB holds one mesh: key 0's quad mesh, split into triangles, as the base, a morph target per further
-key (position and normal displacements) and an animation of the target weights sampled at every frame
-(linear between frames), so any glTF viewer plays the eased morph. A morph with a timing mask cannot be
-written as weights of whole keys; it gets one target per frame and a step animation instead.
+key (position and normal displacements, named in the mesh's ``extras.targetNames``) and an animation of
+the target weights sampled at every frame (linear between frames), so any glTF viewer plays the eased
+morph. A morph with a timing mask cannot be written as weights of whole keys; it gets one target per frame
+and a step animation instead. Vertices have texture coordinates (``TEXCOORD_0``: the pixel's place in the
+image); keys with colours give vertex colours (``COLOR_0``, morphing too when every key has them, and the
+vertices split where an octahedral image's glued sides meet, as its texture coordinates differ there). The
+material is a plain rough white that the vertex colours tint.
 """
 from __future__ import annotations
 
@@ -16,6 +20,7 @@ from .._atomic import atomic_path, write_all
 from .._optional import require
 from ..image import GeometryImage
 from ..mesh import save_mesh
+from ..mesh._appearance import split_corners
 from ._morph import Morph
 
 __all__ = ["save_glb", "save_frames", "frame_jobs", "FRAME_FORMATS"]
@@ -28,13 +33,28 @@ def _triangles(mesh) -> np.ndarray:
     return np.ascontiguousarray(tris, np.uint32)
 
 
-def _vertex_normals(image, valid) -> tuple[np.ndarray, object]:
+def _vertex_normals(image, valid, colors=None) -> tuple[np.ndarray, object]:
     """The quad mesh of an image over the pixels valid in every key, with normals from the grid (the
     same rule for every key, so normal displacements are consistent)."""
     mask = None if valid is None else valid
-    mesh = GeometryImage(image.pixels, mask, domain=image.domain, metadata=image.metadata).to_mesh()
+    mesh = GeometryImage(image.pixels, mask, domain=image.domain, metadata=image.metadata, colors=colors).to_mesh()
     normals = mesh.normals if mesh.normals is not None else mesh.vertex_normals()
     return np.asarray(normals, np.float32), mesh
+
+
+def _texcoords(mesh, domain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(source, texcoords, faces)``: the base mesh's vertices split where corners' texture coordinates
+    differ, glTF's texture coordinates ((0, 0) the image's top-left) and the faces on the split vertices."""
+    source, uv, faces = split_corners(mesh)
+    if mesh.face_uv is not None:
+        return source, np.column_stack([uv[:, 0], 1.0 - uv[:, 1]]), faces      # OBJ's are from the bottom
+    return source, uv / np.asarray(domain.extent, np.float64), faces
+
+
+def _target_names(morph: Morph, target_images) -> list:
+    if morph.weights is not None:
+        return [f"frame {i}" for i in range(len(target_images))]
+    return [str(img.metadata.get("source") or f"key {k}") for k, img in enumerate(target_images, start=1)]
 
 
 class _Buffer:
@@ -100,23 +120,37 @@ def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, 
     valid = None
     if any(k.mask is not None for k in morph.keys):
         valid = np.logical_and.reduce([k.valid for k in morph.keys])
-    base_normals, base = _vertex_normals(morph.keys[0], valid)
+    coloured = all(img.colors is not None for img in [morph.keys[0], *target_images])
+    base_colors = None if morph.keys[0].colors is None else morph.keys[0].colors[..., :3]
+    base_normals, base = _vertex_normals(morph.keys[0], valid, base_colors)
+    source, texcoords, faces = _texcoords(base, morph.keys[0].domain)
     base_pos = np.asarray(base.vertices, np.float32)
-    gltf = gl.GLTF2(asset=gl.Asset(generator="geoimg"), scene=0, scenes=[gl.Scene(nodes=[0])])
+    gltf = gl.GLTF2(asset=gl.Asset(generator="geoimg"), scene=0, scenes=[gl.Scene(nodes=[0])],
+                    materials=[gl.Material(name="geoimg", doubleSided=True, pbrMetallicRoughness=gl.PbrMetallicRoughness(
+                        baseColorFactor=[1.0, 1.0, 1.0, 1.0], metallicFactor=0.0, roughnessFactor=0.8))])
     buf = _Buffer(gl, gltf)
-    pos = buf.add(base_pos, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER, minmax=True)
-    nrm = buf.add(base_normals, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER)
-    idx = buf.add(_triangles(base).reshape(-1), gl.SCALAR, gl.UNSIGNED_INT, gl.ELEMENT_ARRAY_BUFFER)
+    attributes = gl.Attributes(POSITION=buf.add(base_pos[source], gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER, minmax=True),
+                               NORMAL=buf.add(base_normals[source], gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER),
+                               TEXCOORD_0=buf.add(texcoords.astype(np.float32), gl.VEC2, gl.FLOAT, gl.ARRAY_BUFFER))
+    if base.colors is not None:
+        attributes.COLOR_0 = buf.add(base.colors[source].astype(np.float32), gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER)
+    idx = buf.add(_triangles(base.derived(faces, vertex_source=source)).reshape(-1), gl.SCALAR, gl.UNSIGNED_INT,
+                  gl.ELEMENT_ARRAY_BUFFER)
     targets = []
     for j, img in enumerate(target_images):
-        n, m = _vertex_normals(img, valid)
-        dp = np.asarray(m.vertices, np.float32) - base_pos
-        targets.append(gl.Attributes(POSITION=buf.add(dp, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER, minmax=True),
-                                     NORMAL=buf.add(n - base_normals, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER)))
+        n, m = _vertex_normals(img, valid, img.colors[..., :3] if coloured else None)
+        dp = (np.asarray(m.vertices, np.float32) - base_pos)[source]
+        target = gl.Attributes(POSITION=buf.add(dp, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER, minmax=True),
+                               NORMAL=buf.add((n - base_normals)[source], gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER))
+        if coloured:
+            target.COLOR_0 = buf.add((m.colors - base.colors)[source].astype(np.float32), gl.VEC3, gl.FLOAT,
+                                     gl.ARRAY_BUFFER)
+        targets.append(target)
         if progress:
             progress(f"glTF target {j + 1} of {len(target_images)}")
-    prim = gl.Primitive(attributes=gl.Attributes(POSITION=pos, NORMAL=nrm), indices=idx, targets=targets)
-    gltf.meshes.append(gl.Mesh(primitives=[prim], weights=[0.0] * len(targets), name="geoimg morph"))
+    prim = gl.Primitive(attributes=attributes, indices=idx, targets=targets, material=0)
+    gltf.meshes.append(gl.Mesh(primitives=[prim], weights=[0.0] * len(targets), name="geoimg morph",
+                               extras={"targetNames": _target_names(morph, target_images)}))
     gltf.nodes.append(gl.Node(mesh=0, name="morph"))
     times = (np.arange(len(morph), dtype=np.float32) / np.float32(fps))
     t_acc = buf.add(times, gl.SCALAR, gl.FLOAT, minmax=True)

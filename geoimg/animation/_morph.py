@@ -121,6 +121,7 @@ def _align(images, align: str, rotate: bool, shared, progress):
     for k, img in enumerate(images[1:], start=1):
         entry = {"shape": k}
         p = img.pixels.astype(np.float64)
+        colors = img.colors
         if align != "none":
             c, r = _centre_and_radius(img)
             scale = r0 / r if align == "similarity" and r > 0 else 1.0
@@ -135,16 +136,19 @@ def _align(images, align: str, rotate: bool, shared, progress):
                 entry.update(rms_before=math.sqrt(before) / r0, rms_after=math.sqrt(after) / r0)
             angle = float(np.degrees(rot.magnitude()))
             if angle > 0:
-                n = p.shape[0]
-                p = _octahedral_sampler(p, img.domain)(rot.apply(grid_directions(n).reshape(-1, 3))).reshape(p.shape)
-                p = img.domain.average_glued(p)
+                q = rot.apply(grid_directions(p.shape[0]).reshape(-1, 3))
+                p = img.domain.average_glued(_octahedral_sampler(p, img.domain)(q).reshape(p.shape))
+                if colors is not None:            # the colours turn with the sphere
+                    colors = _octahedral_sampler(colors, img.domain)(q).reshape(colors.shape)
+                    colors = np.clip(img.domain.average_glued(colors), 0.0, 1.0)
             entry.update(rotation_deg=angle, rotation_axis=(rot.as_rotvec() / max(rot.magnitude(), 1e-300)).tolist())
             previous = rot
             if progress and "rms_before" in entry:
                 progress(f"shape {k}: sphere turned by {angle:.1f} degrees (RMS to shape 0: "
                          f"{entry['rms_before']:.3f} -> {entry['rms_after']:.3f} of its radius)")
         meta = dict(img.metadata, morph_alignment=entry)
-        out.append(GeometryImage(p.astype(img.pixels.dtype), img.mask, domain=img.domain, metadata=meta))
+        out.append(GeometryImage(p.astype(img.pixels.dtype), img.mask, domain=img.domain, metadata=meta,
+                                 colors=colors))
         report.append(entry)
     return out, report
 
@@ -194,7 +198,10 @@ class Morph:
         mask = None
         if a.mask is not None or b.mask is not None:
             mask = a.valid & b.valid
-        return GeometryImage(px, mask, domain=a.domain, metadata={"morph_time": float(t)})
+        colors = None
+        if a.colors is not None and b.colors is not None:     # colours blend with the shape
+            colors = np.clip(filters.blend(a.colors[..., :3], b.colors[..., :3], w), 0.0, 1.0)
+        return GeometryImage(px, mask, domain=a.domain, metadata={"morph_time": float(t)}, colors=colors)
 
     def frames(self):
         """The frames, in order (a generator)."""
@@ -268,7 +275,9 @@ def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float 
                                  f"{images[0].shape[1]} x {images[0].shape[0]}; pass resample=True to resize it")
             px = filters.resize(img.pixels, images[0].shape, img.domain.extension)
             valid = None if img.mask is None else filters.resize(img.mask.astype(np.float64), images[0].shape) > 0.5
-            images[k] = GeometryImage(px, valid, domain=img.domain, metadata=img.metadata)
+            colors = None if img.colors is None else np.clip(filters.resize(img.colors, images[0].shape,
+                                                                            img.domain.extension), 0.0, 1.0)
+            images[k] = GeometryImage(px, valid, domain=img.domain, metadata=img.metadata, colors=colors)
     weights = None
     if mask is not None:
         weights = images[0].domain.symmetric_mask(filters.as_weights(mask, images[0].shape))

@@ -19,18 +19,22 @@ from ..errors import GeoimgError, InputError, InputTypeError
 from ..image import GeometryImage
 from ..mesh import Mesh
 
-__all__ = ["Renderer", "Camera", "render", "save_png", "save_animation", "RenderError", "UP_AXES"]
+__all__ = ["Renderer", "Camera", "render", "save_png", "save_animation", "RenderError", "UP_AXES", "up_axis"]
 
 UP_AXES = ("x", "y", "z")
+MARGIN = 0.04             # a fitted camera leaves this fraction of the picture free on the tightest side
 
 _VERTEX = """
 #version 330
 uniform mat4 mvp;
 in vec3 in_pos;
 in vec3 in_nrm;
+in vec3 in_col;
 out vec3 v_nrm;
+out vec3 v_col;
 void main() {
     v_nrm = in_nrm;
+    v_col = in_col;
     gl_Position = mvp * vec4(in_pos, 1.0);
 }
 """
@@ -38,13 +42,13 @@ _FRAGMENT = """
 #version 330
 uniform vec3 key_dir;
 uniform vec3 fill_dir;
-uniform vec3 albedo;
 in vec3 v_nrm;
+in vec3 v_col;
 out vec4 color;
 void main() {
     vec3 n = normalize(v_nrm);
     float light = 0.22 + 0.62 * abs(dot(n, key_dir)) + 0.22 * abs(dot(n, fill_dir));
-    color = vec4(albedo * light, 1.0);
+    color = vec4(min(v_col * light, vec3(1.0)), 1.0);
 }
 """
 
@@ -82,8 +86,11 @@ class Camera:
     far: float = 100.0
 
     @classmethod
-    def fit(cls, lo, hi, *, azimuth: float = 30.0, elevation: float = 20.0, up: str = "y", aspect: float = 4 / 3):
-        """Frame the box ``lo..hi`` from ``azimuth``, ``elevation`` (degrees) about the ``up`` axis."""
+    def fit(cls, lo, hi, *, azimuth: float = 30.0, elevation: float = 20.0, up: str = "y", aspect: float = 4 / 3,
+            points: np.ndarray | None = None):
+        """Frame the box ``lo..hi`` from ``azimuth``, ``elevation`` (degrees) about the ``up`` axis: the
+        camera looks at the box's centre from as near as lets every one of ``points`` (default: the box's
+        corners) show, with a margin of :data:`MARGIN`."""
         if up not in UP_AXES:
             raise InputError(f"up: expected one of {UP_AXES}, got {up!r}")
         for name, value in (("azimuth", azimuth), ("elevation", elevation)):
@@ -100,10 +107,17 @@ class Camera:
         d[a] = math.cos(el) * math.sin(az)
         d[u] = math.sin(el)
         fov = 30.0
-        dist = radius / math.tan(math.radians(fov) / 2) / min(1.0, aspect)
         upv = np.zeros(3)
         upv[u] = 1.0
-        return cls(centre + d * dist, centre, upv, fov, dist * 0.05, dist * 3.0)
+        if points is None:
+            points = np.array(np.meshgrid(*zip(lo, hi), indexing="ij")).reshape(3, -1).T
+        points = np.asarray(points, np.float64)
+        t = math.tan(math.radians(fov) / 2)
+        for _ in range(3):           # centre the picture on what it shows (a view from above puts it low)
+            dist, shift = _fitting_distance(points - centre, d, upv, t, aspect)
+            centre = centre + shift
+        dist = max(_fitting_distance(points - centre, d, upv, t, aspect)[0], radius * 1e-3)
+        return cls(centre + d * dist, centre, upv, fov, max(dist - radius, dist * 0.01) * 0.5, dist + 2.0 * radius)
 
     def matrices(self, aspect: float) -> np.ndarray:
         """The view-projection matrix (4 x 4, row-major) for an image of this aspect (width / height)."""
@@ -137,20 +151,48 @@ class Camera:
         return key / np.linalg.norm(key), fill / np.linalg.norm(fill)
 
 
-def _geometry(obj) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Vertices, triangles and per-vertex normals of a mesh or a geometry image (its quad mesh)."""
+def _fitting_distance(p: np.ndarray, d: np.ndarray, up: np.ndarray, t: float, aspect: float):
+    """The least distance along the unit view direction ``d`` (from the target towards the eye) at which a
+    camera of half-angle tangent ``t`` sees all of ``p`` (relative to the target) inside the margin, and
+    the move of the target that would centre the points' picture."""
+    side = np.cross(-d, up)
+    if np.linalg.norm(side) < 1e-9:
+        side = np.cross(-d, np.roll(up, 1))
+    side /= np.linalg.norm(side)
+    upv = np.cross(side, -d)
+    toward, x, y = p @ d, p @ side, p @ upv
+    reach = (1.0 - 2.0 * MARGIN) * t
+    dist = float(np.max(toward + np.maximum(np.abs(x) / (reach * aspect), np.abs(y) / reach)))
+    depth = np.maximum(dist - toward, 1e-12)
+    sx, sy = x / depth, y / depth                      # where each point lands, in tangent units
+    shift = dist * (0.5 * (sx.max() + sx.min()) * side + 0.5 * (sy.max() + sy.min()) * upv)
+    return dist, shift
+
+
+def up_axis(obj) -> str:
+    """The up axis a picture of ``obj`` uses by default: the one a geometry image records (``metadata["up"]``,
+    a terrain's), else ``"y"``."""
+    up = obj.metadata.get("up") if isinstance(obj, GeometryImage) else None
+    return up if up in UP_AXES else "y"
+
+
+def _geometry(obj) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+    """Vertices, triangles, per-vertex normals and colours (or None) of a mesh or a geometry image (its
+    quad mesh)."""
     mesh = obj.to_mesh() if isinstance(obj, GeometryImage) else obj
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"expected a geoimg.Mesh or GeometryImage, got {type(obj).__name__}")
     tris, _ = mesh.triangulate()
     v = np.asarray(mesh.vertices, np.float64)
     n = np.asarray(mesh.normals if mesh.normals is not None else mesh.vertex_normals(), np.float64)
-    return v, np.ascontiguousarray(tris, np.uint32), n
+    c = None if mesh.colors is None else np.asarray(mesh.colors[:, :3], np.float64)
+    return v, np.ascontiguousarray(tris, np.uint32), n, c
 
 
 class Renderer:
     """An offscreen OpenGL renderer of fixed size; reuse it for many frames (a context manager: its
-    OpenGL context is released on leaving the ``with`` block).
+    OpenGL context is released on leaving the ``with`` block). Shapes with colours are drawn in them,
+    others in ``albedo``; ``background=None`` makes the background transparent (RGBA pictures).
 
     Raises
     ------
@@ -170,7 +212,8 @@ class Renderer:
             raise RenderError("no headless OpenGL context: geoimg renders through EGL with Mesa "
                               "(Debian/Ubuntu: apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri); "
                               f"the error was: {e}") from None
-        self.size, self.background, self.albedo = (int(width), int(height)), tuple(background), tuple(albedo)
+        self.size, self.albedo = (int(width), int(height)), tuple(albedo)
+        self.background = None if background is None else tuple(background)
         self.prog = self.ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
         self.lines = self.ctx.program(vertex_shader=_LINE_VERTEX, fragment_shader=_LINE_FRAGMENT)
         self.samples = samples if samples <= self.ctx.max_samples else 0
@@ -178,37 +221,43 @@ class Renderer:
                                         depth_attachment=self.ctx.depth_renderbuffer(self.size, samples=self.samples))
         self.resolved = self.ctx.framebuffer(color_attachments=[self.ctx.renderbuffer(self.size)])
 
-    def camera_for(self, *objects, azimuth: float = 30.0, elevation: float = 20.0, up: str = "y") -> Camera:
-        """A camera framing all the objects (meshes or geometry images) together."""
+    def camera_for(self, *objects, azimuth: float = 30.0, elevation: float = 20.0, up: str | None = None) -> Camera:
+        """A camera framing all the objects (meshes or geometry images) together, tightly; ``up`` defaults
+        to the first object's (:func:`up_axis`)."""
         pts = [(_geometry(o)[0]) for o in objects]
         lo = np.min([p.min(axis=0) for p in pts], axis=0)
         hi = np.max([p.max(axis=0) for p in pts], axis=0)
-        return Camera.fit(lo, hi, azimuth=azimuth, elevation=elevation, up=up, aspect=self.size[0] / self.size[1])
+        hull = np.vstack([p[:: max(1, len(p) // 20000)] for p in pts] + [lo[None], hi[None]])
+        return Camera.fit(lo, hi, azimuth=azimuth, elevation=elevation, up=up_axis(objects[0]) if up is None else up,
+                          aspect=self.size[0] / self.size[1], points=hull)
 
     def render(self, obj, camera: Camera | None = None, *, edges: Mesh | None = None,
                edge_color=(0.75, 0.1, 0.1)) -> np.ndarray:
-        """An (H, W, 3) uint8 picture of the object; ``edges``: a mesh whose polygon edges are drawn over
-        it (hidden where the surface is in front)."""
-        v, tris, n = _geometry(obj)
+        """An (H, W, 3) uint8 picture of the object, (H, W, 4) with a transparent background; ``edges``: a
+        mesh whose polygon edges are drawn over it (hidden where the surface is in front)."""
+        v, tris, n, c = _geometry(obj)
+        self.ctx.__enter__()        # this context made current: another renderer's release unbinds it
         if camera is None:
-            camera = Camera.fit(v.min(axis=0), v.max(axis=0), aspect=self.size[0] / self.size[1])
+            camera = self.camera_for(obj)
+        if c is None:
+            c = np.broadcast_to(np.asarray(self.albedo, np.float64), v.shape)
         mvp = camera.matrices(self.size[0] / self.size[1]).T.astype("f4").tobytes()
-        with self._vertex_array(self.prog, np.hstack([v, n]).astype("f4"), "3f 3f", ("in_pos", "in_nrm"),
-                                tris) as vao:
+        with self._vertex_array(self.prog, np.hstack([v, n, c]).astype("f4"), "3f 3f 3f",
+                                ("in_pos", "in_nrm", "in_col"), tris) as vao:
             self.prog["mvp"].write(mvp)
             key, fill = camera.lights()
             self.prog["key_dir"].value = tuple(key)
             self.prog["fill_dir"].value = tuple(fill)
-            self.prog["albedo"].value = self.albedo
             self.fbo.use()
             self.ctx.enable(self.ctx.DEPTH_TEST)
-            self.fbo.clear(*self.background, 1.0)
+            self.fbo.clear(*(self.background or (0.0, 0.0, 0.0)), 1.0 if self.background else 0.0)
             vao.render()
         if edges is not None:
             self._draw_edges(edges, mvp, edge_color)
         self.ctx.copy_framebuffer(self.resolved, self.fbo)
-        raw = self.resolved.read(components=3, alignment=1)
-        img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], 3)
+        k = 3 if self.background else 4
+        raw = self.resolved.read(components=k, alignment=1)
+        img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], k)
         return img[::-1].copy()                          # OpenGL's rows run bottom up
 
     @contextlib.contextmanager
@@ -245,8 +294,9 @@ class Renderer:
 
 
 def render(obj, width: int = 800, height: int = 600, *, azimuth: float = 30.0, elevation: float = 20.0,
-           up: str = "y") -> np.ndarray:
-    """Shade a mesh or geometry image to an (H, W, 3) uint8 picture, camera fitted to it.
+           up: str | None = None, transparent: bool = False) -> np.ndarray:
+    """Shade a mesh or geometry image to an (H, W, 3) uint8 picture ((H, W, 4) when ``transparent``), the
+    camera fitted tightly to it, its up axis ``up`` (default: :func:`up_axis`).
 
     Examples
     --------
@@ -254,12 +304,12 @@ def render(obj, width: int = 800, height: int = 600, *, azimuth: float = 30.0, e
     >>> render(m, 64, 48).shape
     (48, 64, 3)
     """
-    with Renderer(width, height) as r:
+    with Renderer(width, height, background=None if transparent else (1.0, 1.0, 1.0)) as r:
         return r.render(obj, r.camera_for(obj, azimuth=azimuth, elevation=elevation, up=up))
 
 
 def save_png(rgb: np.ndarray, path, *, overwrite: bool = False) -> Path:
-    """Write an (H, W, 3) uint8 picture as PNG (atomically)."""
+    """Write an (H, W, 3) or (H, W, 4) uint8 picture as PNG (atomically)."""
     iio = require("imageio.v3", "writing pictures")
     path = Path(path)
     if path.suffix.lower() != ".png":

@@ -219,7 +219,7 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
     records = [None] * len(jobs)
     reused = zarr is not None and Path(zarr).exists() and not force
     if reused:                                      # refused here if it holds another batch
-        open_store(zarr, keys, opts.resolution, opts.normals, digest)
+        open_store(zarr, keys, opts.resolution, opts.normals, digest, colors=opts.colors)
         records = store_records(zarr)
     todo = [job for job in jobs if not _finished(old.get(job.input), job, records)]
     skipped = len(jobs) - len(todo)
@@ -233,7 +233,7 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
         with _Cluster(client, scheduler, workers, memory_limit) if todo else contextlib.nullcontext() as dask_client:
             out.mkdir(parents=True, exist_ok=True)
             if zarr is not None and not reused:
-                open_store(zarr, keys, opts.resolution, opts.normals, digest, force=force)
+                open_store(zarr, keys, opts.resolution, opts.normals, digest, force=force, colors=opts.colors)
             write_manifest(manifest, old.values())  # compacted (and in this version's columns) before appending
             _remove_partials(jobs, zarr)            # left by a run that was killed
             started = True

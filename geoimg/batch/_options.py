@@ -54,6 +54,7 @@ class ConvertOptions:
     sliver_rule: str = "robust"
     component: str | int = "all"
     normals: bool = True
+    colors: bool = True
     steps: tuple = ()
     mode: str | None = None
     nsr: float = 1e-3
@@ -95,7 +96,8 @@ class ConvertOptions:
         """The keyword arguments of :func:`geoimg.mesh_to_images`."""
         return dict(resolution=self.resolution, s=float(self.s), method=self.method, component=self.component,
                     axis=self.axis, boundary=self.boundary, balance=self.balance, weights=self.weights, n=self.n,
-                    tol=float(self.tol), sliver_rule=self.sliver_rule, normals=self.normals)
+                    tol=float(self.tol), sliver_rule=self.sliver_rule, normals=self.normals,
+                    colors=self.colors)
 
     def digest(self, *extra) -> str:
         """A short hash of the options, this geoimg's version and ``extra`` (say, the output layout): equal

@@ -1,5 +1,6 @@
 """A Zarr store of same-size geometry images for learning pipelines: ``positions`` (N, R, R, 3) float32,
-``mask`` (N, R, R) bool and, when asked, ``normals`` (N, R, R, 3), one chunk per item, each written by the
+``mask`` (N, R, R) bool and, when asked, ``normals`` (N, R, R, 3) and ``colors`` (N, R, R, 3: RGB in [0, 1],
+NaN for an item without colours), one chunk per item, each written by the
 worker that made it; one metadata record per item in the group's attributes, written by the batch's driver
 when the item is complete (an item without a record is not there: it is redone on the next run)."""
 from __future__ import annotations
@@ -22,7 +23,7 @@ def _zarr():
 
 
 def open_store(path, sources: list[str], resolution: int, normals: bool, options_hash: str, *,
-               force: bool = False):
+               force: bool = False, colors: bool = False):
     """Create the store for ``sources`` (one item each) at ``resolution`` pixels a side, or open the one a
     previous run of the same batch made. A store made from other inputs or options is refused unless
     ``force`` (then it is replaced)."""
@@ -45,6 +46,8 @@ def open_store(path, sources: list[str], resolution: int, normals: bool, options
     group.create_array("mask", shape=(n, r, r), chunks=(1, r, r), dtype="bool", fill_value=False)
     if normals:
         group.create_array("normals", shape=(n, r, r, 3), chunks=(1, r, r, 3), dtype="float32", fill_value=np.nan)
+    if colors:                       # chunks of items without colours are never written: they take no room
+        group.create_array("colors", shape=(n, r, r, 3), chunks=(1, r, r, 3), dtype="float32", fill_value=np.nan)
     group.attrs[KEY] = {"sources": sources, "resolution": r, "options_hash": options_hash, "items": [None] * n}
     return group
 
@@ -67,6 +70,10 @@ def write_item(path, index: int, image: GeometryImage) -> None:
         if image.normals is not None:
             nrm[:H, :W] = image.normals
         group["normals"][index] = nrm
+    if "colors" in group and image.colors is not None:
+        rgb = np.full((r, r, 3), np.nan, np.float32)
+        rgb[:H, :W] = image.colors[..., :3]
+        group["colors"][index] = rgb
 
 
 def write_records(path, records: dict[int, dict]) -> None:
@@ -103,5 +110,7 @@ def read_item(path, index: int) -> GeometryImage:
     H, W = rec["shape"]
     meta = rec["metadata"]
     normals = group["normals"][index, :H, :W] if "normals" in group and rec.get("normals") else None
+    colors = group["colors"][index, :H, :W] if "colors" in group and rec.get("colors") else None
     return GeometryImage(group["positions"][index, :H, :W], group["mask"][index, :H, :W],
-                         domain=Domain.from_metadata(rec["domain"], meta), normals=normals, metadata=meta)
+                         domain=Domain.from_metadata(rec["domain"], meta), normals=normals, metadata=meta,
+                         colors=colors)

@@ -117,6 +117,7 @@ def run_job(job: Job) -> dict:
                 row["record"] = {"source": job.input, "shape": list(images[0].shape),
                                  "domain": images[0].domain.kind,
                                  "metadata": images[0].metadata_record(), "normals": images[0].normals is not None,
+                                 "colors": images[0].colors is not None,
                                  "psnr_db": row.get("psnr_db"), "options_hash": job.options_hash,
                                  "timings": {k: round(v, 4) for k, v in timings.items()}}
             row.update(status="ok", message="")

@@ -167,6 +167,13 @@ class Domain(ABC):
         h, w = shape
         return np.linspace(0.0, self.extent[0], w), np.linspace(0.0, self.extent[1], h)
 
+    def parameter_points(self, shape) -> np.ndarray:
+        """The parameter of every pixel, row by row, in the space of a parametrization's ``coords``:
+        (H * W, 2) image coordinates (u, v) here."""
+        u, v = self.pixel_uv(shape)
+        uu, vv = np.meshgrid(u, v)
+        return np.stack([uu.ravel(), vv.ravel()], axis=1)
+
     # ------------------------------------------------------------------ glue
     def glue(self, shape) -> tuple[np.ndarray, np.ndarray] | None:
         """Groups of pixels that are one point of the surface: each group's first pixel (flat index) and
@@ -214,10 +221,13 @@ class Domain(ABC):
         return []
 
     # ------------------------------------------------------------------ quad mesh
-    def quad_mesh(self, pixels: np.ndarray, valid: np.ndarray, normals: np.ndarray | None) -> Mesh:
+    def quad_mesh(self, pixels: np.ndarray, valid: np.ndarray, normals: np.ndarray | None,
+                  colors: np.ndarray | None = None) -> Mesh:
         """The regular quad mesh of an image: a quad per 2 x 2 block of valid pixels, a vertex per group of
         glued pixels that a quad uses (welded by index; its position the group's mean), wound by
-        :attr:`orientation`. Vertices carry their pixel's image coordinates and a normal.
+        :attr:`orientation`. Vertices carry their pixel's image coordinates and a normal; with ``colors``
+        (H, W, C) also the group's mean colour, and the mesh gets the colours as its texture, each quad
+        corner the texture coordinates of its own pixel's centre.
 
         Raises
         ------
@@ -240,9 +250,12 @@ class Domain(ABC):
         index = np.full(len(reps), -1, np.int64)
         index[group_used] = np.arange(int(group_used.sum()))
         grid = index[group].reshape(H, W)
-        quads = np.stack([grid[:-1, :-1][keep], grid[:-1, 1:][keep], grid[1:, 1:][keep], grid[1:, :-1][keep]], axis=1)
+        pixel = np.arange(H * W).reshape(H, W)
+        corner_pixels = np.stack([pixel[:-1, :-1][keep], pixel[:-1, 1:][keep], pixel[1:, 1:][keep],
+                                  pixel[1:, :-1][keep]], axis=1)
         if self.orientation < 0:
-            quads = quads[:, ::-1]
+            corner_pixels = corner_pixels[:, ::-1]
+        quads = grid.ravel()[corner_pixels]
         u, v = self.pixel_uv((H, W))
         uu, vv = np.meshgrid(u, v)
         uv = np.stack([uu.ravel(), vv.ravel()], axis=1)[reps[group_used]]
@@ -258,7 +271,14 @@ class Domain(ABC):
             if normals is not None:
                 nrm = group_means(normals, group)[group_used]
                 nrm /= np.maximum(np.linalg.norm(nrm, axis=1, keepdims=True), 1e-300)
-        return Mesh(xyz, quads, uv=uv, normals=nrm)
+        if colors is None:
+            return Mesh(xyz, quads, uv=uv, normals=nrm)
+        rows, cols = np.divmod(corner_pixels, W)                # OBJ's texture coordinates: (0, 0) bottom-left
+        face_uv = np.stack([(cols + 0.5) / W, 1.0 - (rows + 0.5) / H], axis=-1)
+        rgb = np.asarray(colors, np.float64)
+        rgb = rgb.reshape(H * W, -1)[used.ravel()] if glue is None else group_means(rgb, group)[group_used]
+        texture = np.round(np.clip(colors, 0, 1) * 255).astype(np.uint8)
+        return Mesh(xyz, quads, uv=uv, normals=nrm, colors=np.clip(rgb, 0, 1), face_uv=face_uv, texture=texture)
 
 
 @dataclass(frozen=True)
@@ -348,6 +368,11 @@ class OctahedralDomain(Domain):
     def directions(self, n: int) -> np.ndarray:
         """Unit directions (n, n, 3) of the pixels, computed so that glued pixels get identical ones."""
         return grid_directions(n)
+
+    def parameter_points(self, shape) -> np.ndarray:
+        """The pixels' unit directions on the sphere, (H * W, 3)."""
+        self.check_shape(shape)
+        return self.directions(shape[0]).reshape(-1, 3)
 
     def _make_glue(self, shape):
         self.check_shape(shape)

@@ -21,6 +21,7 @@ __all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS"]
 
 DEFAULT_PAD = 16
 EXR_LAYOUTS = ("geoimg", "rgba")      # the mask as channel "mask", or as "A" (alpha) for compositing tools
+COLOR_CHANNELS = ("color.R", "color.G", "color.B", "color.A")
 PREVIEW_LEVELS = 65534                # a preview's valid pixels take the levels 1 to 65535; 0 is masked
 
 
@@ -56,6 +57,10 @@ class GeometryImage:
         Exact unit normals from the surface's derivatives, when known.
     metadata : dict
         How the image was made (s, weights, resolution, source, ...).
+    colors : numpy.ndarray, shape (H, W, 3) or (H, W, 4), or None
+        RGB(A) in [0, 1] per pixel (float32): the mesh's vertex colours or texture resampled. They belong to
+        the pixels, so filters of the geometry keep them as they are; the quad mesh carries them as vertex
+        colours and as a texture over its texture coordinates.
 
     Examples
     --------
@@ -69,6 +74,7 @@ class GeometryImage:
     domain: Domain | str = "planar"
     normals: np.ndarray | None = None
     metadata: dict = field(default_factory=dict)
+    colors: np.ndarray | None = None
 
     def __post_init__(self):
         p = np.asarray(self.pixels)
@@ -99,6 +105,15 @@ class GeometryImage:
             n = n.copy()
             n.setflags(write=False)
             object.__setattr__(self, "normals", n)
+        if self.colors is not None:
+            c = np.array(self.colors, dtype=np.float32, copy=True)
+            if c.ndim != 3 or c.shape[:2] != p.shape[:2] or c.shape[2] not in (3, 4):
+                raise ImageError(f"colors: expected shape {p.shape[:2] + (3,)} or {p.shape[:2] + (4,)}, got "
+                                 f"{c.shape}")
+            if not np.isfinite(c).all() or c.min() < 0 or c.max() > 1:
+                raise ImageError("colors: expected values in [0, 1]")
+            c.setflags(write=False)
+            object.__setattr__(self, "colors", c)
         meta = dict(self.metadata)
         domain = self.domain
         if isinstance(domain, str):
@@ -118,6 +133,7 @@ class GeometryImage:
     def __repr__(self) -> str:
         extras = [f"{int(self.valid.sum())} valid pixels"] if self.mask is not None else []
         extras += ["normals"] if self.normals is not None else []
+        extras += ["colors"] if self.colors is not None else []
         return (f"GeometryImage({self.shape[1]} x {self.shape[0]} {self.pixels.dtype}, {self.domain!r}"
                 + "".join(f", {e}" for e in extras) + f", metadata keys {sorted(self.metadata)})")
 
@@ -142,7 +158,9 @@ class GeometryImage:
 
         Quads are oriented like the source mesh (``domain.orientation``). Vertices carry the pixel's
         (u, v) and a normal: the exact one when the image has ``normals``, else one from the grid
-        (planar images).
+        (planar images). An image with ``colors`` gives vertex colours, and the colours as the mesh's
+        texture with texture coordinates per corner at the pixels' centres (glued pixels welded into one
+        vertex keep each side's own texture coordinates).
 
         Returns
         -------
@@ -154,13 +172,14 @@ class GeometryImage:
         GeoimgError
             If no 2 x 2 block of valid pixels exists.
         """
-        return self.domain.quad_mesh(self.pixels, self.valid, self.normals)
+        return self.domain.quad_mesh(self.pixels, self.valid, self.normals, self.colors)
 
-    def with_pixels(self, pixels, *, mask=..., metadata=None) -> "GeometryImage":
+    def with_pixels(self, pixels, *, mask=..., metadata=None, colors=...) -> "GeometryImage":
         """A new image of the same domain with other pixels (no exact normals: they belong to the old
-        surface); ``mask`` and ``metadata`` are kept unless given."""
+        surface); ``mask``, ``metadata`` and ``colors`` are kept unless given."""
         return GeometryImage(pixels, self.mask if mask is ... else mask, self.domain,
-                             metadata=dict(self.metadata) if metadata is None else metadata)
+                             metadata=dict(self.metadata) if metadata is None else metadata,
+                             colors=self.colors if colors is ... else colors)
 
     @property
     def boundary_mode(self) -> str | None:
@@ -185,7 +204,8 @@ class GeometryImage:
 
         Geometry images among the arguments (to blend or composite) stand for their pixels (padded
         too, for other callables) and must share domain and size; glued pixels of the result are
-        averaged so they stay identical. ``mask=`` and ``feather=`` restrict any operation to a region
+        averaged so they stay identical. The image's colours are kept as they are (they belong to the
+        pixels, whatever moves them). ``mask=`` and ``feather=`` restrict any operation to a region
         (through its own mask argument, or by blending its result in); a mask is first made symmetric
         over glued pixels. The exact normals are dropped (the filtered image is no longer the surface);
         the operation is recorded in ``metadata['filters']``.
@@ -271,11 +291,12 @@ class GeometryImage:
         """Write the image to OpenEXR (``.exr``) or a NumPy archive (``.npz``), float32, lossless, with
         its metadata, atomically.
 
-        EXR: channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask, and
-        ``N.X, N.Y, N.Z`` when it has normals; the metadata and the domain's fields as JSON in
+        EXR: channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask,
+        ``N.X, N.Y, N.Z`` when it has normals and ``color.R, color.G, color.B`` (``color.A``) when it has
+        colours; the metadata and the domain's fields as JSON in
         ``geoimg:metadata``, the domain's kind also in ``geoimg:domain``. ``layout="rgba"`` names the mask
         ``A`` instead and always writes it (1 everywhere for an image without a mask), which compositing
-        tools take as alpha. NPZ: arrays ``positions``, ``mask``, ``normals`` and the same JSON as
+        tools take as alpha. NPZ: arrays ``positions``, ``mask``, ``normals``, ``colors`` and the same JSON as
         ``metadata`` (:mod:`geoimg.image._npz`). float32 pixels round-trip bit for bit
         (:func:`geoimg.load_image`, either layout).
 
@@ -289,7 +310,7 @@ class GeometryImage:
         if path.suffix.lower() == ".npz":
             record = self.metadata_record()
             with atomic_path(path, overwrite) as tmp:
-                write_npz(tmp, self.pixels, self.mask, self.normals, record)
+                write_npz(tmp, self.pixels, self.mask, self.normals, record, self.colors)
             return path
         path = _suffixed(path, ".exr", "geometry images are saved as OpenEXR (.exr) or NumPy (.npz); use one of "
                                        "those names (previews: GeometryImage.preview)")
@@ -300,6 +321,9 @@ class GeometryImage:
         if self.normals is not None:
             planes.append(np.asarray(self.normals, np.float32))
             names += ["N.X", "N.Y", "N.Z"]
+        if self.colors is not None:
+            planes.append(self.colors)
+            names += list(COLOR_CHANNELS[: self.colors.shape[2]])
         text = json.dumps(self.metadata_record(), sort_keys=True)
         attrs = [("geoimg:domain", self.domain.kind), ("geoimg:metadata", text), ("compression", "zip")]
         with atomic_path(path, overwrite) as tmp:

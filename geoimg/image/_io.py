@@ -13,7 +13,7 @@ from .._atomic import atomic_path
 from .._raster import FLOAT, UINT8, read_raster, write_raster
 from ..errors import GeoimgError, ImageFileError, InputError, InputTypeError
 from ._domain import Domain
-from ._image import PREVIEW_LEVELS, GeometryImage
+from ._image import COLOR_CHANNELS, PREVIEW_LEVELS, GeometryImage
 from ._npz import read_npz
 
 __all__ = ["IMAGE_FORMATS", "ASSUMABLE_DOMAINS", "save_image", "load_image", "save_preview", "save_scalar",
@@ -95,10 +95,10 @@ def _load_preview(path, approximate: bool) -> GeometryImage:
     return _image_of_file(path, pixels, None if valid.all() else valid, record.get("domain", "planar"), None, record)
 
 
-def _image_of_file(path, pixels, mask, domain, normals, metadata) -> GeometryImage:
+def _image_of_file(path, pixels, mask, domain, normals, metadata, colors=None) -> GeometryImage:
     """The GeometryImage of a file's arrays; what the image refuses is the file's fault, said with its name."""
     try:
-        return GeometryImage(pixels, mask, domain=domain, normals=normals, metadata=metadata)
+        return GeometryImage(pixels, mask, domain=domain, normals=normals, metadata=metadata, colors=colors)
     except (GeoimgError, ValueError) as e:
         raise ImageFileError(f"{path}: {e}") from None
 
@@ -143,6 +143,8 @@ def load_image(path, *, assume: str | None = None, approximate: bool = False) ->
         mask = channels(["A"])
         mask = None if np.all(mask > 0.5) else mask
     normals = channels(["N.X", "N.Y", "N.Z"])
+    colors = channels(list(COLOR_CHANNELS))
+    colors = channels(list(COLOR_CHANNELS[:3])) if colors is None else colors
     try:
         meta = json.loads(meta_json) if meta_json else {}
     except json.JSONDecodeError as e:
@@ -153,16 +155,15 @@ def load_image(path, *, assume: str | None = None, approximate: bool = False) ->
         dom = Domain.from_metadata(domain, meta)
     except ValueError as e:
         raise ImageFileError(f"{path}: {e}") from None
-    return GeometryImage(xyz, None if mask is None else mask[..., 0] > 0.5, domain=dom, normals=normals,
-                         metadata=meta)
+    return _image_of_file(path, xyz, None if mask is None else mask[..., 0] > 0.5, dom, normals, meta, colors)
 
 
 def _load_npz(path, assume: str | None) -> GeometryImage:
     if not Path(path).is_file():
         raise FileNotFoundError(f"{path}: no such file")
-    positions, mask, normals, record = read_npz(path)
+    positions, mask, normals, record, colors = read_npz(path)
     domain = record.get("domain") or (_unmarked(path, assume) if not record else "planar")
-    return _image_of_file(path, positions, mask, domain, normals, record)
+    return _image_of_file(path, positions, mask, domain, normals, record, colors)
 
 
 def save_preview(image: GeometryImage, path, *, overwrite: bool = False) -> Path:

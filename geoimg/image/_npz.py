@@ -1,5 +1,5 @@
 """Geometry images as NumPy ``.npz`` archives: ``positions`` (H, W, 3) float32, ``mask`` (H, W) bool and
-``normals`` (H, W, 3) float32 when the image has them, and ``metadata``: the metadata and the domain's
+``normals`` (H, W, 3) and ``colors`` (H, W, 3 or 4) float32 when the image has them, and ``metadata``: the metadata and the domain's
 fields as JSON text (the same record the EXR keeps). Plain arrays, no pickles: ``np.load(path)`` reads
 them anywhere, and :func:`geoimg.load_image` reads them back bit for bit.
 """
@@ -16,18 +16,20 @@ from ..errors import ImageFileError
 
 __all__ = ["write_npz", "read_npz", "NPZ_ARRAYS"]
 
-NPZ_ARRAYS = ("positions", "mask", "normals", "metadata")
-_SHAPES = {"positions": 3, "normals": 3, "mask": 2, "metadata": 0}
-_KINDS = {"positions": "f", "normals": "f", "mask": "b", "metadata": "U"}
+NPZ_ARRAYS = ("positions", "mask", "normals", "metadata", "colors")
+_SHAPES = {"positions": 3, "normals": 3, "mask": 2, "metadata": 0, "colors": 3}
+_KINDS = {"positions": "f", "normals": "f", "mask": "b", "metadata": "U", "colors": "f"}
 
 
-def write_npz(path: Path, pixels: np.ndarray, mask, normals, record: dict) -> None:
+def write_npz(path: Path, pixels: np.ndarray, mask, normals, record: dict, colors=None) -> None:
     """Write the arrays and the metadata ``record`` (plain JSON types) to ``path`` (compressed)."""
     arrays = {"positions": np.asarray(pixels, np.float32), "metadata": np.array(json.dumps(record, sort_keys=True))}
     if mask is not None:
         arrays["mask"] = np.asarray(mask, bool)
     if normals is not None:
         arrays["normals"] = np.asarray(normals, np.float32)
+    if colors is not None:
+        arrays["colors"] = np.asarray(colors, np.float32)
     with open(path, "wb") as f:
         np.savez_compressed(f, **arrays)
 
@@ -41,8 +43,8 @@ def _header(archive: zipfile.ZipFile, name: str):
     return shape, dtype
 
 
-def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict]:
-    """``(positions, mask, normals, record)`` of a file written by :func:`write_npz`, each array's header
+def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict, np.ndarray | None]:
+    """``(positions, mask, normals, record, colors)`` of a file written by :func:`write_npz`, each array's header
     checked (kind, dimensions, the memory it would take) before it is read.
 
     Raises
@@ -85,4 +87,4 @@ def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, di
             raise ImageFileError(f"{path}: metadata is not valid JSON ({e})") from None
         if not isinstance(record, dict):
             raise ImageFileError(f"{path}: metadata is not a JSON object")
-    return arrays["positions"], arrays.get("mask"), arrays.get("normals"), record
+    return arrays["positions"], arrays.get("mask"), arrays.get("normals"), record, arrays.get("colors")

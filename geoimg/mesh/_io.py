@@ -12,9 +12,12 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
+from PIL import Image               # comes with scikit-image
 
-from .._atomic import atomic_path
+from .._atomic import atomic_path, write_all
 from ..errors import InputTypeError, MeshError, MeshFileError
+from ._appearance import (TEXTURE_SUFFIX, obj_colors, ply_colors, read_mtl_texture, split_corners,
+                          write_texture)
 from ._mesh import Mesh, pad_faces
 
 __all__ = ["load_mesh", "save_mesh", "MESH_FORMATS"]
@@ -72,7 +75,9 @@ def load_mesh(path) -> Mesh:
 def save_mesh(mesh: Mesh, path, *, overwrite: bool = False) -> Path:
     """Write a mesh atomically; OBJ, OFF and PLY keep quads and n-gons, STL and GLB are triangulated.
 
-    OBJ also writes ``vt`` and ``vn`` when the mesh has UVs or normals; PLY writes normals.
+    OBJ also writes ``vt`` and ``vn`` when the mesh has UVs or normals, ``v x y z r g b`` with colours, and
+    with a texture its material library ``NAME.mtl`` and the texture ``NAME.png`` beside it (all three or
+    none); PLY writes normals and colours; GLB colours, or texture coordinates with the texture.
 
     Parameters
     ----------
@@ -101,9 +106,26 @@ def save_mesh(mesh: Mesh, path, *, overwrite: bool = False) -> Path:
     writers = {".obj": _write_obj, ".off": _write_off, ".ply": _write_ply, ".stl": _write_trimesh, ".glb": _write_trimesh}
     if ext not in writers:
         raise MeshFileError(f"{path}: unknown mesh format {ext!r}; expected one of {', '.join(MESH_FORMATS)}")
+    lost = [name for name, kept in (("colours", ext in (".obj", ".ply", ".glb")),
+                                    ("texture", ext in (".obj", ".glb"))) if getattr(mesh, _ATTRS[name]) is not None
+            and not kept]
+    if lost:
+        warnings.warn(f"{path}: {ext[1:].upper()} keeps no {' or '.join(lost)}; they are not written (OBJ keeps "
+                      "both, PLY colours, GLB either)", stacklevel=2)
+    if ext == ".obj" and mesh.texture is not None:     # the OBJ, its MTL and the texture: all or none
+        stem = path.stem
+        write_all([(path, lambda tmp: _write_obj(mesh, tmp, ext, material=stem)),
+                   (path.with_suffix(".mtl"), lambda tmp: tmp.write_text(
+                       f"# written by geoimg\nnewmtl geoimg\nKd 1 1 1\nmap_Kd {stem}{TEXTURE_SUFFIX}\n")),
+                   (path.with_suffix(TEXTURE_SUFFIX), lambda tmp: write_texture(mesh.texture, tmp))],
+                  overwrite=overwrite)
+        return path
     with atomic_path(path, overwrite) as tmp:
         writers[ext](mesh, tmp, ext)
     return path
+
+
+_ATTRS = {"colours": "colors", "texture": "texture"}
 
 
 # ----------------------------------------------------------------------------------------- OBJ
@@ -117,18 +139,22 @@ def _obj_index(tok: str, count: int) -> int:
 
 
 def _read_obj(path: Path) -> Mesh:
-    verts, tex, faces, face_vt = [], [], [], []
+    verts, tex, faces, face_vt, libraries, used = [], [], [], [], [], []
     with open(path, "r", encoding="utf-8-sig", errors="replace") as fh:    # -sig: a byte-order mark is dropped
         for line in fh:
             line = line.lstrip()                                            # indented lines count too
-            if not line or line[0] not in "vf":
+            if not line or line[0] not in "vfmu":
                 continue
             parts = line.split()
             if not parts:
                 continue
             key = parts[0]
-            if key == "v":
-                verts.append(parts[1:4])
+            if key == "mtllib" and len(parts) > 1:
+                libraries.append(" ".join(parts[1:]))
+            elif key == "usemtl" and len(parts) > 1:
+                used.append(" ".join(parts[1:]))
+            elif key == "v":
+                verts.append(parts[1:8])
             elif key == "vt":
                 tex.append(parts[1:3])
             elif key == "f":
@@ -144,59 +170,71 @@ def _read_obj(path: Path) -> Mesh:
         raise MeshFileError("no vertices ('v' lines) found")
     if not faces:
         raise MeshFileError("no faces ('f' lines) found")
-    if any(len(v) != 3 for v in verts):
+    if any(len(v) < 3 for v in verts):
         raise MeshFileError("a 'v' line has fewer than 3 coordinates")
-    vertices = np.array(verts, dtype=np.float64)
+    vertices = np.array([v[:3] for v in verts], dtype=np.float64)
+    colors = obj_colors(verts, path)
     f = pad_faces(faces)
-    uv = None
+    uv = face_uv = texture = None
     if tex:
         t = pad_faces(face_vt)
-        uv = _one_to_one_uv(f, t, np.array([x + ["0"] * (2 - len(x)) for x in tex], dtype=np.float64),
-                            len(vertices), path)
-    return Mesh(vertices, f, uv=uv)
+        uv, face_uv = _obj_uv(f, t, np.array([x + ["0"] * (2 - len(x)) for x in tex], dtype=np.float64),
+                              len(vertices), path)
+        if face_uv is not None and libraries:
+            texture = read_mtl_texture(path, libraries, used)
+    return Mesh(vertices, f, uv=uv, colors=colors, face_uv=face_uv, texture=texture)
 
 
-def _one_to_one_uv(f: np.ndarray, t: np.ndarray, tex: np.ndarray, n: int, path: Path):
-    """Per-vertex UVs when every position is used with a single vt; else None (with a warning)."""
+def _obj_uv(f: np.ndarray, t: np.ndarray, tex: np.ndarray, n: int, path: Path):
+    """``(uv, face_uv)``: texture coordinates per corner when every corner has a vt, and per vertex as well
+    when each position is used with a single vt (a UV seam gives per-corner ones only); (None, None) when
+    some corners have none (with a warning)."""
     used = f >= 0
     if np.any(t[used] < 0):
-        warnings.warn(f"{path}: some faces have no vt indices; per-vertex UVs not read", stacklevel=4)
-        return None
+        warnings.warn(f"{path}: some faces have no vt indices; texture coordinates not read", stacklevel=4)
+        return None, None
     if np.any(t[used] >= len(tex)):
         raise MeshFileError(f"a face refers to vt {int(t.max()) + 1} but there are only {len(tex)}")
+    face_uv = tex[np.where(used, t, 0)]
     pv, pt = f[used], t[used]
     pairs = np.unique(np.stack([pv, pt], axis=1), axis=0)
-    if len(pairs) != len(np.unique(pv)):
-        dup = len(pairs) - len(np.unique(pv))
-        warnings.warn(
-            f"{path}: UV seams ({dup} extra (position, vt) pairs): per-vertex UVs are not one-to-one and were "
-            "not read; topology comes from the positions", stacklevel=4)
-        return None
+    if len(pairs) != len(np.unique(pv)):    # UV seams: (position, vt) pairs not one-to-one
+        return None, face_uv
     uv = np.zeros((n, 2))
     uv[pairs[:, 0]] = tex[pairs[:, 1]]
-    return uv
+    return uv, face_uv
 
 
-def _write_obj(mesh: Mesh, tmp: Path, _ext: str) -> None:
-    with open(tmp, "w", encoding="ascii") as fh:
+def _write_obj(mesh: Mesh, tmp: Path, _ext: str, material: str | None = None) -> None:
+    """OBJ: ``v`` (with ``r g b`` when the mesh has colours), ``vt`` per vertex or, with ``face_uv``, per
+    distinct corner value, ``vn``; ``material`` names the MTL library (written beside) to use."""
+    with open(tmp, "w", encoding="utf-8") as fh:
         fh.write("# written by geoimg\n")
-        np.savetxt(fh, mesh.vertices, fmt="v %.17g %.17g %.17g")
-        if mesh.uv is not None:
+        if material is not None:
+            fh.write(f"mtllib {material}.mtl\n")
+        if mesh.colors is not None:
+            np.savetxt(fh, np.hstack([mesh.vertices, mesh.colors[:, :3]]), fmt="v %.17g %.17g %.17g %.6g %.6g %.6g")
+        else:
+            np.savetxt(fh, mesh.vertices, fmt="v %.17g %.17g %.17g")
+        vt = None
+        if mesh.face_uv is not None:
+            table, inverse = np.unique(mesh.face_uv.reshape(-1, 2), axis=0, return_inverse=True)
+            np.savetxt(fh, table, fmt="vt %.17g %.17g")
+            vt = inverse.reshape(mesh.faces.shape) + 1
+        elif mesh.uv is not None:
             np.savetxt(fh, mesh.uv, fmt="vt %.17g %.17g")
+            vt = mesh.faces + 1
         if mesh.normals is not None:
             np.savetxt(fh, mesh.normals, fmt="vn %.9g %.9g %.9g")
-        one = mesh.faces + 1
-        if mesh.uv is not None and mesh.normals is not None:
-            tok = "{0}/{0}/{0}"
-        elif mesh.uv is not None:
-            tok = "{0}/{0}"
-        elif mesh.normals is not None:
-            tok = "{0}//{0}"
-        else:
-            tok = "{0}"
+        if material is not None:
+            fh.write("usemtl geoimg\n")
+        one = (mesh.faces + 1).tolist()
+        tok = "{0}/{1}/{0}" if vt is not None and mesh.normals is not None else "{0}/{1}" if vt is not None \
+            else "{0}//{0}" if mesh.normals is not None else "{0}"
+        vt = one if vt is None else vt.tolist()
         lines = []
-        for row, k in zip(one.tolist(), mesh.face_sizes.tolist()):
-            lines.append("f " + " ".join(tok.format(i) for i in row[:k]) + "\n")
+        for row, trow, k in zip(one, vt, mesh.face_sizes.tolist()):
+            lines.append("f " + " ".join(tok.format(i, j) for i, j in zip(row[:k], trow[:k])) + "\n")
         fh.write("".join(lines))
 
 
@@ -385,7 +423,8 @@ def _read_ply(path: Path) -> Mesh:
     normals = None
     if all(k in vx for k in ("nx", "ny", "nz")):
         normals = np.stack([np.asarray(vx[k], float) for k in ("nx", "ny", "nz")], axis=1)
-    return Mesh(vertices, faces if isinstance(faces, np.ndarray) else pad_faces(faces), uv=uv, normals=normals)
+    return Mesh(vertices, faces if isinstance(faces, np.ndarray) else pad_faces(faces), uv=uv, normals=normals,
+                colors=ply_colors(vx))
 
 
 def _read_ply_binary_element(data, pos, count, props, order):
@@ -443,12 +482,16 @@ def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
             f"element vertex {mesh.n_vertices}", "property double x", "property double y", "property double z"]
     if nrm:
         head += ["property float nx", "property float ny", "property float nz"]
+    rgba = [] if mesh.colors is None else ["red", "green", "blue", "alpha"][: mesh.colors.shape[1]]
+    head += [f"property uchar {c}" for c in rgba]
     head += [f"element face {mesh.n_faces}", "property list uchar int vertex_indices", "end_header"]
     vdt = [("x", "<f8"), ("y", "<f8"), ("z", "<f8")] + ([("nx", "<f4"), ("ny", "<f4"), ("nz", "<f4")] if nrm else [])
-    v = np.zeros(mesh.n_vertices, vdt)
+    v = np.zeros(mesh.n_vertices, vdt + [(c, "u1") for c in rgba])
     v["x"], v["y"], v["z"] = mesh.vertices.T
     if nrm:
         v["nx"], v["ny"], v["nz"] = mesh.normals.T
+    for k, c in enumerate(rgba):
+        v[c] = np.round(mesh.colors[:, k] * 255)
     with open(tmp, "wb") as fh:
         fh.write(("\n".join(head) + "\n").encode("ascii"))
         fh.write(v.tobytes())
@@ -486,7 +529,17 @@ def _read_trimesh(path: Path) -> Mesh:
 
 
 def _write_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:
+    """STL (triangles only) and GLB (triangles with colours, or texture coordinates and the texture,
+    vertices split at UV seams)."""
+    visual = None
+    if ext == ".glb" and mesh.texture is not None:
+        source, uv, faces = split_corners(mesh)
+        texture = Image.fromarray(np.ascontiguousarray(mesh.texture))
+        mesh = Mesh(mesh.vertices[source], faces)
+        visual = trimesh.visual.TextureVisuals(uv=uv, image=texture)
+    elif ext == ".glb" and mesh.colors is not None:
+        visual = trimesh.visual.ColorVisuals(vertex_colors=np.round(mesh.colors * 255).astype(np.uint8))
     tris, _ = mesh.triangulate()
-    tm = trimesh.Trimesh(mesh.vertices, tris, process=False)
+    tm = trimesh.Trimesh(mesh.vertices, tris, process=False, visual=visual)
     with open(tmp, "wb") as fh:
         tm.export(fh, file_type=ext[1:])

@@ -63,7 +63,7 @@ def pad_faces(faces) -> np.ndarray:
 
 @dataclass(frozen=True, eq=False)
 class Mesh:
-    """A polygon mesh with optional per-vertex UVs and normals.
+    """A polygon mesh with optional per-vertex UVs, normals and colours, per-corner UVs and a texture.
 
     Parameters
     ----------
@@ -75,6 +75,13 @@ class Mesh:
         Per-vertex parameter coordinates (for example from OBJ ``vt``).
     normals : array_like, shape (N, 3), optional
         Per-vertex unit normals.
+    colors : array_like, shape (N, 3) or (N, 4), optional
+        Per-vertex RGB or RGBA colours in [0, 1] (for example from PLY ``red green blue``).
+    face_uv : array_like, shape (F, K, 2), optional
+        Texture coordinates per face corner (OBJ ``vt``), so a position may have several (a UV seam);
+        entries on a face's padding are ignored. (0, 0) is the texture's bottom-left corner, as in OBJ.
+    texture : array_like of uint8, shape (h, w, 3) or (h, w, 4), optional
+        The colour texture that ``face_uv`` reads (row 0 at the top, as image files store it).
 
     Examples
     --------
@@ -87,6 +94,9 @@ class Mesh:
     faces: np.ndarray
     uv: np.ndarray | None = None
     normals: np.ndarray | None = None
+    colors: np.ndarray | None = None
+    face_uv: np.ndarray | None = None
+    texture: np.ndarray | None = None
     face_sizes: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
@@ -128,6 +138,7 @@ class Mesh:
                 raise MeshError(f"{name}: contains NaN or infinite values")
             a.setflags(write=False)
             object.__setattr__(self, name, a)
+        self._check_attributes(v.shape[0], f, valid)
         v.setflags(write=False)
         f.setflags(write=False)
         sizes = sizes.astype(np.int64)
@@ -135,6 +146,61 @@ class Mesh:
         object.__setattr__(self, "vertices", v)
         object.__setattr__(self, "faces", f)
         object.__setattr__(self, "face_sizes", sizes)
+
+    def _check_attributes(self, n: int, f: np.ndarray, valid: np.ndarray) -> None:
+        """Colours, per-corner UVs and the texture checked and stored read-only."""
+        if self.colors is not None:
+            c = np.array(self.colors, dtype=np.float64, copy=True)
+            if c.ndim != 2 or c.shape[0] != n or c.shape[1] not in (3, 4):
+                raise MeshError(f"colors: expected shape ({n}, 3) or ({n}, 4), got {c.shape}")
+            if not np.isfinite(c).all() or c.min() < 0 or c.max() > 1:
+                raise MeshError("colors: expected values in [0, 1]")
+            c.setflags(write=False)
+            object.__setattr__(self, "colors", c)
+        if self.face_uv is not None:
+            t = np.array(self.face_uv, dtype=np.float64, copy=True)
+            if t.shape != f.shape + (2,):
+                raise MeshError(f"face_uv: expected shape {f.shape + (2,)} (a (u, v) per face corner), got {t.shape}")
+            t[~valid] = 0.0
+            if not np.isfinite(t).all():
+                raise MeshError("face_uv: contains NaN or infinite values")
+            t.setflags(write=False)
+            object.__setattr__(self, "face_uv", t)
+        if self.texture is not None:
+            img = np.array(self.texture, copy=True)
+            if img.dtype != np.uint8 or img.ndim != 3 or img.shape[2] not in (3, 4) or min(img.shape[:2]) < 1:
+                raise MeshError(f"texture: expected an 8-bit (h, w, 3) or (h, w, 4) image, got {img.dtype} "
+                                f"{img.shape}")
+            if self.face_uv is None:
+                raise MeshError("texture: a texture needs face_uv (texture coordinates per face corner)")
+            img.setflags(write=False)
+            object.__setattr__(self, "texture", img)
+
+    def derived(self, faces, *, vertex_source=None, face_source=None, turned=None) -> "Mesh":
+        """A mesh made from this one, its attributes carried: vertex ``i`` is this mesh's vertex
+        ``vertex_source[i]`` (default: the same vertices), face ``j`` is this mesh's face
+        ``face_source[j]`` (default: the same faces) with the corners ``faces[j]``, read backwards where
+        ``turned[j]`` (a face turned over).
+
+        Examples
+        --------
+        >>> m = Mesh(np.eye(3), [[0, 1, 2]], colors=np.eye(3))
+        >>> m.derived([[0, 2, 1]], turned=[True]).colors.tolist() == m.colors.tolist()
+        True
+        """
+        def pick(a):
+            return a if a is None or vertex_source is None else a[vertex_source]
+
+        face_uv = self.face_uv
+        if face_uv is not None:
+            face_uv = face_uv if face_source is None else face_uv[face_source]
+            if turned is not None and np.any(turned):
+                face_uv = face_uv.copy()
+                k = self.face_sizes if face_source is None else self.face_sizes[face_source]
+                for i in np.flatnonzero(turned):
+                    face_uv[i, :k[i]] = face_uv[i, :k[i]][::-1]
+        return Mesh(pick(self.vertices), faces, uv=pick(self.uv), normals=pick(self.normals),
+                    colors=pick(self.colors), face_uv=face_uv, texture=self.texture)
 
     def _face_kinds(self) -> str:
         """``"5856 triangles"``, ``"348 triangles, 22117 quads"``: the faces by number of corners."""
@@ -144,8 +210,11 @@ class Mesh:
 
     def __repr__(self) -> str:
         kinds = self._face_kinds()
-        extras = "".join(f", {name}" for name, value in (("uv", self.uv), ("normals", self.normals))
+        extras = "".join(f", {name}" for name, value in (("uv", self.uv), ("normals", self.normals),
+                                                          ("colors", self.colors), ("face_uv", self.face_uv))
                          if value is not None)
+        if self.texture is not None:
+            extras += f", {self.texture.shape[1]} x {self.texture.shape[0]} texture"
         return f"Mesh({self.n_vertices} vertices, {self.n_faces} faces: {kinds}{extras})"
 
     def _repr_html_(self) -> str:
@@ -156,7 +225,9 @@ class Mesh:
         rows = [("vertices", f"{self.n_vertices} ({int((~used).sum())} unreferenced)"),
                 ("faces", f"{self.n_faces}: {self._face_kinds()}"),
                 ("bounding box", f"{np.round(lo, 6).tolist()} .. {np.round(hi, 6).tolist()}"),
-                ("UVs, normals", f"{yes[self.uv is not None]}, {yes[self.normals is not None]}")]
+                ("UVs, normals", f"{yes[self.uv is not None]}, {yes[self.normals is not None]}"),
+                ("colours, corner UVs, texture", f"{yes[self.colors is not None]}, {yes[self.face_uv is not None]}, "
+                                                 f"{yes[self.texture is not None]}")]
         return "<table><caption>geoimg.Mesh</caption>" + "".join(
             f"<tr><th style='text-align:left'>{k}</th><td style='text-align:left'>{v}</td></tr>" for k, v in rows) + \
             "</table>"

@@ -70,7 +70,7 @@ def drop_degenerate_faces(mesh: Mesh) -> tuple[Mesh, int]:
         return mesh, 0
     if not keep.any():
         raise MeshError(f"mesh: all {mesh.n_faces} faces have zero area")
-    return Mesh(v, f[keep], uv=mesh.uv, normals=mesh.normals), int((~keep).sum())
+    return mesh.derived(f[keep], face_source=np.flatnonzero(keep)), int((~keep).sum())
 
 
 def split_fans(mesh: Mesh) -> tuple[Mesh, np.ndarray, int, int]:
@@ -102,8 +102,7 @@ def split_fans(mesh: Mesh) -> tuple[Mesh, np.ndarray, int, int]:
     faces = mesh.faces.copy()
     faces[faces >= 0] = new_index[fan_of_corner]
     source = np.concatenate([np.arange(mesh.n_vertices), extra])
-    out = Mesh(mesh.vertices[source], faces, uv=None if mesh.uv is None else mesh.uv[source],
-               normals=None if mesh.normals is None else mesh.normals[source])
+    out = mesh.derived(faces, vertex_source=source)
     return out, source, pinch_vertices, n_nonmanifold
 
 
@@ -144,7 +143,7 @@ def orient_faces(mesh: Mesh) -> tuple[Mesh, int]:
     k = mesh.face_sizes
     for i in np.flatnonzero(turn):
         faces[i, :k[i]] = faces[i, :k[i]][::-1]
-    return Mesh(mesh.vertices, faces, uv=mesh.uv, normals=mesh.normals), int(turn.sum())
+    return mesh.derived(faces, turned=turn), int(turn.sum())
 
 
 def split_components(mesh: Mesh) -> list[tuple[Mesh, np.ndarray]]:
@@ -160,13 +159,13 @@ def split_components(mesh: Mesh) -> list[tuple[Mesh, np.ndarray]]:
     face_label = label[mesh.n_vertices:]
     pieces = []
     for lab in np.unique(face_label):
-        faces = f[face_label == lab]
+        chosen = np.flatnonzero(face_label == lab)
+        faces = f[chosen]
         used = np.unique(faces[faces >= 0])
         remap = np.full(mesh.n_vertices, -1, np.int64)
         remap[used] = np.arange(len(used))
         faces = np.where(faces >= 0, remap[np.where(faces >= 0, faces, 0)], -1)
-        pieces.append((Mesh(mesh.vertices[used], faces, uv=None if mesh.uv is None else mesh.uv[used],
-                            normals=None if mesh.normals is None else mesh.normals[used]), used))
+        pieces.append((mesh.derived(faces, vertex_source=used, face_source=chosen), used))
     pieces.sort(key=lambda p: -p[0].n_faces)
     return pieces
 

@@ -64,7 +64,10 @@ def _parametrized_mesh(mesh: Mesh, param: Parametrization) -> Mesh:
             src.min() < 0 or src.max() >= mesh.n_vertices:
         raise InputError(f"param: its cut-open mesh refers to vertices the mesh ({mesh.n_vertices} vertices) does "
                          "not have: it was made for another mesh")
-    return Mesh((1 - w)[:, None] * mesh.vertices[src[:, 0]] + w[:, None] * mesh.vertices[src[:, 1]], made.faces)
+    def blend(a):
+        return None if a is None else (1 - w)[:, None] * a[src[:, 0]] + w[:, None] * a[src[:, 1]]
+
+    return Mesh(blend(mesh.vertices), made.faces, colors=blend(mesh.colors))
 
 
 def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: str = "gaussian", n: int = 10,

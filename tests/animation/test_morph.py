@@ -115,7 +115,7 @@ def _read_accessor(g, index):
     view = g.bufferViews[acc.bufferView]
     blob = g.binary_blob()
     dtype = {gl.FLOAT: np.float32, gl.UNSIGNED_INT: np.uint32}[acc.componentType]
-    width = {gl.SCALAR: 1, gl.VEC3: 3}[acc.type]
+    width = {gl.SCALAR: 1, gl.VEC2: 2, gl.VEC3: 3}[acc.type]
     data = np.frombuffer(blob[view.byteOffset:view.byteOffset + view.byteLength], dtype)
     return data.reshape(acc.count, width) if width > 1 else data
 
@@ -211,3 +211,73 @@ def test_frame_files_are_written_all_or_none(tmp_path):
     assert len(save_frames(m, tmp_path / "f", "ply")) == 4
     with pytest.raises(geoimg.InputError, match="frames: expected an integer from 2 to 100000"):
         morph(a, a, frames=100_000_000)
+
+
+def test_coloured_keys_morph_their_colours_and_the_glb_carries_them(spots, tmp_path):
+    a, b = spots
+    ca = np.clip(0.5 + 0.4 * a.pixels / np.abs(a.pixels).max(), 0, 1)
+    a = geoimg.GeometryImage(a.pixels, domain=a.domain, metadata=dict(a.metadata, source="cow.obj"), colors=ca)
+    b = geoimg.GeometryImage(b.pixels, domain=b.domain, metadata=dict(b.metadata, source="ball.obj"),
+                             colors=np.broadcast_to(np.float32([0.9, 0.1, 0.1]), b.pixels.shape))
+    m = morph(a, b, frames=3, easing="linear")
+    assert np.allclose(m.frame(0.5).colors, 0.5 * (m.keys[0].colors + m.keys[1].colors), atol=1e-6)
+    assert m.keys[1].colors is not None                         # turned with the sphere, still in [0, 1]
+    g = gl.GLTF2().load(str(save_glb(m, tmp_path / "c.glb")))
+    prim = g.meshes[0].primitives[0]
+    assert g.meshes[0].extras["targetNames"] == ["ball.obj"]
+    assert g.materials[prim.material].pbrMetallicRoughness.baseColorFactor == [1.0, 1.0, 1.0, 1.0]
+    uv = _read_accessor(g, prim.attributes.TEXCOORD_0)
+    base, col = _read_accessor(g, prim.attributes.POSITION), _read_accessor(g, prim.attributes.COLOR_0)
+    assert uv.min() > 0 and uv.max() < 1 and len(uv) == len(base) == len(col)
+    t = prim.targets[0]
+    dp = _read_accessor(g, t["POSITION"] if isinstance(t, dict) else t.POSITION)
+    dc = _read_accessor(g, t["COLOR_0"] if isinstance(t, dict) else t.COLOR_0)
+    end = m.frame(1.0).to_mesh()
+    # split vertices (seams of the octahedral image) hold their welded vertex's position and colour
+    src = _split_source(m.frame(1.0))
+    assert len(src) > end.n_vertices
+    assert np.abs(base + dp - end.vertices[src]).max() < 1e-5
+    assert np.abs(col + dc - end.colors[src]).max() < 1e-5
+
+
+def _split_source(image):
+    from geoimg.mesh._appearance import split_corners
+    return split_corners(image.to_mesh())[0]
+
+
+def test_pictures_use_colours_frame_tightly_read_the_up_axis_and_can_be_transparent(renderer, spots, terrain,
+                                                                                    tmp_path, capsys):
+    from geoimg.animation import Renderer, up_axis
+    a, _ = spots
+    red = geoimg.GeometryImage(a.pixels, domain=a.domain, colors=np.broadcast_to(np.float32([1, 0, 0]), a.pixels.shape))
+    pic = renderer.render(red, renderer.camera_for(red))
+    shape = (pic != 255).any(axis=2)
+    assert (pic[shape][:, 0].astype(int) - pic[shape][:, 1:].max(axis=1)).mean() > 60      # drawn red
+    rows, cols = np.flatnonzero(shape.any(axis=1)), np.flatnonzero(shape.any(axis=0))
+    # tight: the picture's longer side nearly filled, and the shape centred
+    assert max((rows[-1] - rows[0] + 1) / 72, (cols[-1] - cols[0] + 1) / 96) > 0.85
+    assert abs((rows[0] + rows[-1]) / 2 - 35.5) < 4 and abs((cols[0] + cols[-1]) / 2 - 47.5) < 4
+    assert up_axis(terrain) == "y" and terrain.metadata.get("up") is None       # a plain sample: no record
+    zup = geoimg.GeometryImage(terrain.pixels, terrain.mask, metadata={"up": "z"})
+    assert up_axis(zup) == "z" and renderer.camera_for(zup).up.tolist() == [0, 0, 1]
+    with Renderer(48, 36, background=None) as clear:
+        rgba = clear.render(a, clear.camera_for(a))
+    assert rgba.shape == (36, 48, 4) and rgba[0, 0, 3] == 0 and rgba[18, 24, 3] == 255
+    png = tmp_path / "t.png"
+    assert main(["render", str(MOUNTAIN), "-o", str(png), "--width", "40", "--height", "30", "--transparent"]) == 0
+    import imageio.v3 as iio
+    assert iio.imread(png).shape == (30, 40, 4)
+
+
+def test_a_terrain_image_records_its_up_axis(mountain):
+    img = geoimg.mesh_to_image(mountain, 17, method="heightfield")
+    assert img.metadata["up"] == "y"
+
+
+def test_a_renderer_still_draws_after_another_is_released(renderer, spots):
+    from geoimg.animation import Renderer
+    a, _ = spots
+    before = renderer.render(a, renderer.camera_for(a))
+    with Renderer(32, 24) as other:
+        other.render(a)
+    assert np.array_equal(renderer.render(a, renderer.camera_for(a)), before)

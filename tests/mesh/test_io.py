@@ -42,15 +42,15 @@ def test_triangle_formats_are_triangulated(tmp_path, mixed, ext):
     assert np.allclose(np.sort(back.vertices, axis=0), np.sort(mixed.vertices, axis=0), atol=1e-6)
 
 
-def test_obj_one_to_one_vt_become_uv_and_seams_warn(tmp_path):
+def test_obj_one_to_one_vt_become_uv_and_seams_stay_per_corner(tmp_path):
     p = tmp_path / "uv.obj"
     p.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt .5 0\nvt .5 .5\nvt 0 .5\nf 1/1 2/2 3/3 4/4\n")
     assert load_mesh(p).uv.tolist() == [[0, 0], [0.5, 0], [0.5, 0.5], [0, 0.5]]
     p.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 9 9\n"
                  "f 1/1 2/2 3/3\nf 1/4 3/3 4/1\n")
-    with pytest.warns(UserWarning, match="UV seams"):
-        m = load_mesh(p)
+    m = load_mesh(p)           # a UV seam: per-corner texture coordinates only, topology from the positions
     assert m.uv is None and m.faces.tolist() == [[0, 1, 2], [0, 2, 3]]
+    assert m.face_uv.tolist() == [[[0, 0], [1, 0], [1, 1]], [[9, 9], [1, 1], [0, 0]]]
 
 
 def test_obj_negative_indices(tmp_path):
