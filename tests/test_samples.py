@@ -86,3 +86,8 @@ def test_balanced_disk_sample(tmp_path, renderer_or_skip):
     assert plain["folds"] == slim["folds"] == 0
     assert plain["area_log_rms"] > 5 and slim["area_log_rms"] < 1.5
     assert slim["psnr_db"] > plain["psnr_db"] + 10 and slim["hausdorff"] < plain["hausdorff"] / 3
+
+
+def test_textured_sample(tmp_path, renderer_or_skip):
+    stats = load_sample("textured").run(tmp_path, res=65, size=(80, 60))
+    assert Path(stats["png"]).is_file() and stats["colours_kept"] and stats["texture"] == [65, 65, 3]

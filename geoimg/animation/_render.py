@@ -18,6 +18,7 @@ from .._optional import require
 from ..errors import GeoimgError, InputError, InputTypeError
 from ..image import GeometryImage
 from ..mesh import Mesh
+from ..mesh._appearance import split_corners
 
 __all__ = ["Renderer", "Camera", "render", "save_png", "save_animation", "RenderError", "UP_AXES", "up_axis"]
 
@@ -30,11 +31,14 @@ uniform mat4 mvp;
 in vec3 in_pos;
 in vec3 in_nrm;
 in vec3 in_col;
+in vec2 in_uv;
 out vec3 v_nrm;
 out vec3 v_col;
+out vec2 v_uv;
 void main() {
     v_nrm = in_nrm;
     v_col = in_col;
+    v_uv = in_uv;
     gl_Position = mvp * vec4(in_pos, 1.0);
 }
 """
@@ -42,13 +46,17 @@ _FRAGMENT = """
 #version 330
 uniform vec3 key_dir;
 uniform vec3 fill_dir;
+uniform bool textured;
+uniform sampler2D tex;
 in vec3 v_nrm;
 in vec3 v_col;
+in vec2 v_uv;
 out vec4 color;
 void main() {
     vec3 n = normalize(v_nrm);
     float light = 0.22 + 0.62 * abs(dot(n, key_dir)) + 0.22 * abs(dot(n, fill_dir));
-    color = vec4(min(v_col * light, vec3(1.0)), 1.0);
+    vec3 albedo = textured ? texture(tex, v_uv).rgb : v_col;
+    color = vec4(min(albedo * light, vec3(1.0)), 1.0);
 }
 """
 
@@ -176,17 +184,23 @@ def up_axis(obj) -> str:
     return up if up in UP_AXES else "y"
 
 
-def _geometry(obj) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
-    """Vertices, triangles, per-vertex normals and colours (or None) of a mesh or a geometry image (its
-    quad mesh)."""
+def _geometry(obj):
+    """Vertices, triangles, per-vertex normals, colours (or None), texture coordinates (OpenGL's, from the
+    texture's first row) and texture (or None) of a mesh or a geometry image (its quad mesh); a textured
+    mesh's vertices are split where its corners' texture coordinates differ."""
     mesh = obj.to_mesh() if isinstance(obj, GeometryImage) else obj
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"expected a geoimg.Mesh or GeometryImage, got {type(obj).__name__}")
-    tris, _ = mesh.triangulate()
-    v = np.asarray(mesh.vertices, np.float64)
     n = np.asarray(mesh.normals if mesh.normals is not None else mesh.vertex_normals(), np.float64)
     c = None if mesh.colors is None else np.asarray(mesh.colors[:, :3], np.float64)
-    return v, np.ascontiguousarray(tris, np.uint32), n, c
+    if mesh.texture is None:
+        tris, _ = mesh.triangulate()
+        return (np.asarray(mesh.vertices, np.float64), np.ascontiguousarray(tris, np.uint32), n, c,
+                np.zeros((mesh.n_vertices, 2)), None)
+    source, uv, faces = split_corners(mesh)
+    tris, _ = mesh.derived(faces, vertex_source=source).triangulate()
+    return (np.asarray(mesh.vertices[source], np.float64), np.ascontiguousarray(tris, np.uint32), n[source], None,
+            np.column_stack([uv[:, 0], 1.0 - uv[:, 1]]), mesh.texture)
 
 
 class Renderer:
@@ -235,15 +249,16 @@ class Renderer:
                edge_color=(0.75, 0.1, 0.1)) -> np.ndarray:
         """An (H, W, 3) uint8 picture of the object, (H, W, 4) with a transparent background; ``edges``: a
         mesh whose polygon edges are drawn over it (hidden where the surface is in front)."""
-        v, tris, n, c = _geometry(obj)
+        v, tris, n, c, uv, texture = _geometry(obj)
         self.ctx.__enter__()        # this context made current: another renderer's release unbinds it
         if camera is None:
             camera = self.camera_for(obj)
         if c is None:
             c = np.broadcast_to(np.asarray(self.albedo, np.float64), v.shape)
         mvp = camera.matrices(self.size[0] / self.size[1]).T.astype("f4").tobytes()
-        with self._vertex_array(self.prog, np.hstack([v, n, c]).astype("f4"), "3f 3f 3f",
-                                ("in_pos", "in_nrm", "in_col"), tris) as vao:
+        with self._vertex_array(self.prog, np.hstack([v, n, c, uv]).astype("f4"), "3f 3f 3f 2f",
+                                ("in_pos", "in_nrm", "in_col", "in_uv"), tris) as vao, self._texture(texture):
+            self.prog["textured"].value = texture is not None
             self.prog["mvp"].write(mvp)
             key, fill = camera.lights()
             self.prog["key_dir"].value = tuple(key)
@@ -259,6 +274,24 @@ class Renderer:
         raw = self.resolved.read(components=k, alignment=1)
         img = np.frombuffer(raw, np.uint8).reshape(self.size[1], self.size[0], k)
         return img[::-1].copy()                          # OpenGL's rows run bottom up
+
+    @contextlib.contextmanager
+    def _texture(self, texture):
+        """The texture bound to unit 0 for one draw (nothing without one), released afterwards."""
+        if texture is None:
+            yield
+            return
+        rgb = np.ascontiguousarray(texture[..., :3], np.uint8)
+        tex = self.ctx.texture((rgb.shape[1], rgb.shape[0]), 3, rgb.tobytes(), alignment=1)
+        tex.repeat_x = tex.repeat_y = True
+        tex.build_mipmaps()
+        tex.filter = (self.ctx.LINEAR_MIPMAP_LINEAR, self.ctx.LINEAR)
+        tex.use(0)
+        self.prog["tex"].value = 0
+        try:
+            yield
+        finally:
+            tex.release()
 
     @contextlib.contextmanager
     def _vertex_array(self, program, data: np.ndarray, layout: str, names, indices: np.ndarray):

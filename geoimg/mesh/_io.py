@@ -525,7 +525,25 @@ def _read_trimesh(path: Path) -> Mesh:
             warnings.warn(f"{path}: STL stores no shared vertices; joined {len(v) - len(uniq)} exactly "
                           "coincident corners", stacklevel=4)
         v, f = uniq[order], rank[inverse.ravel()][f]
-    return Mesh(v, f)
+        return Mesh(v, f)
+    return Mesh(v, f, **_trimesh_look(loaded, len(v), f))
+
+
+def _trimesh_look(loaded, n: int, faces: np.ndarray) -> dict:
+    """A GLB's texture and texture coordinates, or its vertex colours, as Mesh fields."""
+    visual = loaded.visual
+    if getattr(visual, "kind", None) == "texture" and getattr(visual, "uv", None) is not None:
+        image = getattr(getattr(visual, "material", None), "baseColorTexture", None) \
+            or getattr(getattr(visual, "material", None), "image", None)
+        uv = np.asarray(visual.uv, np.float64)
+        if image is not None and uv.shape == (n, 2):       # trimesh turns glTF's into OBJ's (from the bottom)
+            rgb = np.asarray(image.convert("RGBA" if image.mode in ("RGBA", "LA", "P") else "RGB"), np.uint8)
+            return {"face_uv": uv[faces], "texture": rgb}
+    if getattr(visual, "kind", None) == "vertex":
+        rgba = np.asarray(visual.vertex_colors, np.float64) / 255.0
+        if rgba.shape == (n, 4):
+            return {"colors": rgba if (rgba[:, 3] < 1).any() else rgba[:, :3]}
+    return {}
 
 
 def _write_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:

@@ -127,3 +127,18 @@ def test_formats_without_colours_say_so(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         save_mesh(coloured_square(), tmp_path / "c.ply")
+
+
+def test_glb_reads_back_its_texture_and_colours(tmp_path):
+    m = load_mesh(textured_spot(tmp_path))
+    back = load_mesh(save_mesh(m, tmp_path / "t.glb"))
+    assert np.array_equal(back.texture, m.texture)
+
+    def corners(mesh):
+        return np.hstack([mesh.vertices[mesh.faces].reshape(-1, 3), mesh.face_uv.reshape(-1, 2)])
+
+    from scipy.spatial import cKDTree          # float32 in the file: every corner within rounding of one
+    a, b = corners(back), corners(m)
+    assert cKDTree(b).query(a)[0].max() < 1e-6 and cKDTree(a).query(b)[0].max() < 1e-6
+    c = coloured_square()
+    assert np.abs(load_mesh(save_mesh(c, tmp_path / "c.glb")).colors - c.colors).max() <= 0.5 / 255
