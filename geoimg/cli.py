@@ -26,7 +26,7 @@ from . import __version__
 from .errors import GeoimgError, InputError
 from .image import (ASSUMABLE_DOMAINS, EXR_LAYOUTS, IMAGE_FORMATS, grid_normals, image_curvature, image_region,
                     load_image, load_mask, save_colormap, save_normal_map, save_scalar, uv_region)
-from .mesh import MESH_FORMATS, load_mesh, save_mesh, surface_distance, topology
+from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh, surface_distance, topology
 from .parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
 from .surface import SLIVER_RULES, WEIGHTS
 
@@ -121,7 +121,7 @@ def cmd_image(args) -> int:
                 _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]
     jobs = []
     for image, out, preview in outputs:
-        jobs.append((out, lambda tmp, image=image: image.save(tmp, overwrite=True, layout=args.layout)))
+        jobs += image.save_jobs(out, args.layout)
         if preview:
             jobs.append((preview, lambda tmp, image=image: image.preview(tmp, overwrite=True)))
     write_all(jobs, overwrite=args.force)                  # all or none
@@ -281,11 +281,11 @@ def cmd_filter(args) -> int:
         raise InputError("the mask selects no pixel")
     out = apply_steps(image, args.ops, mode=args.mode, nsr=args.nsr, mask=mask, feather=args.feather)
     out.metadata["source"] = Path(args.image).name
-    jobs = [(args.output, lambda tmp: out.save(tmp, overwrite=True, layout=args.layout))]
+    jobs = out.save_jobs(args.output, args.layout)
     if args.preview:
         jobs.append((args.preview, lambda tmp: out.preview(tmp, overwrite=True)))
     if args.mesh:
-        jobs.append((args.mesh, lambda tmp: save_mesh(out.to_mesh(), tmp, overwrite=True)))
+        jobs += mesh_file_jobs(out.to_mesh(), args.mesh)
     written = write_all(jobs, overwrite=args.force)
     if not args.quiet:
         change = np.abs(out.pixels.astype(np.float64) - image.pixels)[image.valid]

@@ -19,7 +19,7 @@ from ..errors import InputError
 from .._atomic import atomic_path, write_all
 from .._optional import require
 from ..image import GeometryImage
-from ..mesh import save_mesh
+from ..mesh import Mesh, save_mesh
 from ..mesh._appearance import split_corners
 from ._morph import Morph
 
@@ -180,7 +180,9 @@ def frame_jobs(morph: Morph, folder, fmt: str = "obj", progress=None) -> list:
             if fmt == "exr":
                 frame.save(tmp, overwrite=True)
             else:
-                save_mesh(frame.to_mesh(), tmp, overwrite=True)
+                quads = frame.to_mesh()                     # one file a frame: vertex colours, no texture
+                save_mesh(Mesh(quads.vertices, quads.faces, uv=quads.uv, normals=quads.normals, colors=quads.colors),
+                          tmp, overwrite=True)
             if progress:
                 progress(i + 1, len(morph))
         return write

@@ -17,7 +17,7 @@ from .._atomic import write_all
 from .._convert import _timed, mesh_to_images
 from .._steps import apply_steps
 from ..errors import GeoimgError
-from ..mesh import Mesh, load_mesh, save_mesh, surface_distance, topology
+from ..mesh import Mesh, load_mesh, mesh_file_jobs, surface_distance, topology
 from ._options import ConvertOptions
 from ._store import write_item
 
@@ -70,10 +70,9 @@ def _outputs(job: Job, images) -> list[tuple[Path, object]]:
     for image in images:
         name = job.stem + (f"_{image.metadata.get('component', 0)}" if many else "")
         if job.store is None:
-            jobs.append((Path(name + ".exr"), lambda tmp, image=image: image.save(tmp, overwrite=True)))
+            jobs += image.save_jobs(Path(name + ".exr"))
         if job.options.quads:
-            jobs.append((Path(f"{name}_quads.{job.options.quads_format}"),
-                         lambda tmp, image=image: save_mesh(image.to_mesh(), tmp, overwrite=True)))
+            jobs += mesh_file_jobs(image.to_mesh(), Path(f"{name}_quads.{job.options.quads_format}"))
     return jobs
 
 

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import inspect
 import json
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -10,18 +11,21 @@ import cv2
 import numpy as np
 
 import filters
-from .._atomic import atomic_path
+from .._atomic import atomic_path, write_all
 from .._raster import FLOAT, UINT16, write_raster
 from ..errors import GeoimgError, ImageError, ImageFileError, InputError, InputTypeError
 from ..mesh import Mesh
 from ._domain import Domain
 from ._npz import write_npz
 
-__all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS"]
+__all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS", "IMAGE_FORMATS", "NPY_SIDECAR", "TIFF_DESCRIPTION"]
 
 DEFAULT_PAD = 16
+IMAGE_FORMATS = (".exr", ".npz", ".tif", ".tiff", ".npy")
 EXR_LAYOUTS = ("geoimg", "rgba")      # the mask as channel "mask", or as "A" (alpha) for compositing tools
 COLOR_CHANNELS = ("color.R", "color.G", "color.B", "color.A")
+NPY_SIDECAR = ".json"                 # x.npy's channel names and metadata are in x.npy.json
+TIFF_DESCRIPTION = "geoimg"           # the key of the record a TIFF keeps in its ImageDescription tag
 PREVIEW_LEVELS = 65534                # a preview's valid pixels take the levels 1 to 65535; 0 is masked
 
 
@@ -288,32 +292,55 @@ class GeometryImage:
         return out
 
     def save(self, path, *, overwrite: bool = False, layout: str = "geoimg"):
-        """Write the image to OpenEXR (``.exr``) or a NumPy archive (``.npz``), float32, lossless, with
-        its metadata, atomically.
+        """Write the image, float32, lossless, with its metadata, atomically, in the format of the name.
 
-        EXR: channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask,
-        ``N.X, N.Y, N.Z`` when it has normals and ``color.R, color.G, color.B`` (``color.A``) when it has
-        colours; the metadata and the domain's fields as JSON in
-        ``geoimg:metadata``, the domain's kind also in ``geoimg:domain``. ``layout="rgba"`` names the mask
-        ``A`` instead and always writes it (1 everywhere for an image without a mask), which compositing
-        tools take as alpha. NPZ: arrays ``positions``, ``mask``, ``normals``, ``colors`` and the same JSON as
-        ``metadata`` (:mod:`geoimg.image._npz`). float32 pixels round-trip bit for bit
-        (:func:`geoimg.load_image`, either layout).
+        - ``.exr``: channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask,
+          ``N.X, N.Y, N.Z`` when it has normals and ``color.R, color.G, color.B`` (``color.A``) when it has
+          colours; the metadata and the domain's fields as JSON in ``geoimg:metadata``, the domain's kind
+          also in ``geoimg:domain``. ``layout="rgba"`` names the mask ``A`` instead and always writes it (1
+          everywhere for an image without a mask), which compositing tools take as alpha.
+        - ``.npz``: arrays ``positions``, ``mask``, ``normals``, ``colors`` and the same JSON as
+          ``metadata`` (:mod:`geoimg.image._npz`).
+        - ``.tif`` / ``.tiff``: four float32 channels X, Y, Z and the mask as alpha (OpenCV,
+          scikit-image/tifffile, GIMP read it), the same JSON in the ImageDescription tag; normals and
+          colours are not kept (a warning says so; use .exr or .npz for them).
+        - ``.npy``: one float32 (H, W, C) array, the EXR's channels in its order (X, Y, Z first), and beside
+          it ``NAME.npy.json`` with the channel names, the domain and the metadata (both files or neither).
+
+        float32 pixels round-trip bit for bit (:func:`geoimg.load_image`).
 
         Returns
         -------
         pathlib.Path
         """
+        return write_all(self.save_jobs(path, layout), overwrite=overwrite)[0]
+
+    def save_jobs(self, path, layout: str = "geoimg") -> list:
+        """``(path, write)`` for every file that :meth:`save` makes (a ``.npy`` and its sidecar), for
+        :func:`geoimg._atomic.write_all`, which writes them all or none."""
         if layout not in EXR_LAYOUTS:
             raise InputError(f"layout: expected one of {', '.join(EXR_LAYOUTS)}, got {layout!r}")
         path = Path(path)
-        if path.suffix.lower() == ".npz":
-            record = self.metadata_record()
-            with atomic_path(path, overwrite) as tmp:
-                write_npz(tmp, self.pixels, self.mask, self.normals, record, self.colors)
-            return path
-        path = _suffixed(path, ".exr", "geometry images are saved as OpenEXR (.exr) or NumPy (.npz); use one of "
-                                       "those names (previews: GeometryImage.preview)")
+        suffix = path.suffix.lower()
+        if suffix not in IMAGE_FORMATS:
+            raise ImageFileError(f"{path}: geometry images are saved as {', '.join(IMAGE_FORMATS)}; use one of those "
+                                 "names (previews: GeometryImage.preview)")
+        record = self.metadata_record()
+        if suffix == ".npz":
+            return [(path, lambda tmp: write_npz(tmp, self.pixels, self.mask, self.normals, record, self.colors))]
+        if suffix in (".tif", ".tiff"):
+            return [(path, lambda tmp: self._write_tiff(tmp, path, record))]
+        data, names = self._channels(layout)
+        if suffix == ".npy":
+            sidecar = json.dumps({"channels": names, "domain": self.domain.kind, "metadata": record}, sort_keys=True)
+            return [(path, lambda tmp: _save_npy(tmp, data)),
+                    (path.with_name(path.name + NPY_SIDECAR), lambda tmp: tmp.write_text(sidecar + "\n"))]
+        attrs = [("geoimg:domain", self.domain.kind), ("geoimg:metadata", json.dumps(record, sort_keys=True)),
+                 ("compression", "zip")]
+        return [(path, lambda tmp: write_raster(tmp, data, names, FLOAT, attrs))]
+
+    def _channels(self, layout: str) -> tuple[np.ndarray, list]:
+        """The image's planes stacked (H, W, C) float32 and their channel names."""
         planes, names = [self.pixels.astype(np.float32)], ["R", "G", "B"]
         if self.mask is not None or layout == "rgba":
             planes.append(self.valid.astype(np.float32)[..., None])
@@ -324,11 +351,17 @@ class GeometryImage:
         if self.colors is not None:
             planes.append(self.colors)
             names += list(COLOR_CHANNELS[: self.colors.shape[2]])
-        text = json.dumps(self.metadata_record(), sort_keys=True)
-        attrs = [("geoimg:domain", self.domain.kind), ("geoimg:metadata", text), ("compression", "zip")]
-        with atomic_path(path, overwrite) as tmp:
-            write_raster(tmp, np.concatenate(planes, axis=2), names, FLOAT, attrs)
-        return path
+        return np.concatenate(planes, axis=2), names
+
+    def _write_tiff(self, tmp: Path, path: Path, record: dict) -> None:
+        dropped = [name for name, value in (("normals", self.normals), ("colours", self.colors)) if value is not None]
+        if dropped:
+            warnings.warn(f"{path}: a TIFF keeps X, Y, Z and the mask; the {' and '.join(dropped)} are not written "
+                          "(.exr and .npz keep them)", stacklevel=4)
+        data, names = self._channels("rgba")
+        description = json.dumps({TIFF_DESCRIPTION: {"domain": self.domain.kind, "metadata": record}}, sort_keys=True)
+        write_raster(tmp, data[..., :4], names[:4], FLOAT,      # zip without a float predictor: tifffile reads it
+                     [("ImageDescription", description), ("compression", "zip"), ("tiff:Predictor", 1)])
 
     def metadata_record(self) -> dict:
         """The metadata and the domain's fields as plain JSON types: what files record and
@@ -380,6 +413,11 @@ class GeometryImage:
         with atomic_path(path, overwrite) as tmp:
             write_raster(tmp, q, ["R", "G", "B"], UINT16, [("geoimg:preview", record)])
         return path
+
+
+def _save_npy(tmp: Path, data: np.ndarray) -> None:
+    with open(tmp, "wb") as f:
+        np.save(f, data, allow_pickle=False)
 
 
 def _plain(value):

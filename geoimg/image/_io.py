@@ -13,24 +13,25 @@ from .._atomic import atomic_path
 from .._raster import FLOAT, UINT8, read_raster, write_raster
 from ..errors import GeoimgError, ImageFileError, InputError, InputTypeError
 from ._domain import Domain
-from ._image import COLOR_CHANNELS, PREVIEW_LEVELS, GeometryImage
-from ._npz import read_npz
+from ._image import (COLOR_CHANNELS, IMAGE_FORMATS, NPY_SIDECAR, PREVIEW_LEVELS, TIFF_DESCRIPTION,
+                     GeometryImage)
+from ._npz import read_npy, read_npz
 
 __all__ = ["IMAGE_FORMATS", "ASSUMABLE_DOMAINS", "save_image", "load_image", "save_preview", "save_scalar",
            "save_colormap", "diverging_colors", "save_normal_map"]
 
 
-IMAGE_FORMATS = (".exr", ".npz")
 
 
 def save_image(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
-    """Write a geometry image to OpenEXR or NumPy ``.npz``, atomically (see :meth:`GeometryImage.save`).
+    """Write a geometry image to OpenEXR, NumPy ``.npz`` or ``.npy``, or a float TIFF, atomically (see
+    :meth:`GeometryImage.save`).
 
     Parameters
     ----------
     image : GeometryImage
     path : str or path-like
-        Ending in ``.exr`` or ``.npz``.
+        Ending in one of :data:`IMAGE_FORMATS`.
     overwrite : bool, default False
 
     Returns
@@ -104,10 +105,10 @@ def _image_of_file(path, pixels, mask, domain, normals, metadata, colors=None) -
 
 
 def load_image(path, *, assume: str | None = None, approximate: bool = False) -> GeometryImage:
-    """Read a geometry image written by :func:`save_image`: OpenEXR or a NumPy ``.npz`` archive
-    (``positions`` and optionally ``mask``, ``normals``, ``metadata``; see :mod:`geoimg.image._npz`). The mask
-    is the ``mask`` channel, or ``A`` (the RGBA layout). A file without geoimg's metadata (an EXR from
-    another program, arrays saved by hand) is refused unless ``assume`` names its domain (``"planar"`` or
+    """Read a geometry image written by :func:`save_image` (see :meth:`GeometryImage.save` for the
+    formats): OpenEXR, a NumPy ``.npz`` archive, a float TIFF or a ``.npy`` array with its ``.npy.json``
+    sidecar. The mask is the ``mask`` channel, or ``A`` (the RGBA layout, and TIFF's alpha). A file without
+    geoimg's metadata (an EXR or TIFF from another program, arrays saved by hand) is refused unless ``assume`` names its domain (``"planar"`` or
     ``"octahedral"``); it is then read with a warning. A 16-bit PNG preview written by geoimg is read,
     as approximate geometry (its recorded offset and step), only with ``approximate=True``.
 
@@ -119,17 +120,46 @@ def load_image(path, *, assume: str | None = None, approximate: bool = False) ->
         If the file cannot be read, has no R, G, B channels, has no geoimg metadata and no ``assume``, or
         is not a geoimg archive.
     """
-    if Path(path).suffix.lower() == ".npz":
+    suffix = Path(path).suffix.lower()
+    if suffix == ".npz":
         return _load_npz(path, assume)
-    if Path(path).suffix.lower() == ".png":
+    if suffix == ".npy":
+        return _load_npy(path, assume)
+    if suffix == ".png":
         return _load_preview(path, approximate)
-    data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"),
-                                     integers="its pixels are integers, not coordinates: a preview or picture cannot "
-                                              "become geometry (geometry images are float OpenEXR files written by geoimg)")
-    meta_json, domain = attrs[0], attrs[1]
+    floats = "its pixels are integers, not coordinates: a preview or picture cannot become geometry (geometry " \
+             "images are float files written by geoimg)"
+    if suffix in (".tif", ".tiff"):
+        data, names, attrs = read_raster(path, ("ImageDescription",), integers=floats)
+        record = _tiff_record(path, attrs[0])
+        if record is None:
+            return _from_channels(path, data, names, None, None, assume)
+        return _from_channels(path, data, ["R", "G", "B", "A"][: data.shape[2]], json.dumps(record.get("metadata", {})),
+                              record.get("domain"), assume)
+    data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"), integers=floats)
+    return _from_channels(path, data, names, attrs[0], attrs[1], assume)
+
+
+def _tiff_record(path, description):
+    """The geoimg record of a TIFF's ImageDescription, or None when it has none."""
+    try:
+        record = json.loads(description) if description else None
+    except json.JSONDecodeError:
+        return None                                     # another program's description
+    if not isinstance(record, dict) or TIFF_DESCRIPTION not in record:
+        return None
+    if not isinstance(record[TIFF_DESCRIPTION], dict):
+        raise ImageFileError(f"{path}: its geoimg record is not a JSON object")
+    return record[TIFF_DESCRIPTION]
+
+
+def _from_channels(path, data, names, meta_json, domain, assume) -> GeometryImage:
+    """The image of a file's named channels (R, G, B; mask or A; N.X, N.Y, N.Z; color.R ...) and its
+    metadata JSON and domain kind (both None: a file without geoimg's metadata, read only with ``assume``)."""
     if meta_json is None and domain is None:
         domain = _unmarked(path, assume)
     domain = domain or "planar"
+
     def channels(keys):
         if all(k in names for k in keys):
             return np.stack([data[..., names.index(k)] for k in keys], axis=2)
@@ -156,6 +186,29 @@ def load_image(path, *, assume: str | None = None, approximate: bool = False) ->
     except ValueError as e:
         raise ImageFileError(f"{path}: {e}") from None
     return _image_of_file(path, xyz, None if mask is None else mask[..., 0] > 0.5, dom, normals, meta, colors)
+
+
+def _load_npy(path, assume: str | None) -> GeometryImage:
+    """A ``.npy`` array (H, W, C) float and its sidecar ``NAME.npy.json`` (channel names, domain, metadata);
+    without the sidecar, an (H, W, 3) array of X, Y, Z read only with ``assume``."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such file")
+    data = read_npy(path)
+    sidecar = path.with_name(path.name + NPY_SIDECAR)
+    if not sidecar.is_file():
+        if data.shape[2] != 3:
+            raise ImageFileError(f"{path}: {data.shape[2]} channels and no {sidecar.name} naming them; an array "
+                                 "without geoimg's sidecar must be (H, W, 3): X, Y, Z")
+        return _from_channels(path, data, ["R", "G", "B"], None, None, assume)
+    try:
+        record = json.loads(sidecar.read_text(encoding="utf-8"))
+        names, domain, meta = record["channels"], record["domain"], record["metadata"]
+        if not (isinstance(names, list) and len(names) == data.shape[2] and all(isinstance(n, str) for n in names)):
+            raise ValueError(f"channels must name the array's {data.shape[2]} channels")
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError, KeyError, TypeError, ValueError) as e:
+        raise ImageFileError(f"{sidecar}: not a geoimg sidecar ({type(e).__name__}: {e})") from None
+    return _from_channels(path, data, names, json.dumps(meta), domain, assume)
 
 
 def _load_npz(path, assume: str | None) -> GeometryImage:

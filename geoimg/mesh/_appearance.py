@@ -21,10 +21,11 @@ TEXTURE_SUFFIX = ".png"
 
 
 def obj_colors(rows: list, path) -> np.ndarray | None:
-    """Vertex colours from OBJ ``v x y z r g b`` lines (a common extension), or None. Values above 1 are
-    taken as 0..255. Lines that disagree (some with colours, some without) give none, with a warning."""
+    """Vertex colours from OBJ ``v x y z r g b [a]`` lines (a common extension), or None (``v x y z w`` is a
+    weight, not a colour). Values above 1 are taken as 0..255. Lines that disagree (some with colours, some
+    without) give none, with a warning."""
     widths = {len(r) for r in rows}
-    if widths == {3}:
+    if widths <= {3, 4}:                      # x y z, or x y z w (a rational weight, not a colour)
         return None
     if len(widths) != 1 or widths.pop() not in (6, 7):
         warnings.warn(f"{path}: some 'v' lines have colours and some do not (or not 3 or 4 of them); vertex "

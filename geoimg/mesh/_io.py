@@ -14,13 +14,13 @@ import numpy as np
 import trimesh
 from PIL import Image               # comes with scikit-image
 
-from .._atomic import atomic_path, write_all
+from .._atomic import write_all
 from ..errors import InputTypeError, MeshError, MeshFileError
 from ._appearance import (TEXTURE_SUFFIX, obj_colors, ply_colors, read_mtl_texture, split_corners,
                           write_texture)
 from ._mesh import Mesh, pad_faces
 
-__all__ = ["load_mesh", "save_mesh", "MESH_FORMATS"]
+__all__ = ["load_mesh", "save_mesh", "mesh_file_jobs", "MESH_FORMATS"]
 
 MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")
 BOM = b"\xef\xbb\xbf"
@@ -99,6 +99,13 @@ def save_mesh(mesh: Mesh, path, *, overwrite: bool = False) -> Path:
     >>> load_mesh(save_mesh(m, p)).faces.tolist()
     [[0, 1, 2, 3]]
     """
+    return write_all(mesh_file_jobs(mesh, path), overwrite=overwrite)[0]
+
+
+def mesh_file_jobs(mesh: Mesh, path) -> list:
+    """``(path, write)`` for every file that writing ``mesh`` to ``path`` makes (a textured OBJ: the OBJ, its
+    ``.mtl`` and its ``.png``), for :func:`geoimg._atomic.write_all`: all of them or none. Warns when the
+    format keeps no colours or texture that the mesh has."""
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
     path = Path(path)
@@ -110,19 +117,15 @@ def save_mesh(mesh: Mesh, path, *, overwrite: bool = False) -> Path:
                                     ("texture", ext in (".obj", ".glb"))) if getattr(mesh, _ATTRS[name]) is not None
             and not kept]
     if lost:
-        warnings.warn(f"{path}: {ext[1:].upper()} keeps no {' or '.join(lost)}; they are not written (OBJ keeps "
-                      "both, PLY colours, GLB either)", stacklevel=2)
-    if ext == ".obj" and mesh.texture is not None:     # the OBJ, its MTL and the texture: all or none
+        warnings.warn(f"{path}: {ext[1:].upper()} keeps no {' or '.join(lost)}; not written (OBJ keeps both, PLY "
+                      "colours, GLB either)", stacklevel=3)
+    if ext == ".obj" and mesh.texture is not None:     # the OBJ, its MTL and the texture
         stem = path.stem
-        write_all([(path, lambda tmp: _write_obj(mesh, tmp, ext, material=stem)),
-                   (path.with_suffix(".mtl"), lambda tmp: tmp.write_text(
-                       f"# written by geoimg\nnewmtl geoimg\nKd 1 1 1\nmap_Kd {stem}{TEXTURE_SUFFIX}\n")),
-                   (path.with_suffix(TEXTURE_SUFFIX), lambda tmp: write_texture(mesh.texture, tmp))],
-                  overwrite=overwrite)
-        return path
-    with atomic_path(path, overwrite) as tmp:
-        writers[ext](mesh, tmp, ext)
-    return path
+        return [(path, lambda tmp: _write_obj(mesh, tmp, ext, material=stem)),
+                (path.with_suffix(".mtl"), lambda tmp: tmp.write_text(
+                    f"# written by geoimg\nnewmtl geoimg\nKd 1 1 1\nmap_Kd {stem}{TEXTURE_SUFFIX}\n")),
+                (path.with_suffix(TEXTURE_SUFFIX), lambda tmp: write_texture(mesh.texture, tmp))]
+    return [(path, lambda tmp: writers[ext](mesh, tmp, ext))]
 
 
 _ATTRS = {"colours": "colors", "texture": "texture"}

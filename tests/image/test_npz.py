@@ -122,8 +122,9 @@ def test_the_command_line_reads_and_writes_npz(tmp_path, capsys):
     assert main(["info", str(out)]) == 0 and "domain octahedral" in capsys.readouterr().out
     assert main(["filter", str(out), "-o", str(tmp_path / "f.exr"), "--mean", "3", "-q"]) == 0
     assert main(["mesh", str(tmp_path / "f.exr"), "-o", str(tmp_path / "f.obj"), "-q"]) == 0
-    assert main(["image", str(data_file("sphere.obj")), "-o", str(tmp_path / "x.tif"), "--res", "17"]) == 2
-    assert "x.tif: the geometry image must be named *.exr or *.npz" in capsys.readouterr().err
+    assert main(["image", str(data_file("sphere.obj")), "-o", str(tmp_path / "x.jpg"), "--res", "17"]) == 2
+    assert "x.jpg: the geometry image must be named *.exr or *.npz or *.tif or *.tiff or *.npy" in \
+        capsys.readouterr().err
 
 
 def test_arrays_without_metadata_are_read_only_when_their_domain_is_named(tmp_path):

@@ -142,3 +142,11 @@ def test_glb_reads_back_its_texture_and_colours(tmp_path):
     assert cKDTree(b).query(a)[0].max() < 1e-6 and cKDTree(a).query(b)[0].max() < 1e-6
     c = coloured_square()
     assert np.abs(load_mesh(save_mesh(c, tmp_path / "c.glb")).colors - c.colors).max() <= 0.5 / 255
+
+
+def test_obj_w_coordinates_are_not_colours(tmp_path):
+    p = tmp_path / "w.obj"
+    p.write_text("v 0 0 0 1\nv 1 0 0 1\nv 0 1 0\nf 1 2 3\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert load_mesh(p).colors is None
