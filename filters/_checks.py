@@ -3,11 +3,13 @@ from __future__ import annotations
 
 import numbers
 import os
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
-def as_image(image, name: str = "image") -> np.ndarray:
+def as_image(image: ArrayLike, name: str = "image") -> np.ndarray:
     """A finite real (H, W) or (H, W, C) array as float32 (kept) or float64 (anything else); not a copy."""
     a = np.asarray(image)
     if a.dtype == object or not (np.issubdtype(a.dtype, np.number) or a.dtype == bool) \
@@ -22,7 +24,7 @@ def as_image(image, name: str = "image") -> np.ndarray:
     return a
 
 
-def as_weights(mask, shape, name: str = "mask") -> np.ndarray:
+def as_weights(mask: ArrayLike | None, shape: tuple[int, ...], name: str = "mask") -> np.ndarray:
     """A mask as float64 weights in [0, 1] of shape ``shape`` (H, W): booleans, or numbers in [0, 1]."""
     m = np.asarray(mask)
     if m.dtype == object or not (np.issubdtype(m.dtype, np.number) or m.dtype == bool) \
@@ -36,7 +38,7 @@ def as_weights(mask, shape, name: str = "mask") -> np.ndarray:
     return m
 
 
-def positive(value, name: str, *, integer: bool = False, odd: bool = False, allow_zero: bool = False):
+def positive(value: Any, name: str, *, integer: bool = False, odd: bool = False, allow_zero: bool = False) -> Any:
     """Validate a positive (or non-negative) number; odd integers where a kernel needs a centre."""
     ok_type = isinstance(value, numbers.Integral) if integer else isinstance(value, numbers.Real)
     if isinstance(value, bool) or not ok_type or not np.isfinite(value) or value < 0 or (value == 0 and not allow_zero):
@@ -79,7 +81,7 @@ def memory_limit() -> int:
         return 16 << 30
 
 
-def check_memory(n_bytes: float, what: str, error=TooLarge) -> None:
+def check_memory(n_bytes: float, what: str, error: type[Exception] = TooLarge) -> None:
     """Raise ``error`` when ``what`` would take more than :func:`memory_limit` bytes, saying both."""
     limit = memory_limit()
     if n_bytes > limit:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import sparse
 
 from ._checks import as_image, as_weights, check_memory, positive
@@ -22,7 +23,7 @@ def _same_shape(a: np.ndarray, b: np.ndarray, names=("a", "b")) -> None:
                          "(resample one with filters.resize first)")
 
 
-def blend(a, b, t=0.5) -> np.ndarray:
+def blend(a: ArrayLike, b: ArrayLike, t: float | ArrayLike = 0.5) -> np.ndarray:
     """``(1 - t) a + t b``, with ``t`` a number or per-pixel weights (H, W) in [0, 1]; exactly ``a`` at
     ``t = 0`` or where ``a == b``, exactly ``b`` at ``t = 1``.
 
@@ -46,7 +47,8 @@ def blend(a, b, t=0.5) -> np.ndarray:
     return out.astype(dtype, copy=False)
 
 
-def composite(base, overlay, mask, feather: float = 0.0, mode: str = "reflect") -> np.ndarray:
+def composite(base: ArrayLike, overlay: ArrayLike, mask: ArrayLike | None, feather: float = 0.0,
+              mode: str = "reflect") -> np.ndarray:
     """``overlay`` inside the mask, ``base`` outside, blended over ``feather`` pixels; far from the mask
     the result is ``base`` bit for bit."""
     b, o = as_image(base, "base"), as_image(overlay, "overlay")
@@ -54,7 +56,8 @@ def composite(base, overlay, mask, feather: float = 0.0, mode: str = "reflect") 
     return apply_masked(b, o.astype(b.dtype), feather_mask(as_weights(mask, b.shape[:2]), feather, mode))
 
 
-def paste(target, source, mask, feather: float = 4.0, mode: str = "reflect", *, align: bool = True):
+def paste(target: ArrayLike, source: ArrayLike, mask: ArrayLike | None, feather: float = 4.0, mode: str = "reflect", *,
+          align: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Cut the masked region of ``source`` and paste it onto ``target`` (same parametrization).
 
     With ``align``, the pasted piece is first moved by the mean of ``target - source`` over the
@@ -96,7 +99,7 @@ def _cubic_matrix(x: np.ndarray, n: int) -> sparse.csr_matrix:
     return sparse.csr_matrix((w.ravel(), (rows, cols.ravel())), shape=(len(x), n))
 
 
-def resize(image, shape, mode: str = "linear") -> np.ndarray:
+def resize(image: ArrayLike, shape: tuple[int, int], mode: str = "linear") -> np.ndarray:
     """Resample to ``shape`` (H', W') on the same domain, corners to corners (vertex sampling), by
     separable cubic convolution (Keys, exact for quadratics) over the image extended with ``mode``: ``linear`` keeps a planar image's linear
     functions (its X, Y) exact up to the border, ``octahedral`` keeps an octahedral one seamless.

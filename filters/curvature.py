@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._checks import as_image
 from .padding import pad
@@ -9,7 +10,7 @@ from .padding import pad
 __all__ = ["grid_curvature"]
 
 
-def grid_curvature(image, mode: str = "linear", orientation: int = 1) -> tuple[np.ndarray, np.ndarray]:
+def grid_curvature(image: ArrayLike, mode: str = "linear", orientation: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """Gaussian curvature ``K`` and mean curvature ``H`` (H, W) of a geometry image (H, W, 3), from
     central differences over the image padded by ``mode``.
 

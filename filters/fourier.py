@@ -10,7 +10,9 @@ neighbours.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import fft as sfft
+from typing import Any
 
 from ._checks import as_image, positive
 from .padding import periodic_extension
@@ -18,7 +20,7 @@ from .padding import periodic_extension
 __all__ = ["fourier_filter", "lowpass", "highpass", "bandpass", "butterworth"]
 
 
-def fourier_filter(image, gain, mode: str = "reflect") -> np.ndarray:
+def fourier_filter(image: ArrayLike, gain: Any, mode: str = "reflect") -> np.ndarray:
     """Multiply the spectrum of the image's periodic extension by ``gain(fy, fx)`` and transform back.
 
     Parameters
@@ -72,7 +74,7 @@ def butterworth(cutoff: float, order: int = 2):
     return gain
 
 
-def lowpass(image, cutoff: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
+def lowpass(image: ArrayLike, cutoff: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
     """Butterworth low-pass: frequencies above ``cutoff`` cycles per pixel (0.5: Nyquist) fade out.
 
     Examples
@@ -84,13 +86,13 @@ def lowpass(image, cutoff: float, mode: str = "reflect", *, order: int = 2) -> n
     return fourier_filter(image, butterworth(cutoff, order), mode)
 
 
-def highpass(image, cutoff: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
+def highpass(image: ArrayLike, cutoff: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
     """The detail the low-pass removes: ``image - lowpass(image)`` (zero mean; add it to another shape)."""
     lp = butterworth(cutoff, order)
     return fourier_filter(image, lambda fy, fx: 1.0 - lp(fy, fx), mode)
 
 
-def bandpass(image, low: float, high: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
+def bandpass(image: ArrayLike, low: float, high: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
     """Frequencies between ``low`` and ``high`` cycles per pixel: ``lowpass(high) - lowpass(low)``."""
     if not (isinstance(low, (int, float)) and isinstance(high, (int, float)) and 0 < low < high):
         raise ValueError(f"low, high: expected 0 < low < high, got {low!r}, {high!r}")

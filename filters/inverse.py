@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._checks import positive
 from .fourier import fourier_filter
@@ -52,7 +53,7 @@ def blur_transfer(taps: np.ndarray):
     return lambda fy, fx: one(fy) * one(fx)
 
 
-def inverse_filter(image, blur: str = "mean", size: int = 3, sigma: float = 1.0, mode: str = "reflect", *,
+def inverse_filter(image: ArrayLike, blur: str = "mean", size: int = 3, sigma: float = 1.0, mode: str = "reflect", *,
                    method: str = "wiener", nsr: float = 1e-3, max_gain: float = 10.0) -> np.ndarray:
     """Undo a known blur: the paper's inverse filter, regularized.
 
@@ -100,7 +101,7 @@ def inverse_filter(image, blur: str = "mean", size: int = 3, sigma: float = 1.0,
     return fourier_filter(image, gain, mode)
 
 
-def unsharp_mask(image, sigma: float = 1.0, amount: float = 1.0, mode: str = "reflect") -> np.ndarray:
+def unsharp_mask(image: ArrayLike, sigma: float = 1.0, amount: float = 1.0, mode: str = "reflect") -> np.ndarray:
     """``image + amount (image - gaussian_filter(image, sigma))``: the simple sharpening.
 
     Examples

@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import ndimage
 
 from ._checks import as_image, as_weights, positive
@@ -12,7 +13,7 @@ from .padding import pad
 __all__ = ["feather", "apply_masked"]
 
 
-def feather(mask, width: float = 0.0, mode: str = "reflect") -> np.ndarray:
+def feather(mask: ArrayLike | None, width: float = 0.0, mode: str = "reflect") -> np.ndarray:
     """Weights in [0, 1]: the mask, plus a smooth falloff over ``width`` pixels outside it.
 
     The falloff is ``smoothstep(1 - d / width)`` of the distance ``d`` (pixels, Euclidean, measured
@@ -48,7 +49,7 @@ def feather(mask, width: float = 0.0, mode: str = "reflect") -> np.ndarray:
     return np.maximum(w, t * t * (3.0 - 2.0 * t))
 
 
-def apply_masked(original, filtered, weights) -> np.ndarray:
+def apply_masked(original: ArrayLike, filtered: ArrayLike, weights: ArrayLike) -> np.ndarray:
     """``original + w (filtered - original)``: exactly ``original`` where ``w == 0`` and exactly
     ``filtered`` where ``w == 1``.
 

@@ -20,6 +20,7 @@ Images are vertex-sampled: the first and last rows and columns lie on the domain
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._checks import as_image, check_memory
 
@@ -70,7 +71,7 @@ def _take(a: np.ndarray, rows: np.ndarray, cols: np.ndarray, mode: str) -> np.nd
     return a[np.ix_(_reflect_index(rows, h), _reflect_index(cols, w))]
 
 
-def pad(image, width: int, mode: str = "reflect") -> np.ndarray:
+def pad(image: ArrayLike, width: int, mode: str = "reflect") -> np.ndarray:
     """Pad the first two axes of an (H, W) or (H, W, C) array by ``width`` pixels with a boundary rule.
 
     Parameters
@@ -147,7 +148,7 @@ def _linear_pad(a: np.ndarray, width: int) -> np.ndarray:
     return out
 
 
-def periodic_extension(image, mode: str = "reflect") -> np.ndarray:
+def periodic_extension(image: ArrayLike, mode: str = "reflect") -> np.ndarray:
     """The array whose periodic tiling is the image extended by ``mode``: what the Fourier operations
     transform. ``reflect``: 2(H-1) x 2(W-1) (symmetric extension); ``wrap``: the image itself;
     ``octahedral``: the 2M x 2M unfolding. The image is its top-left H x W block.

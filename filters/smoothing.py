@@ -11,6 +11,7 @@ import math
 
 import cv2
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._checks import as_image, as_weights, positive
 from .masks import apply_masked, feather as feather_mask
@@ -32,8 +33,8 @@ def filter_padded(image, radius: int, mode: str, fn, *, mask=None, feather: floa
     return apply_masked(a, out, feather_mask(as_weights(mask, (h, w)), feather, mode))
 
 
-def mean_filter(image, size: int = 3, mode: str = "reflect", *, iterations: int = 1, mask=None,
-                feather: float = 0.0) -> np.ndarray:
+def mean_filter(image: ArrayLike, size: int = 3, mode: str = "reflect", *, iterations: int = 1,
+                mask: ArrayLike | None = None, feather: float = 0.0) -> np.ndarray:
     """The paper's mean filter: each pixel becomes the mean of the ``size x size`` block around it.
 
     Examples
@@ -58,7 +59,7 @@ def gaussian_kernel_radius(sigma: float) -> int:
     return max(1, int(math.ceil(4.0 * sigma)))
 
 
-def gaussian_filter(image, sigma: float = 1.0, mode: str = "reflect", *, mask=None,
+def gaussian_filter(image: ArrayLike, sigma: float = 1.0, mode: str = "reflect", *, mask: ArrayLike | None = None,
                     feather: float = 0.0) -> np.ndarray:
     """Gaussian smoothing, standard deviation ``sigma`` pixels (kernel of half-width ``ceil(4 sigma)``).
 
@@ -80,8 +81,8 @@ def _three_or_one(a: np.ndarray, what: str) -> None:
         raise ValueError(f"image: the {what} takes 1 or 3 channels, got {a.shape[2]}")
 
 
-def bilateral_filter(image, sigma_space: float = 2.0, sigma_range: float = 1.0, mode: str = "reflect", *,
-                     mask=None, feather: float = 0.0) -> np.ndarray:
+def bilateral_filter(image: ArrayLike, sigma_space: float = 2.0, sigma_range: float = 1.0, mode: str = "reflect", *,
+                     mask: ArrayLike | None = None, feather: float = 0.0) -> np.ndarray:
     """Edge-preserving bilateral filter (``cv2.bilateralFilter``, computed in float32).
 
     ``sigma_range`` is in the image's units (for a geometry image: coordinate units; OpenCV measures the
@@ -106,8 +107,8 @@ def bilateral_filter(image, sigma_space: float = 2.0, sigma_range: float = 1.0, 
     return out.astype(a.dtype)
 
 
-def guided_filter(image, radius: int = 4, eps: float = 1e-4, mode: str = "reflect", *, guide=None, mask=None,
-                  feather: float = 0.0) -> np.ndarray:
+def guided_filter(image: ArrayLike, radius: int = 4, eps: float = 1e-4, mode: str = "reflect", *,
+                  guide: ArrayLike | None = None, mask: ArrayLike | None = None, feather: float = 0.0) -> np.ndarray:
     """Edge-preserving guided filter (He et al.; ``cv2.ximgproc.guidedFilter``, computed in float32).
 
     ``eps`` is the regularization in squared image units: structure with variance well above ``eps``

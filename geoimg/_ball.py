@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from filters import positive
 
@@ -15,7 +16,7 @@ def checked_positive(value, name, allow_zero=False) -> float:
     return float(positive(value, name, allow_zero=allow_zero))
 
 
-def ball_weights(points, centre, radius: float, feather: float = 0.0) -> np.ndarray:
+def ball_weights(points: ArrayLike, centre: ArrayLike, radius: float, feather: float = 0.0) -> np.ndarray:
     """Weights of points (..., D) for the ball ``|p - centre| <= radius``, falling off smoothly
     (smoothstep) over ``feather`` beyond it.
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 import time
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -13,6 +14,7 @@ from .mesh import Mesh, load_mesh, repair
 from .parametrization import Parametrization, parametrize
 from .surface import fit_surface
 from .surface._attributes import sample_colors
+from ._types import Progress
 
 __all__ = ["mesh_to_image", "mesh_to_images", "COMPONENT_CHOICES"]
 
@@ -39,8 +41,9 @@ def _load(mesh_or_path, say) -> tuple[Mesh, str]:
     raise InputTypeError(f"mesh_or_path: expected a geoimg.Mesh or a file path, got {type(mesh_or_path).__name__}")
 
 
-def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: str = "auto", *, component="all",
-                   progress=None, timings: dict | None = None, **options) -> list[GeometryImage]:
+def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0, method: str = "auto", *,
+                   component: str | int = "all", progress: Progress | None = None, timings: dict | None = None,
+                   **options: Any) -> list[GeometryImage]:
     """The geometry images of a mesh's pieces, largest first, after the repairs of
     :func:`geoimg.mesh.repair` (pinch vertices split, non-manifold edges separated, faces oriented, each
     announced with a warning): one image per piece, or only the ``"largest"`` or the ``K``-th
@@ -83,11 +86,11 @@ def mesh_to_images(mesh_or_path, resolution: int | None = None, s=1.0, method: s
     return images
 
 
-def mesh_to_image(mesh_or_path, resolution: int | None = None, s=1.0, method: str = "auto", *,
+def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0, method: str = "auto", *,
                   axis: str | None = None, boundary: str = "square", balance: str = "slim",
                   weights: str = "gaussian", n: int = 10,
                   tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True, colors: bool = True,
-                  parametrization: Parametrization | None = None, progress=None,
+                  parametrization: Parametrization | None = None, progress: Progress | None = None,
                   timings: dict | None = None) -> GeometryImage:
     """The geometry image of a mesh: :func:`~geoimg.parametrize`, :func:`~geoimg.fit_surface` and
     :meth:`~geoimg.Surface.sample` in one call. A mesh of several pieces, or one that needs repairs

@@ -39,18 +39,18 @@ def _oiio_name(path) -> str:
 def write_raster(path: Path, data: np.ndarray, names, fmt, attributes=()) -> None:
     """Write ``data`` (H, W, C) to ``path`` with channel ``names``, pixel format ``fmt`` (``FLOAT``,
     ``UINT16``, ``UINT8``) and ``(name, value)`` attributes; the format follows the file name."""
-    path = _oiio_name(path)
-    out = oiio.ImageOutput.create(str(path))
+    name = _oiio_name(path)
+    out = oiio.ImageOutput.create(name)
     if out is None:
-        raise ImageFileError(f"{path}: OpenImageIO cannot write this format ({_error(oiio)})")
+        raise ImageFileError(f"{name}: OpenImageIO cannot write this format ({_error(oiio)})")
     spec = oiio.ImageSpec(data.shape[1], data.shape[0], data.shape[2], fmt)
     spec.channelnames = tuple(names)
     for key, value in attributes:
         spec.attribute(key, value)
-    if not out.open(str(path), spec) or not out.write_image(np.ascontiguousarray(data)):
+    if not out.open(name, spec) or not out.write_image(np.ascontiguousarray(data)):
         msg = _error(out)
         out.close()
-        raise ImageFileError(f"{path}: writing failed ({msg})")
+        raise ImageFileError(f"{name}: writing failed ({msg})")
     out.close()
 
 

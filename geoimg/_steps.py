@@ -10,12 +10,16 @@ from .image import GeometryImage
 __all__ = ["FILTER_STEPS", "apply_steps", "check_steps"]
 
 # step name -> (filters function, argument types, metavar, help)
-FILTER_STEPS = {
+FILTER_STEPS: dict[str, tuple[str, tuple[type, ...], str | tuple[str, ...], str]] = {
     "mean": ("mean_filter", (int,), "SIZE", "mean (box) filter of SIZE x SIZE pixels (odd), as in the paper"),
     "gaussian": ("gaussian_filter", (float,), "SIGMA", "Gaussian smoothing, SIGMA pixels"),
     "bilateral": ("bilateral_filter", (float, float), ("SIGMA", "RANGE"),
                   "edge-preserving bilateral filter: SIGMA pixels, RANGE in coordinate units"),
     "guided": ("guided_filter", (int, float), ("RADIUS", "EPS"), "edge-preserving guided filter"),
+    "median": ("median_filter", (int,), "SIZE", "median of SIZE x SIZE pixels per channel: removes spikes"),
+    "tv": ("denoise_tv", (float,), "WEIGHT", "total-variation denoising (scikit-image), WEIGHT in coordinate units"),
+    "nlmeans": ("denoise_nl_means", (float,), "H",
+                "non-local means denoising (scikit-image), H in coordinate units (about the noise's sigma)"),
     "sharpen": ("inverse_filter", (int,), "SIZE", "inverse filter undoing a SIZE x SIZE mean filter (Wiener, --nsr)"),
     "unsharp": ("unsharp_mask", (float, float), ("SIGMA", "AMOUNT"), "unsharp masking"),
     "lowpass": ("lowpass", (float,), "CUTOFF", "Fourier low-pass, CUTOFF cycles per pixel (0.5 = Nyquist)"),
@@ -33,7 +37,7 @@ def check_steps(steps) -> tuple[tuple[str, tuple], ...]:
     >>> check_steps([("blur", [5])])
     Traceback (most recent call last):
     ...
-    geoimg.errors.InputError: unknown filter step 'blur': expected one of mean, gaussian, bilateral, guided, sharpen, unsharp, lowpass, bandpass
+    geoimg.errors.InputError: unknown filter step 'blur': expected one of mean, gaussian, bilateral, guided, median, tv, nlmeans, sharpen, unsharp, lowpass, bandpass
     """
     checked = []
     for step in steps:
@@ -74,7 +78,7 @@ def apply_steps(image: GeometryImage, steps, *, mode: str | None = None, nsr: fl
     out = image
     for name, values in check_steps(steps):
         op = getattr(filters, FILTER_STEPS[name][0])
-        kwargs = {}
+        kwargs: dict = {}
         if mode:
             kwargs["mode"] = mode
         if name == "sharpen":

@@ -119,9 +119,9 @@ def cmd_image(args) -> int:
     many = len(images) > 1
     outputs = [(img, _numbered(args.output, img.metadata.get("component", 0), many),
                 _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]
-    jobs = []
+    jobs: list = []
     for image, out, preview in outputs:
-        jobs += image.save_jobs(out, args.layout)
+        jobs += image.save_jobs(out, args.layout)         # type: ignore[arg-type]   # out is given: -o is required
         if preview:
             jobs.append((preview, lambda tmp, image=image: image.preview(tmp, overwrite=True)))
     write_all(jobs, overwrite=args.force)                  # all or none
@@ -300,7 +300,7 @@ def cmd_curvature(args) -> int:
     image = _read_image(args.image, args)
     K, H = image_curvature(image)
     stem = Path(args.output)
-    jobs = []
+    jobs: list = []
     for name, values in (("gaussian", K), ("mean", H)):
         jobs.append((stem.with_name(f"{stem.name}_{name}.exr"),
                      lambda tmp, v=values, n=name: save_scalar(v, tmp, n, overwrite=True)))

@@ -14,7 +14,7 @@ from PIL import Image
 HERE = Path(__file__).resolve().parent
 GALLERY = HERE.parent / "docs" / "gallery"
 SAMPLES = ["fig2_terrain", "fig3_small_meshes", "fig4_filtering", "fig5_morph", "fig9_multires",
-           "partial_smoothing", "fig11_weights", "cut_open", "balanced_disk", "textured"]
+           "partial_smoothing", "fig11_weights", "cut_open", "balanced_disk", "textured", "denoise"]
 WIDTH = {"fig2_terrain": 420, "fig11_weights": 480}     # hillshades compress poorly: keep them small
 
 

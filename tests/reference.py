@@ -126,4 +126,16 @@ def point_triangle_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.n
     q = np.where(((d3 >= 0) & (d4 <= d3))[..., None], b, q)
     q = np.where(((d1 <= 0) & (d2 <= 0))[..., None], a, q)
     q = np.where(np.isfinite(q), q, a)
-    return np.linalg.norm(p - q, axis=-1)
+    n = np.cross(ab, ac)
+    flat = (n * n).sum(-1) <= 1e-24 * (ab * ab).sum(-1) * (ac * ac).sum(-1)     # no area: its edges
+    edges = np.minimum(np.minimum(segment_distance(p, a, b), segment_distance(p, b, c)), segment_distance(p, c, a))
+    return np.where(flat, edges, np.linalg.norm(p - q, axis=-1))
+
+
+def segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance from points ``p`` to segments ``a``-``b`` (a point where a == b), broadcast."""
+    d, q = b - a, p - a
+    dd = (d * d).sum(-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(dd > 0, np.clip((q * d).sum(-1) / dd, 0.0, 1.0), 0.0)
+    return np.linalg.norm(q - t[..., None] * d, axis=-1)

@@ -267,3 +267,25 @@ def test_colours_travel_from_a_textured_obj_to_a_textured_quad_mesh(tmp_path, ca
     (tmp_path / "r.mtl").write_text("someone else's")               # a file in the way: nothing written
     assert main(["mesh", str(exr), "-o", str(tmp_path / "r.obj")]) == 2
     assert "r.mtl exists" in capsys.readouterr().err and not (tmp_path / "r.obj").exists()
+
+
+@pytest.mark.parametrize("step, message", [(["--median", "4"], "odd"), (["--tv", "-1"], "weight"),
+                                           (["--nlmeans", "0"], "h"), (["--tv", "much"], "expected float")])
+def test_denoising_steps_refuse_bad_values_in_one_line(tmp_path, capsys, step, message):
+    exr = tmp_path / "m.exr"
+    assert main(["image", str(MOUNTAIN), "-o", str(exr), "--res", "9", "-q"]) == 0
+    code = None
+    try:
+        code = main(["filter", str(exr), "-o", str(tmp_path / "f.exr"), *step])
+    except SystemExit as e:          # argparse's own refusal of a non-number
+        code = e.code
+    assert code == 2 and message in capsys.readouterr().err and not (tmp_path / "f.exr").exists()
+
+
+def test_denoising_steps_run_from_the_command_line(tmp_path):
+    exr = tmp_path / "m.exr"
+    assert main(["image", str(MOUNTAIN), "-o", str(exr), "--res", "17", "-q"]) == 0
+    assert main(["filter", str(exr), "-o", str(tmp_path / "f.exr"), "--median", "3", "--tv", "0.5", "--nlmeans",
+                 "0.5", "-q"]) == 0
+    out = geoimg.load_image(tmp_path / "f.exr")
+    assert [f.split("(")[0] for f in out.metadata["filters"]] == ["median_filter", "denoise_tv", "denoise_nl_means"]

@@ -91,3 +91,9 @@ def test_balanced_disk_sample(tmp_path, renderer_or_skip):
 def test_textured_sample(tmp_path, renderer_or_skip):
     stats = load_sample("textured").run(tmp_path, res=65, size=(80, 60))
     assert Path(stats["png"]).is_file() and stats["colours_kept"] and stats["texture"] == [65, 65, 3]
+
+
+def test_denoise_sample(tmp_path, renderer_or_skip):
+    stats = load_sample("denoise").run(tmp_path, res=65, size=(80, 60))
+    assert Path(stats["png"]).is_file()
+    assert stats["image_nlmeans"] < stats["noisy"] and stats["mesh_taubin"] < stats["noisy"]

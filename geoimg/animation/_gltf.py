@@ -22,6 +22,7 @@ from ..image import GeometryImage
 from ..mesh import Mesh, save_mesh
 from ..mesh._appearance import split_corners
 from ._morph import Morph
+from .._types import PathLike, Progress
 
 __all__ = ["save_glb", "save_frames", "frame_jobs", "FRAME_FORMATS"]
 
@@ -33,7 +34,7 @@ def _triangles(mesh) -> np.ndarray:
     return np.ascontiguousarray(tris, np.uint32)
 
 
-def _vertex_normals(image, valid, colors=None) -> tuple[np.ndarray, object]:
+def _vertex_normals(image, valid, colors=None) -> tuple[np.ndarray, Mesh]:
     """The quad mesh of an image over the pixels valid in every key, with normals from the grid (the
     same rule for every key, so normal displacements are consistent)."""
     mask = None if valid is None else valid
@@ -94,7 +95,8 @@ def _weights(morph: Morph) -> tuple[np.ndarray, list]:
     return np.eye(len(frames), dtype=np.float32), frames
 
 
-def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, progress=None) -> Path:
+def save_glb(morph: Morph, path: PathLike, *, fps: float = 24.0, overwrite: bool = False,
+             progress: Progress | None = None) -> Path:
     """Write the morph as a binary glTF 2.0 file with morph targets and a weights animation.
 
     Examples
@@ -142,7 +144,7 @@ def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, 
         dp = (np.asarray(m.vertices, np.float32) - base_pos)[source]
         target = gl.Attributes(POSITION=buf.add(dp, gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER, minmax=True),
                                NORMAL=buf.add((n - base_normals)[source], gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER))
-        if coloured:
+        if coloured and m.colors is not None and base.colors is not None:
             target.COLOR_0 = buf.add((m.colors - base.colors)[source].astype(np.float32), gl.VEC3, gl.FLOAT,
                                      gl.ARRAY_BUFFER)
         targets.append(target)
@@ -167,7 +169,7 @@ def save_glb(morph: Morph, path, *, fps: float = 24.0, overwrite: bool = False, 
     return path
 
 
-def frame_jobs(morph: Morph, folder, fmt: str = "obj", progress=None) -> list:
+def frame_jobs(morph: Morph, folder: PathLike, fmt: str = "obj", progress: Progress | None = None) -> list:
     """``(path, write)`` for every frame file ``folder/frame_0000.<fmt>`` (see :func:`save_frames`), for
     :func:`geoimg._atomic.write_all`; each frame is made when it is written."""
     if fmt not in FRAME_FORMATS:
@@ -190,7 +192,8 @@ def frame_jobs(morph: Morph, folder, fmt: str = "obj", progress=None) -> list:
     return [(folder / f"frame_{i:04d}.{fmt}", writer(i)) for i in range(len(morph))]
 
 
-def save_frames(morph: Morph, folder, fmt: str = "obj", *, overwrite: bool = False, progress=None) -> list[Path]:
+def save_frames(morph: Morph, folder: PathLike, fmt: str = "obj", *, overwrite: bool = False,
+                progress: Progress | None = None) -> list[Path]:
     """Write every frame to ``folder/frame_0000.<fmt>``: a quad mesh (obj, ply, off) or the geometry
     image (exr); all of them or, on any failure, none. Returns the paths."""
     jobs = frame_jobs(morph, folder, fmt, progress)

@@ -10,8 +10,10 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass, field
+from typing import Any, Callable, Iterator
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import ndimage, optimize
 from scipy.spatial.transform import Rotation
 
@@ -21,6 +23,7 @@ from .._convert import mesh_to_image
 from ..image import GeometryImage
 from ..mesh import Mesh
 from ..parametrization import grid_directions, parametrize, sphere_to_square
+from .._types import Progress
 
 __all__ = ["morph", "Morph", "EASINGS", "ALIGNMENTS"]
 
@@ -119,7 +122,7 @@ def _align(images, align: str, rotate: bool, shared, progress):
     out, report = [images[0]], [{"shape": 0, "reference": True}]
     previous = Rotation.identity()
     for k, img in enumerate(images[1:], start=1):
-        entry = {"shape": k}
+        entry: dict = {"shape": k}
         p = img.pixels.astype(np.float64)
         colors = img.colors
         if align != "none":
@@ -164,7 +167,7 @@ class Morph:
 
     keys: list
     times: np.ndarray
-    easing: object = field(repr=False)
+    easing: Callable[[Any], Any] = field(repr=False)
     weights: np.ndarray | None = field(repr=False, default=None)
     lag: float = 0.0
     report: list = field(default_factory=list)
@@ -179,7 +182,7 @@ class Morph:
         k = min(int(math.floor(t)), len(self.keys) - 2)
         return k, float(t - k)
 
-    def local_time(self, u: float):
+    def local_time(self, u: float) -> float | np.ndarray:
         """Eased blend weight at segment time ``u``: a number, or an (H, W) map with a timing mask."""
         if self.weights is None:
             return float(self.easing(u))
@@ -203,15 +206,15 @@ class Morph:
             colors = np.clip(filters.blend(a.colors[..., :3], b.colors[..., :3], w), 0.0, 1.0)
         return GeometryImage(px, mask, domain=a.domain, metadata={"morph_time": float(t)}, colors=colors)
 
-    def frames(self):
+    def frames(self) -> Iterator[GeometryImage]:
         """The frames, in order (a generator)."""
         for t in self.times:
             yield self.frame(float(t))
 
 
-def morph(*shapes, frames: int = 30, easing="smoothstep", mask=None, lag: float = 0.5, align: str = "similarity",
-          rotate: bool = True, resolution: int = DEFAULT_RESOLUTION, resample: bool = False,
-          progress=None) -> Morph:
+def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: ArrayLike | None = None, lag: float = 0.5,
+          align: str = "similarity", rotate: bool = True, resolution: int = DEFAULT_RESOLUTION,
+          resample: bool = False, progress: Progress | None = None) -> Morph:
     """Morph through two or more shapes.
 
     Parameters

@@ -10,6 +10,7 @@ import contextlib
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -19,6 +20,7 @@ from ..errors import GeoimgError, InputError, InputTypeError
 from ..image import GeometryImage
 from ..mesh import Mesh
 from ..mesh._appearance import split_corners
+from .._types import PathLike
 
 __all__ = ["Renderer", "Camera", "render", "save_png", "save_animation", "RenderError", "UP_AXES", "up_axis"]
 
@@ -177,7 +179,7 @@ def _fitting_distance(p: np.ndarray, d: np.ndarray, up: np.ndarray, t: float, as
     return dist, shift
 
 
-def up_axis(obj) -> str:
+def up_axis(obj: Any) -> str:
     """The up axis a picture of ``obj`` uses by default: the one a geometry image records (``metadata["up"]``,
     a terrain's), else ``"y"``."""
     up = obj.metadata.get("up") if isinstance(obj, GeometryImage) else None
@@ -215,7 +217,8 @@ class Renderer:
     """
 
     def __init__(self, width: int = 800, height: int = 600, *, samples: int = 4,
-                 background=(1.0, 1.0, 1.0), albedo=(0.78, 0.74, 0.68)):
+                 background: tuple[float, float, float] | None = (1.0, 1.0, 1.0),
+                 albedo: tuple[float, float, float] = (0.78, 0.74, 0.68)):
         for name, value in (("width", width), ("height", height)):
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 8 <= value <= 8192:
                 raise InputError(f"{name}: expected an integer from 8 to 8192, got {value!r}")
@@ -235,7 +238,8 @@ class Renderer:
                                         depth_attachment=self.ctx.depth_renderbuffer(self.size, samples=self.samples))
         self.resolved = self.ctx.framebuffer(color_attachments=[self.ctx.renderbuffer(self.size)])
 
-    def camera_for(self, *objects, azimuth: float = 30.0, elevation: float = 20.0, up: str | None = None) -> Camera:
+    def camera_for(self, *objects: Any, azimuth: float = 30.0, elevation: float = 20.0,
+                   up: str | None = None) -> Camera:
         """A camera framing all the objects (meshes or geometry images) together, tightly; ``up`` defaults
         to the first object's (:func:`up_axis`)."""
         pts = [(_geometry(o)[0]) for o in objects]
@@ -245,8 +249,8 @@ class Renderer:
         return Camera.fit(lo, hi, azimuth=azimuth, elevation=elevation, up=up_axis(objects[0]) if up is None else up,
                           aspect=self.size[0] / self.size[1], points=hull)
 
-    def render(self, obj, camera: Camera | None = None, *, edges: Mesh | None = None,
-               edge_color=(0.75, 0.1, 0.1)) -> np.ndarray:
+    def render(self, obj: Any, camera: Camera | None = None, *, edges: Mesh | None = None,
+               edge_color: tuple[float, float, float] = (0.75, 0.1, 0.1)) -> np.ndarray:
         """An (H, W, 3) uint8 picture of the object, (H, W, 4) with a transparent background; ``edges``: a
         mesh whose polygon edges are drawn over it (hidden where the surface is in front)."""
         v, tris, n, c, uv, texture = _geometry(obj)
@@ -326,7 +330,7 @@ class Renderer:
         self.release()
 
 
-def render(obj, width: int = 800, height: int = 600, *, azimuth: float = 30.0, elevation: float = 20.0,
+def render(obj: Any, width: int = 800, height: int = 600, *, azimuth: float = 30.0, elevation: float = 20.0,
            up: str | None = None, transparent: bool = False) -> np.ndarray:
     """Shade a mesh or geometry image to an (H, W, 3) uint8 picture ((H, W, 4) when ``transparent``), the
     camera fitted tightly to it, its up axis ``up`` (default: :func:`up_axis`).
@@ -341,7 +345,7 @@ def render(obj, width: int = 800, height: int = 600, *, azimuth: float = 30.0, e
         return r.render(obj, r.camera_for(obj, azimuth=azimuth, elevation=elevation, up=up))
 
 
-def save_png(rgb: np.ndarray, path, *, overwrite: bool = False) -> Path:
+def save_png(rgb: np.ndarray, path: PathLike, *, overwrite: bool = False) -> Path:
     """Write an (H, W, 3) or (H, W, 4) uint8 picture as PNG (atomically)."""
     iio = require("imageio.v3", "writing pictures")
     path = Path(path)
@@ -352,7 +356,7 @@ def save_png(rgb: np.ndarray, path, *, overwrite: bool = False) -> Path:
     return path
 
 
-def save_animation(frames, path, *, fps: float = 24.0, overwrite: bool = False) -> Path:
+def save_animation(frames: Any, path: PathLike, *, fps: float = 24.0, overwrite: bool = False) -> Path:
     """Write pictures (each (H, W, 3) uint8) as an animated GIF (looping) or an H.264 MP4 (needs the
     ``imageio-ffmpeg`` package: ``pip install geoimg[video]``)."""
     iio = require("imageio.v3", "writing animations")

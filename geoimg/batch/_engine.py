@@ -9,6 +9,7 @@ import os
 import time
 import uuid
 from pathlib import Path
+from typing import Any
 
 from .._optional import require
 from ..errors import InputError, InputTypeError
@@ -17,6 +18,7 @@ from ._manifest import ManifestLog, read_manifest, write_manifest
 from ._options import ConvertOptions
 from ._store import open_store, store_records, write_records
 from ._task import Job, run_job
+from .._types import PathLike, Progress
 
 __all__ = ["convert", "MANIFEST_NAME"]
 
@@ -50,7 +52,7 @@ def _partials(jobs, store) -> list[Path]:
     for job in jobs:
         stem = Path(job.stem)
         names.setdefault(stem.parent, []).append("." + stem.name)
-    found = set()
+    found: set[Path] = set()
     for folder, prefixes in names.items():
         if folder.is_dir():
             found.update(p for p in folder.glob(".*.tmp*")          # few: only what a killed run left
@@ -127,8 +129,9 @@ def _counts(rows: dict, total: int, skipped: int, t0: float) -> dict:
             "per_minute": 60 * rate, "eta": left / rate if rate else None}
 
 
-def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int | None = None,
-            memory_limit="auto", scheduler: str | None = None, force: bool = False, progress=None, **options):
+def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | None = None,
+            manifest: PathLike | None = None, workers: int | None = None, memory_limit: str | int | None = "auto",
+            scheduler: str | None = None, force: bool = False, progress: Progress | None = None, **options: Any) -> Any:
     """Convert every mesh of ``inputs`` into a geometry image, on Dask.
 
     Parameters
@@ -216,10 +219,12 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
         if any(str(Path(stem + ext)) in names for ext in (".exr", f"_quads.{opts.quads_format}")):
             raise FileExistsError(f"{stem}: an output would replace an input; choose another output folder")
     old = {} if force else read_manifest(manifest)
-    records = [None] * len(jobs)
+    records: list[dict | None] = [None] * len(jobs)
     reused = zarr is not None and Path(zarr).exists() and not force
+    resolution = int(opts.resolution or 0)          # checked: a Zarr store needs one
     if reused:                                      # refused here if it holds another batch
-        open_store(zarr, keys, opts.resolution, opts.normals, digest, colors=opts.colors)
+        assert zarr is not None
+        open_store(zarr, keys, resolution, opts.normals, digest, colors=opts.colors)
         records = store_records(zarr)
     todo = [job for job in jobs if not _finished(old.get(job.input), job, records)]
     skipped = len(jobs) - len(todo)
@@ -233,7 +238,7 @@ def convert(inputs, out, client=None, *, zarr=None, manifest=None, workers: int 
         with _Cluster(client, scheduler, workers, memory_limit) if todo else contextlib.nullcontext() as dask_client:
             out.mkdir(parents=True, exist_ok=True)
             if zarr is not None and not reused:
-                open_store(zarr, keys, opts.resolution, opts.normals, digest, force=force, colors=opts.colors)
+                open_store(zarr, keys, resolution, opts.normals, digest, force=force, colors=opts.colors)
             write_manifest(manifest, old.values())  # compacted (and in this version's columns) before appending
             _remove_partials(jobs, zarr)            # left by a run that was killed
             started = True

@@ -5,6 +5,7 @@ from __future__ import annotations
 import glob
 import os
 from pathlib import Path, PurePath
+from typing import Any
 
 from ..errors import InputError
 from ..mesh import MESH_FORMATS
@@ -22,7 +23,7 @@ def _mesh_files(folder: Path) -> list[Path]:
     return found
 
 
-def find_inputs(specs) -> list[Path]:
+def find_inputs(specs: Any) -> list[Path]:
     """The input files named by ``specs``: a file as it is (whatever its extension: a wrong one is refused
     when it is read), a folder's mesh files recursively, a glob pattern's matches (``**`` for any depth).
     Each file once, in the order given, folders and patterns sorted.
@@ -54,9 +55,9 @@ def find_inputs(specs) -> list[Path]:
             matches = [path]
         elif glob.has_magic(str(spec)):
             matches = []
-            for m in sorted(glob.glob(str(spec), recursive=True)):
-                m = Path(m)
-                matches += _mesh_files(m) if m.is_dir() else [m] if m.is_file() else []
+            for name in sorted(glob.glob(str(spec), recursive=True)):
+                hit = Path(name)
+                matches += _mesh_files(hit) if hit.is_dir() else [hit] if hit.is_file() else []
         else:
             raise FileNotFoundError(f"{spec}: no such file or folder")
         for m in matches:
@@ -69,7 +70,7 @@ def find_inputs(specs) -> list[Path]:
     return found
 
 
-def output_stems(inputs) -> list[PurePath]:
+def output_stems(inputs: Any) -> list[PurePath]:
     """For each input, its output name without extension, relative to the output folder: the input's path
     below the inputs' common folder, so that equal names in different folders stay apart; inputs that differ
     only in their extension keep it in the name (``x_obj``, ``x_ply``).
@@ -85,7 +86,7 @@ def output_stems(inputs) -> list[PurePath]:
     root = Path(os.path.commonpath([p.parent for p in paths])) if paths else Path()
     rel = [p.relative_to(root) for p in paths]
     stems = [r.with_suffix("") for r in rel]
-    count = {}
+    count: dict[Path, int] = {}
     for s in stems:
         count[s] = count.get(s, 0) + 1
     return [r.with_name(r.name.replace(".", "_")) if count[s] > 1 else s for r, s in zip(rel, stems)]

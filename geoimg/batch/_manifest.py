@@ -8,6 +8,7 @@ import os
 from pathlib import Path
 
 from .._atomic import atomic_path
+from .._types import PathLike
 
 __all__ = ["COLUMNS", "STAGES", "STATUSES", "read_manifest", "ManifestLog", "write_manifest"]
 
@@ -22,7 +23,7 @@ def _row(row: dict) -> dict:
     return {c: "" if row.get(c) is None else row.get(c) for c in COLUMNS}
 
 
-def read_manifest(path) -> dict[str, dict]:
+def read_manifest(path: PathLike) -> dict[str, dict]:
     """The rows of a manifest by input (the last row of an input wins); empty when there is no file.
 
     Examples

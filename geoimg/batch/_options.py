@@ -99,7 +99,7 @@ class ConvertOptions:
                     tol=float(self.tol), sliver_rule=self.sliver_rule, normals=self.normals,
                     colors=self.colors)
 
-    def digest(self, *extra) -> str:
+    def digest(self, *extra: object) -> str:
         """A short hash of the options, this geoimg's version and ``extra`` (say, the output layout): equal
         hashes mean equal outputs."""
         record = dict(dataclasses.asdict(self), version=__version__, extra=list(map(str, extra)))

@@ -12,6 +12,7 @@ import numpy as np
 from .._optional import require
 from ..errors import InputError
 from ..image import Domain, GeometryImage
+from .._types import PathLike
 
 __all__ = ["open_store", "write_item", "write_records", "read_item", "store_records"]
 
@@ -87,12 +88,12 @@ def write_records(path, records: dict[int, dict]) -> None:
     group.attrs[KEY] = info
 
 
-def store_records(path) -> list[dict | None]:
+def store_records(path: PathLike) -> list[dict | None]:
     """Each item's record, None for an item not written."""
     return list(dict(_zarr().open_group(str(path), mode="r").attrs)[KEY]["items"])
 
 
-def read_item(path, index: int) -> GeometryImage:
+def read_item(path: PathLike, index: int) -> GeometryImage:
     """Item ``index`` of a store as a GeometryImage (its domain and metadata from the item's record).
 
     Raises

@@ -47,7 +47,7 @@ def _share_threads(threads: int | None) -> None:
     milliseconds (measured: 5 us per call alone, 65-90 us with two such workers). Set here, in the task,
     because a worker may have imported numba, and so read NUMBA_NUM_THREADS, before its environment was set."""
     if threads:
-        numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))
+        numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))   # type: ignore[attr-defined]
 
 
 def _one_line(error: BaseException) -> str:
@@ -80,7 +80,7 @@ def run_job(job: Job) -> dict:
     """Convert one input as ``job`` says and return its manifest row (see :data:`COLUMNS`)."""
     opts = job.options
     _share_threads(job.threads)
-    row = {"input": job.input, "options_hash": job.options_hash, "input_size": job.input_size,
+    row: dict = {"input": job.input, "options_hash": job.options_hash, "input_size": job.input_size,
            "input_mtime_ns": job.input_mtime_ns, "worker": f"{socket.gethostname()}:{os.getpid()}"}
     timings: dict = {}
     t0 = time.perf_counter()

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import sparse
 from scipy.sparse.csgraph import connected_components
 
@@ -92,7 +93,7 @@ class Domain(ABC):
     orientation: int = 1
 
     kind: ClassVar[str] = ""
-    boundary: ClassVar[str] = "reflect"
+    boundary: ClassVar[str | None] = "reflect"
     extension: ClassVar[str] = "linear"
     parameter_dim: ClassVar[int] = 2
     rotations: ClassVar[bool] = False
@@ -148,26 +149,26 @@ class Domain(ABC):
         return (1.0, 1.0)
 
     @abstractmethod
-    def check_shape(self, shape) -> None:
+    def check_shape(self, shape: tuple[int, int]) -> None:
         """Raise :class:`~geoimg.GeoimgError` when an image of ``shape`` (H, W) cannot be of this domain."""
 
     def check_mask(self, mask: np.ndarray | None) -> None:
         """Raise when a validity mask cannot belong to an image of this domain."""
 
     @abstractmethod
-    def grid_shape(self, resolution) -> tuple[int, int]:
+    def grid_shape(self, resolution: int) -> tuple[int, int]:
         """(H, W) of an image with ``resolution`` pixels along its longer side."""
 
     def round_resolution(self, resolution: int) -> int:
         """The nearest resolution at or above ``resolution`` that this kind of image can have."""
         return int(resolution)
 
-    def pixel_uv(self, shape) -> tuple[np.ndarray, np.ndarray]:
+    def pixel_uv(self, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
         """Image coordinates of the columns (u) and rows (v), from 0 to the extent."""
         h, w = shape
         return np.linspace(0.0, self.extent[0], w), np.linspace(0.0, self.extent[1], h)
 
-    def parameter_points(self, shape) -> np.ndarray:
+    def parameter_points(self, shape: tuple[int, int]) -> np.ndarray:
         """The parameter of every pixel, row by row, in the space of a parametrization's ``coords``:
         (H * W, 2) image coordinates (u, v) here."""
         u, v = self.pixel_uv(shape)
@@ -175,7 +176,7 @@ class Domain(ABC):
         return np.stack([uu.ravel(), vv.ravel()], axis=1)
 
     # ------------------------------------------------------------------ glue
-    def glue(self, shape) -> tuple[np.ndarray, np.ndarray] | None:
+    def glue(self, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray] | None:
         """Groups of pixels that are one point of the surface: each group's first pixel (flat index) and
         each pixel's group number (read-only, kept for the next call), or None when no pixels are glued."""
         return _glue_of(self, (int(shape[0]), int(shape[1])))
@@ -206,7 +207,9 @@ class Domain(ABC):
 
     # ------------------------------------------------------------------ boundary
     def pad(self, array: np.ndarray, width: int) -> np.ndarray:
-        """``array`` (H, W[, C]) padded by ``width`` pixels on each side with the domain's boundary rule."""
+        """``array`` (H, W[, C]) padded by ``width`` pixels on each side with the domain's boundary rule (a
+        kind without a :mod:`filters` rule pads itself)."""
+        assert self.boundary is not None, f"{self.kind}: a domain without a filters rule overrides pad"
         return filters.pad(array, width, self.boundary)
 
     def estimate_normals(self, pixels: np.ndarray) -> np.ndarray | None:
@@ -313,10 +316,10 @@ class PlanarDomain(Domain):
     def _from_fields(cls, metadata: dict) -> "PlanarDomain":
         return cls(orientation=metadata.get("orientation", 1), extent=tuple(metadata.get("extent", (1.0, 1.0))))
 
-    def check_shape(self, shape) -> None:
+    def check_shape(self, shape: tuple[int, int]) -> None:
         pass
 
-    def grid_shape(self, resolution) -> tuple[int, int]:
+    def grid_shape(self, resolution: int) -> tuple[int, int]:
         """The shorter side gets the count that keeps pixels nearly square; corners sit on the rectangle's
         corners (spacing ``extent / (count - 1)``, as the paper's increments of 1/255 for 256 samples)."""
         if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 2:
@@ -349,16 +352,16 @@ class OctahedralDomain(Domain):
     parameter_dim: ClassVar[int] = 3
     rotations: ClassVar[bool] = True
 
-    def check_shape(self, shape) -> None:
+    def check_shape(self, shape: tuple[int, int]) -> None:
         if shape[0] != shape[1]:
             raise ImageError(f"pixels: an octahedral image must be square, got {tuple(shape)}")
         check_size(shape[0])
 
-    def check_mask(self, mask) -> None:
+    def check_mask(self, mask: ArrayLike | None) -> None:
         if mask is not None and not np.all(mask):
             raise ImageError("mask: an octahedral image covers the whole sphere; it takes no mask")
 
-    def grid_shape(self, resolution) -> tuple[int, int]:
+    def grid_shape(self, resolution: int) -> tuple[int, int]:
         n = check_size(resolution)
         return n, n
 
@@ -369,7 +372,7 @@ class OctahedralDomain(Domain):
         """Unit directions (n, n, 3) of the pixels, computed so that glued pixels get identical ones."""
         return grid_directions(n)
 
-    def parameter_points(self, shape) -> np.ndarray:
+    def parameter_points(self, shape: tuple[int, int]) -> np.ndarray:
         """The pixels' unit directions on the sphere, (H * W, 3)."""
         self.check_shape(shape)
         return self.directions(shape[0]).reshape(-1, 3)
@@ -378,7 +381,7 @@ class OctahedralDomain(Domain):
         self.check_shape(shape)
         return glued_groups(shape[0])
 
-    def estimate_normals(self, pixels):
+    def estimate_normals(self, pixels: ArrayLike) -> np.ndarray | None:
         return None
 
 
@@ -445,14 +448,14 @@ class CutDomain(Domain):
         faces, or the same layout)."""
         return type(self) is type(other) and (self.quantum, self.segments) == (other.quantum, other.segments)
 
-    def check_shape(self, shape) -> None:
+    def check_shape(self, shape: tuple[int, int]) -> None:
         h, w = shape
         if h != w or (h - 1) % self.quantum:
             raise ImageError(f"pixels: a cut-open image is N x N with N - 1 a multiple of {self.quantum} (so that "
                              f"the two sides of the cut pair up pixel for pixel, e.g. "
                              f"{self.round_resolution(max(h, w))}), got {h} x {w}")
 
-    def grid_shape(self, resolution) -> tuple[int, int]:
+    def grid_shape(self, resolution: int) -> tuple[int, int]:
         if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 2:
             raise ImageError(f"resolution: expected an integer >= 2, got {resolution!r}")
         self.check_shape((resolution, resolution))
@@ -515,7 +518,7 @@ class CutDomain(Domain):
                 out.append((start + o1, start + o2, tstart + length - o1, tstart + length - o2))
         return out
 
-    def ghosts(self, centres, reach):
+    def ghosts(self, centres: np.ndarray, reach: np.ndarray) -> list:
         """Across each cut, the faces near its other side, turned and moved rigidly onto this side's
         outside: the weighted mean at a cut then sees the surface continue, as inside. Each face goes
         with the straight piece of a cut nearest to it, if its weights reach that far."""

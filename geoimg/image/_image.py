@@ -6,9 +6,11 @@ import json
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Callable
 
 import cv2
 import numpy as np
+from numpy.typing import ArrayLike
 
 import filters
 from .._atomic import atomic_path, write_all
@@ -17,6 +19,7 @@ from ..errors import GeoimgError, ImageError, ImageFileError, InputError, InputT
 from ..mesh import Mesh
 from ._domain import Domain
 from ._npz import write_npz
+from .._types import PathLike
 
 __all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS", "IMAGE_FORMATS", "NPY_SIDECAR", "TIFF_DESCRIPTION"]
 
@@ -75,10 +78,15 @@ class GeometryImage:
 
     pixels: np.ndarray
     mask: np.ndarray | None = None
-    domain: Domain | str = "planar"
+    domain: Domain = "planar"             # type: ignore[assignment]   # a kind name is made a Domain
     normals: np.ndarray | None = None
     metadata: dict = field(default_factory=dict)
     colors: np.ndarray | None = None
+
+    if TYPE_CHECKING:        # what the constructor takes (the fields hold them converted and checked)
+        def __init__(self, pixels: ArrayLike, mask: ArrayLike | None = None, domain: Domain | str = "planar",
+                     normals: ArrayLike | None = None, metadata: dict | None = None,
+                     colors: ArrayLike | None = None) -> None: ...
 
     def __post_init__(self):
         p = np.asarray(self.pixels)
@@ -178,7 +186,8 @@ class GeometryImage:
         """
         return self.domain.quad_mesh(self.pixels, self.valid, self.normals, self.colors)
 
-    def with_pixels(self, pixels, *, mask=..., metadata=None, colors=...) -> "GeometryImage":
+    def with_pixels(self, pixels: ArrayLike, *, mask: Any = ..., metadata: dict | None = None,
+                    colors: Any = ...) -> "GeometryImage":
         """A new image of the same domain with other pixels (no exact normals: they belong to the old
         surface); ``mask``, ``metadata`` and ``colors`` are kept unless given."""
         return GeometryImage(pixels, self.mask if mask is ... else mask, self.domain,
@@ -191,7 +200,7 @@ class GeometryImage:
         domain that pads images itself)."""
         return self.domain.boundary
 
-    def apply(self, op, *args, pad: int | None = None, **kwargs) -> "GeometryImage":
+    def apply(self, op: Callable[..., Any], *args: Any, pad: int | None = None, **kwargs: Any) -> "GeometryImage":
         """Run an operation on the pixels with the domain's boundary rule; a new image.
 
         Two kinds of operation are accepted:
@@ -291,7 +300,7 @@ class GeometryImage:
             raise ImageError(f"{name}: returned NaN or infinite values")
         return out
 
-    def save(self, path, *, overwrite: bool = False, layout: str = "geoimg"):
+    def save(self, path: PathLike, *, overwrite: bool = False, layout: str = "geoimg") -> Path:
         """Write the image, float32, lossless, with its metadata, atomically, in the format of the name.
 
         - ``.exr``: channels ``R, G, B`` (X, Y, Z), ``mask`` (1 valid, 0 not) when the image has a mask,
@@ -315,7 +324,7 @@ class GeometryImage:
         """
         return write_all(self.save_jobs(path, layout), overwrite=overwrite)[0]
 
-    def save_jobs(self, path, layout: str = "geoimg") -> list:
+    def save_jobs(self, path: PathLike, layout: str = "geoimg") -> list:
         """``(path, write)`` for every file that :meth:`save` makes (a ``.npy`` and its sidecar), for
         :func:`geoimg._atomic.write_all`, which writes them all or none."""
         if layout not in EXR_LAYOUTS:
@@ -400,7 +409,7 @@ class GeometryImage:
         ok, png = cv2.imencode(".png", cv2.resize(q[..., ::-1], size, interpolation=cv2.INTER_NEAREST))
         return png.tobytes()
 
-    def preview(self, path, *, overwrite: bool = False):
+    def preview(self, path: PathLike, *, overwrite: bool = False) -> Path:
         """Write a 16-bit PNG: X, Y, Z each stretched over its range on the valid pixels to the levels 1 to
         65535, masked pixels black (0). The PNG records each channel's offset and step and the image's
         metadata (text attribute ``geoimg:preview``), so that ``load_image(path, approximate=True)`` can

@@ -16,6 +16,7 @@ from ._domain import Domain
 from ._image import (COLOR_CHANNELS, IMAGE_FORMATS, NPY_SIDECAR, PREVIEW_LEVELS, TIFF_DESCRIPTION,
                      GeometryImage)
 from ._npz import read_npy, read_npz
+from .._types import PathLike
 
 __all__ = ["IMAGE_FORMATS", "ASSUMABLE_DOMAINS", "save_image", "load_image", "save_preview", "save_scalar",
            "save_colormap", "diverging_colors", "save_normal_map"]
@@ -23,7 +24,7 @@ __all__ = ["IMAGE_FORMATS", "ASSUMABLE_DOMAINS", "save_image", "load_image", "sa
 
 
 
-def save_image(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
+def save_image(image: GeometryImage, path: PathLike, *, overwrite: bool = False) -> Path:
     """Write a geometry image to OpenEXR, NumPy ``.npz`` or ``.npy``, or a float TIFF, atomically (see
     :meth:`GeometryImage.save`).
 
@@ -104,7 +105,7 @@ def _image_of_file(path, pixels, mask, domain, normals, metadata, colors=None) -
         raise ImageFileError(f"{path}: {e}") from None
 
 
-def load_image(path, *, assume: str | None = None, approximate: bool = False) -> GeometryImage:
+def load_image(path: PathLike, *, assume: str | None = None, approximate: bool = False) -> GeometryImage:
     """Read a geometry image written by :func:`save_image` (see :meth:`GeometryImage.save` for the
     formats): OpenEXR, a NumPy ``.npz`` archive, a float TIFF or a ``.npy`` array with its ``.npy.json``
     sidecar. The mask is the ``mask`` channel, or ``A`` (the RGBA layout, and TIFF's alpha). A file without
@@ -219,13 +220,13 @@ def _load_npz(path, assume: str | None) -> GeometryImage:
     return _image_of_file(path, positions, mask, domain, normals, record, colors)
 
 
-def save_preview(image: GeometryImage, path, *, overwrite: bool = False) -> Path:
+def save_preview(image: GeometryImage, path: PathLike, *, overwrite: bool = False) -> Path:
     """Write a 16-bit RGB PNG: X, Y, Z each stretched to [0, 65535] over the valid pixels, masked pixels
     black (see :meth:`GeometryImage.preview`)."""
     return image.preview(path, overwrite=overwrite)
 
 
-def save_scalar(values: np.ndarray, path, name: str = "Y", *, overwrite: bool = False) -> Path:
+def save_scalar(values: np.ndarray, path: PathLike, name: str = "Y", *, overwrite: bool = False) -> Path:
     """Write an (H, W) float map (a curvature, a mask) to a one-channel float32 OpenEXR."""
     path = Path(path)
     if path.suffix.lower() != ".exr":
@@ -259,7 +260,8 @@ def diverging_colors(values: np.ndarray, valid: np.ndarray | None = None, scale:
     return rgb
 
 
-def save_colormap(values: np.ndarray, path, valid: np.ndarray | None = None, *, overwrite: bool = False) -> Path:
+def save_colormap(values: np.ndarray, path: PathLike, valid: np.ndarray | None = None, *,
+                  overwrite: bool = False) -> Path:
     """Write a signed (H, W) map as an 8-bit PNG with :func:`diverging_colors`."""
     path = Path(path)
     if path.suffix.lower() != ".png":
@@ -270,7 +272,8 @@ def save_colormap(values: np.ndarray, path, valid: np.ndarray | None = None, *, 
     return path
 
 
-def save_normal_map(normals: np.ndarray, path, valid: np.ndarray | None = None, *, overwrite: bool = False) -> Path:
+def save_normal_map(normals: np.ndarray, path: PathLike, valid: np.ndarray | None = None, *,
+                    overwrite: bool = False) -> Path:
     """Write unit normals (H, W, 3) as an 8-bit PNG normal map, ``(n + 1) / 2`` per channel; invalid black."""
     path = Path(path)
     if path.suffix.lower() != ".png":

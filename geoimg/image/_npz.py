@@ -31,7 +31,7 @@ def write_npz(path: Path, pixels: np.ndarray, mask, normals, record: dict, color
     if colors is not None:
         arrays["colors"] = np.asarray(colors, np.float32)
     with open(path, "wb") as f:
-        np.savez_compressed(f, **arrays)
+        np.savez_compressed(f, **arrays)       # type: ignore[arg-type]   # numpy's stub: allow_pickle
 
 
 def _header(archive: zipfile.ZipFile, name: str):

@@ -9,16 +9,18 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from .._raster import read_raster
 from .._ball import ball_weights
 from ._image import GeometryImage
+from .._types import PathLike
 
 __all__ = ["image_region", "uv_region", "load_mask"]
 
 
-def image_region(image: GeometryImage, centre, radius: float, feather: float = 0.0) -> np.ndarray:
+def image_region(image: GeometryImage, centre: ArrayLike, radius: float, feather: float = 0.0) -> np.ndarray:
     """Weights (H, W) of the pixels whose surface point lies in the ball around ``centre`` (3-D, the
     mesh's units): smooth, for example, the region around a point of the mesh.
 
@@ -33,7 +35,7 @@ def image_region(image: GeometryImage, centre, radius: float, feather: float = 0
     return image.domain.symmetric_mask(w)
 
 
-def uv_region(shape, centre, radius: float, feather: float = 0.0) -> np.ndarray:
+def uv_region(shape: tuple[int, int], centre: ArrayLike, radius: float, feather: float = 0.0) -> np.ndarray:
     """Weights (H, W) of a disk in the image's [0, 1]^2 coordinates (u along columns, v along rows).
 
     Examples
@@ -46,7 +48,7 @@ def uv_region(shape, centre, radius: float, feather: float = 0.0) -> np.ndarray:
     return ball_weights(np.stack([uu, vv], axis=-1), centre, radius, feather)
 
 
-def load_mask(path, shape) -> np.ndarray:
+def load_mask(path: PathLike, shape: tuple[int, int]) -> np.ndarray:
     """Weights (H, W) in [0, 1] from an image file (PNG, EXR, ...: the first channel, scaled by its
     type's range; 8-bit 255 is 1). The file must have the geometry image's size."""
     path = Path(path)

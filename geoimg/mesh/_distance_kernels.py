@@ -12,10 +12,24 @@ __all__ = ["nearest_triangle_distances"]
 
 
 @njit(cache=True)
+def _segment(px, py, pz, v, a, b):
+    """Distance from p to the segment a-b (a point when a == b)."""
+    dx, dy, dz = v[b, 0] - v[a, 0], v[b, 1] - v[a, 1], v[b, 2] - v[a, 2]
+    qx, qy, qz = px - v[a, 0], py - v[a, 1], pz - v[a, 2]
+    dd = dx * dx + dy * dy + dz * dz
+    t = 0.0 if dd == 0.0 else min(1.0, max(0.0, (qx * dx + qy * dy + qz * dz) / dd))
+    return math.sqrt((qx - t * dx) ** 2 + (qy - t * dy) ** 2 + (qz - t * dz) ** 2)
+
+
+@njit(cache=True, error_model="numpy")     # a 0/0 left over gives NaN, caught below, not an error
 def _distance(px, py, pz, v, a, b, c):
     ax, ay, az = v[a, 0], v[a, 1], v[a, 2]
     abx, aby, abz = v[b, 0] - ax, v[b, 1] - ay, v[b, 2] - az
     acx, acy, acz = v[c, 0] - ax, v[c, 1] - ay, v[c, 2] - az
+    nx, ny, nz = aby * acz - abz * acy, abz * acx - abx * acz, abx * acy - aby * acx
+    scale = (abx * abx + aby * aby + abz * abz) * (acx * acx + acy * acy + acz * acz)
+    if nx * nx + ny * ny + nz * nz <= 1e-24 * scale:       # no area (a segment or a point): its edges
+        return min(_segment(px, py, pz, v, a, b), _segment(px, py, pz, v, b, c), _segment(px, py, pz, v, c, a))
     apx, apy, apz = px - ax, py - ay, pz - az
     d1 = abx * apx + aby * apy + abz * apz
     d2 = acx * apx + acy * apy + acz * apz

@@ -9,6 +9,7 @@ from __future__ import annotations
 import struct
 import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import trimesh
@@ -19,6 +20,7 @@ from ..errors import InputTypeError, MeshError, MeshFileError
 from ._appearance import (TEXTURE_SUFFIX, obj_colors, ply_colors, read_mtl_texture, split_corners,
                           write_texture)
 from ._mesh import Mesh, pad_faces
+from .._types import PathLike
 
 __all__ = ["load_mesh", "save_mesh", "mesh_file_jobs", "MESH_FORMATS"]
 
@@ -26,7 +28,7 @@ MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")
 BOM = b"\xef\xbb\xbf"
 
 
-def load_mesh(path) -> Mesh:
+def load_mesh(path: PathLike) -> Mesh:
     """Read a mesh file as stored: faces of any size, vertex order kept.
 
     Parameters
@@ -72,7 +74,7 @@ def load_mesh(path) -> Mesh:
         raise MeshFileError(f"{path}: corrupt or truncated {ext[1:].upper()} file ({e})") from None
 
 
-def save_mesh(mesh: Mesh, path, *, overwrite: bool = False) -> Path:
+def save_mesh(mesh: Mesh, path: PathLike, *, overwrite: bool = False) -> Path:
     """Write a mesh atomically; OBJ, OFF and PLY keep quads and n-gons, STL and GLB are triangulated.
 
     OBJ also writes ``vt`` and ``vn`` when the mesh has UVs or normals, ``v x y z r g b`` with colours, and
@@ -102,7 +104,7 @@ def save_mesh(mesh: Mesh, path, *, overwrite: bool = False) -> Path:
     return write_all(mesh_file_jobs(mesh, path), overwrite=overwrite)[0]
 
 
-def mesh_file_jobs(mesh: Mesh, path) -> list:
+def mesh_file_jobs(mesh: Mesh, path: PathLike) -> list:
     """``(path, write)`` for every file that writing ``mesh`` to ``path`` makes (a textured OBJ: the OBJ, its
     ``.mtl`` and its ``.png``), for :func:`geoimg._atomic.write_all`: all of them or none. Warns when the
     format keeps no colours or texture that the mesh has."""
@@ -219,7 +221,7 @@ def _write_obj(mesh: Mesh, tmp: Path, _ext: str, material: str | None = None) ->
             np.savetxt(fh, np.hstack([mesh.vertices, mesh.colors[:, :3]]), fmt="v %.17g %.17g %.17g %.6g %.6g %.6g")
         else:
             np.savetxt(fh, mesh.vertices, fmt="v %.17g %.17g %.17g")
-        vt = None
+        vt: np.ndarray | None = None
         if mesh.face_uv is not None:
             table, inverse = np.unique(mesh.face_uv.reshape(-1, 2), axis=0, return_inverse=True)
             np.savetxt(fh, table, fmt="vt %.17g %.17g")
@@ -234,9 +236,9 @@ def _write_obj(mesh: Mesh, tmp: Path, _ext: str, material: str | None = None) ->
         one = (mesh.faces + 1).tolist()
         tok = "{0}/{1}/{0}" if vt is not None and mesh.normals is not None else "{0}/{1}" if vt is not None \
             else "{0}//{0}" if mesh.normals is not None else "{0}"
-        vt = one if vt is None else vt.tolist()
+        corners = one if vt is None else vt.tolist()
         lines = []
-        for row, trow, k in zip(one, vt, mesh.face_sizes.tolist()):
+        for row, trow, k in zip(one, corners, mesh.face_sizes.tolist()):
             lines.append("f " + " ".join(tok.format(i, j) for i, j in zip(row[:k], trow[:k])) + "\n")
         fh.write("".join(lines))
 
@@ -266,7 +268,7 @@ def _read_off(path: Path) -> Mesh:
     if len(lines) < i + nv + nf:
         raise MeshFileError(f"header says {nv} vertices and {nf} faces but the file ends early")
     vertices = np.array([ln.split()[:3] for ln in lines[i:i + nv]], dtype=np.float64)
-    faces = []
+    faces: list[list[int]] = []
     j = i + nv
     for _ in range(nf):
         if j >= len(lines):
@@ -342,7 +344,8 @@ def _parse_ply_header(data: bytes):
     if not data.startswith(b"ply") or end < 0:
         raise MeshFileError("missing PLY header")
     body = data.index(b"\n", end) + 1
-    fmt, elements = None, []
+    fmt = None
+    elements: list[tuple[str, int, list]] = []       # (name, count, [(name, kind, count type, item type)])
     for line in data[:end].decode("ascii", errors="replace").splitlines()[1:]:
         p = line.split()
         if not p or p[0] in ("comment", "obj_info"):
@@ -385,7 +388,7 @@ def _read_ply(path: Path) -> Mesh:
         tokens = data[body:].split()
         pos = 0
         for name, count, props in elements:
-            cols = {p[0]: [] for p in props}
+            cols: dict[str, list] = {p[0]: [] for p in props}
             for _ in range(count):
                 for pname, kind, ctype, itype in props:
                     if kind == "list":
@@ -408,7 +411,7 @@ def _read_ply(path: Path) -> Mesh:
         raise MeshFileError("no vertex element with x, y, z")
     vx = values["vertex"]
     vertices = np.stack([np.asarray(vx[k], np.float64) for k in "xyz"], axis=1)
-    faces = []
+    faces: Any = []
     if "face" in values:
         lists = [p[0] for el in elements if el[0] == "face" for p in el[2] if p[1] == "list"]
         names = [n for n in ("vertex_indices", "vertex_index") if n in lists] + lists
@@ -466,7 +469,7 @@ def _read_ply_binary_element(data, pos, count, props, order):
 def _strips_to_triangles(strips) -> np.ndarray:
     tris = []
     for strip in strips:
-        run = []
+        run: list[int] = []
         for idx in list(strip) + [-1]:
             if idx < 0:
                 for j in range(len(run) - 2):
@@ -491,10 +494,11 @@ def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
     vdt = [("x", "<f8"), ("y", "<f8"), ("z", "<f8")] + ([("nx", "<f4"), ("ny", "<f4"), ("nz", "<f4")] if nrm else [])
     v = np.zeros(mesh.n_vertices, vdt + [(c, "u1") for c in rgba])
     v["x"], v["y"], v["z"] = mesh.vertices.T
-    if nrm:
+    if mesh.normals is not None:
         v["nx"], v["ny"], v["nz"] = mesh.normals.T
-    for k, c in enumerate(rgba):
-        v[c] = np.round(mesh.colors[:, k] * 255)
+    if mesh.colors is not None:
+        for k, c in enumerate(rgba):
+            v[c] = np.round(mesh.colors[:, k] * 255)
     with open(tmp, "wb") as fh:
         fh.write(("\n".join(head) + "\n").encode("ascii"))
         fh.write(v.tobytes())
@@ -511,7 +515,7 @@ def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
 # ------------------------------------------------------------------------------ STL, GLB (trimesh)
 def _read_trimesh(path: Path) -> Mesh:
     try:
-        loaded = trimesh.load(str(path), process=False, force="mesh")
+        loaded: Any = trimesh.load(str(path), process=False, force="mesh")
     except Exception as e:   # noqa: BLE001 - trimesh raises many kinds (even ImportError) on a bad file
         raise MeshFileError(f"cannot be read as {path.suffix[1:].upper()} ({type(e).__name__}: {e})") from None
     v = np.asarray(loaded.vertices, np.float64)
@@ -552,7 +556,7 @@ def _trimesh_look(loaded, n: int, faces: np.ndarray) -> dict:
 def _write_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:
     """STL (triangles only) and GLB (triangles with colours, or texture coordinates and the texture,
     vertices split at UV seams)."""
-    visual = None
+    visual: Any = None
     if ext == ".glb" and mesh.texture is not None:
         source, uv, faces = split_corners(mesh)
         texture = Image.fromarray(np.ascontiguousarray(mesh.texture))

@@ -7,8 +7,10 @@ Nothing is triangulated, merged or reordered.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import MeshError
 
@@ -18,7 +20,7 @@ __all__ = ["Mesh", "pad_faces"]
 MAX_PADDED_ENTRIES = 200_000_000     # the padded (F, K) face table: 1.6 GB
 
 
-def pad_faces(faces) -> np.ndarray:
+def pad_faces(faces: Any) -> np.ndarray:
     """Turn faces given as an ``(F, K)`` array or a sequence of index sequences into a padded array.
 
     Parameters
@@ -99,6 +101,11 @@ class Mesh:
     texture: np.ndarray | None = None
     face_sizes: np.ndarray = field(init=False, repr=False)
 
+    if TYPE_CHECKING:        # what the constructor takes (the fields hold them converted and checked)
+        def __init__(self, vertices: ArrayLike, faces: ArrayLike, uv: ArrayLike | None = None,
+                     normals: ArrayLike | None = None, colors: ArrayLike | None = None,
+                     face_uv: ArrayLike | None = None, texture: ArrayLike | None = None) -> None: ...
+
     def __post_init__(self):
         v = np.array(self.vertices, dtype=np.float64, copy=True)
         if v.ndim != 2 or v.shape[1] != 3:
@@ -176,7 +183,8 @@ class Mesh:
             img.setflags(write=False)
             object.__setattr__(self, "texture", img)
 
-    def derived(self, faces, *, vertex_source=None, face_source=None, turned=None) -> "Mesh":
+    def derived(self, faces: Any, *, vertex_source: Any = None, face_source: Any = None,
+                turned: Any = None) -> "Mesh":
         """A mesh made from this one, its attributes carried: vertex ``i`` is this mesh's vertex
         ``vertex_source[i]`` (default: the same vertices), face ``j`` is this mesh's face
         ``face_source[j]`` (default: the same faces) with the corners ``faces[j]``, read backwards where

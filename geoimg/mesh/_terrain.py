@@ -4,15 +4,17 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from .._raster import read_raster
 from ._mesh import Mesh
+from .._types import PathLike
 
 __all__ = ["grid_mesh", "load_dem"]
 
 
-def grid_mesh(heights, spacing=(1.0, 1.0)) -> Mesh:
+def grid_mesh(heights: ArrayLike, spacing: tuple[float, float] = (1.0, 1.0)) -> Mesh:
     """Triangulate a regular elevation grid: vertex (x, y, z) = (col * dx, -row * dy, height), z up.
 
     Rows run north to south as in a DEM, so y = -row * dy keeps north up; each grid cell becomes two
@@ -49,7 +51,7 @@ def grid_mesh(heights, spacing=(1.0, 1.0)) -> Mesh:
     return Mesh(vertices, faces)
 
 
-def load_dem(path) -> np.ndarray:
+def load_dem(path: PathLike) -> np.ndarray:
     """Elevations (H, W) float64 of a single-band raster (GeoTIFF, EXR, ...) through OpenImageIO, or of
     the first array in an ``.npz``. Georeferencing is not read: give :func:`grid_mesh` the cell size."""
     path = Path(path)

@@ -48,7 +48,8 @@ class Topology:
                 what.append(f"{self.nonmanifold_vertices} vertices where separate fans of faces meet")
             parts.append(f"non-manifold ({'; '.join(what)})")
         elif self.closed:
-            kind = {0: "sphere-like", 1: "torus-like"}.get(self.genus, f"{self.genus} handles")
+            kind = {0: "sphere-like", 1: "torus-like"}.get(-1 if self.genus is None else self.genus,
+                                                                f"{self.genus} handles")
             parts.append(f"closed surface of genus {self.genus} ({kind})")
         else:
             loops = "1 boundary loop" if self.boundary_loops == 1 else f"{self.boundary_loops} boundary loops"

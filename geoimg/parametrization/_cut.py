@@ -19,8 +19,11 @@ one onto the unit square.
 """
 from __future__ import annotations
 
+from typing import Any
+
 import igl
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
@@ -166,7 +169,7 @@ def _segments(loop: np.ndarray, source: np.ndarray, lengths: np.ndarray):
     indices where segments start) and each segment's twin (or -1 for the mesh's own boundary)."""
     n = len(loop)
     s_from, s_to = source[loop], source[np.roll(loop, -1)]
-    edge_key = {}
+    edge_key: dict[tuple[int, int], list[int]] = {}
     for i, (a, b) in enumerate(zip(s_from.tolist(), s_to.tolist())):
         edge_key.setdefault((min(a, b), max(a, b)), []).append(i)
     twin_edge = np.full(n, -1, np.int64)
@@ -174,7 +177,7 @@ def _segments(loop: np.ndarray, source: np.ndarray, lengths: np.ndarray):
         if len(ids) == 2:
             twin_edge[ids[0]], twin_edge[ids[1]] = ids[1], ids[0]
     # node: where the boundary does not continue as the mirror of its twin (or changes between cut and rim)
-    starts = []
+    starts: Any = []                         # positions, then their array
     for i in range(n):
         j = (i - 1) % n                      # the edge before position i
         ti, tj = twin_edge[i], twin_edge[j]
@@ -204,7 +207,7 @@ def _quantize(seg_len: np.ndarray, twin: np.ndarray, quanta: int) -> np.ndarray:
                                    "holds")
     # pair twins into units (a pair counts twice)
     unit_of = np.full(n, -1)
-    units = []
+    units: list = []
     for s in range(n):
         if unit_of[s] < 0:
             members = [s] if twin[s] < 0 or twin[s] == s else [s, int(twin[s])]
@@ -232,7 +235,7 @@ def _quantize(seg_len: np.ndarray, twin: np.ndarray, quanta: int) -> np.ndarray:
     return q[unit_of]
 
 
-def perimeter_point(t, quanta_per_side: int) -> np.ndarray:
+def perimeter_point(t: ArrayLike, quanta_per_side: int) -> np.ndarray:
     """(u, v) on the unit square's outline at perimeter positions ``t`` (in quanta, 0 to 4 Q):
     counter-clockwise from (0, 0) in (u, v), i.e. along row 0, down the last column, back along the last
     row, up column 0.
@@ -250,7 +253,7 @@ def perimeter_point(t, quanta_per_side: int) -> np.ndarray:
     return np.stack([u, v], axis=1)
 
 
-def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE):
+def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE) -> tuple:
     """Cut a manifold, oriented, connected mesh into a disk and map it onto the unit square.
 
     Returns

@@ -52,7 +52,7 @@ def _square_positions(t: np.ndarray, corners: np.ndarray, total: float, bulge: f
     return pos + (bulge * 4.0 * frac * (1.0 - frac))[:, None] * outward[side]
 
 
-def _side_of(t: np.ndarray, corners: np.ndarray) -> np.ndarray:
+def _side_of(t: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Side (0-3) of every boundary arc position; corners count as lying on both neighbouring sides."""
     side = np.clip(np.searchsorted(corners, t, side="right") - 1, 0, 3)
     at_corner = np.isin(t, corners)
@@ -84,7 +84,7 @@ def _choose_corners(mesh: Mesh, loop: np.ndarray, arc: np.ndarray, total: float,
     for s in starts:
         targets = (arc[s] + total * np.arange(4) / 4.0) % total
         # snap each quarter point to the sharpest vertex within an eighth of the loop, preferring near ones
-        idx = []
+        idx: list[int] = []
         for q in targets:
             dist = np.abs((arc - q + total / 2) % total - total / 2)
             score = sharp - 4.0 * dist / total * np.pi

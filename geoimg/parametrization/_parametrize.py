@@ -19,6 +19,7 @@ from ..mesh import Mesh, boundary_loops, topology
 from ._cut import cut_coords
 from ._disk import disk_coords
 from ._sphere import sphere_coords
+from .._types import Progress
 
 __all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATION_METHODS", "AXES"]
 
@@ -134,7 +135,7 @@ def _normalize(coords: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, tuple,
 
 
 def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, boundary: str = "square",
-                balance: str = "slim", progress=None) -> Parametrization:
+                balance: str = "slim", progress: Progress | None = None) -> Parametrization:
     """Parametrize a mesh over a planar rectangle or the sphere.
 
     Parameters

@@ -38,11 +38,11 @@ def simplify(x: np.ndarray, tris: np.ndarray, target: int, max_valence: int = 12
     """
     tris = np.array(tris, dtype=np.int64)
     n = len(x)
-    faces_of = [set() for _ in range(n)]
+    faces_of: list[set[int]] = [set() for _ in range(n)]
     for f, t in enumerate(tris):
         for w in t:
             faces_of[w].add(f)
-    nbrs = [set() for _ in range(n)]
+    nbrs: list[set[int]] = [set() for _ in range(n)]
     for t in tris:
         for i in range(3):
             nbrs[t[i]].update((t[(i + 1) % 3], t[(i + 2) % 3]))

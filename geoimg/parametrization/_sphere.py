@@ -28,6 +28,7 @@ from ._balance_kernels import balance_energy, balance_gradient
 from ._laplacian import factor_symmetric, corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
 from ._orientation import chord_orientation, facing_out
 from ._progressive import progressive_sphere
+from .._types import Progress
 
 __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 
@@ -303,7 +304,7 @@ def _relax(x, beta, steps: int = 30):
 
 
 def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAULT_BETA,
-                  progress=None) -> tuple[np.ndarray, dict]:
+                  progress: Progress | None = None) -> tuple[np.ndarray, dict]:
     """Unit vectors of a closed genus-0 mesh's vertices: a spherical parametrization.
 
     Parameters
@@ -352,7 +353,7 @@ def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAU
     vertex_area = _vertex_areas(x, tris)
     lap = _laplacian(cotangent_weights(x, tris))
     s, start, f0 = _direct_start(x, tris, used, vertex_area, lap)
-    info = {}
+    info: dict = {}
     folds = int(np.sum(chord_orientation(s, tris) <= 0))
     if folds:
         if progress is not None:

@@ -140,10 +140,11 @@ def sample_colors(mesh: Mesh, param: Parametrization, domain: Domain, shape, val
     tris, owner, corner = _fan_corners(mesh)
     valid = np.ones(shape, bool) if valid is None else np.asarray(valid, bool)
     tri, bary = locate(domain.parameter_points(shape)[valid.ravel()], param.coords[tris])
-    if mesh.texture is not None:
+    if mesh.texture is not None and mesh.face_uv is not None:
         uv = mesh.face_uv[owner[tri][:, None], corner[tri]]               # (P, 3, 2)
         values = _texture_lookup(mesh.texture, np.einsum("pk,pkc->pc", bary, uv))
     else:
+        assert mesh.colors is not None
         values = np.einsum("pk,pkc->pc", bary, mesh.colors[tris[tri]])
     out = np.zeros(tuple(shape) + (values.shape[1],), np.float32)
     out[valid] = np.clip(values, 0.0, 1.0)

@@ -14,6 +14,7 @@ import warnings
 from abc import ABC, abstractmethod
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._budget import check_memory
 from ..errors import ImageError
@@ -92,16 +93,16 @@ class Surface(ABC):
         return reference_log_weight(self.s)
 
     @abstractmethod
-    def evaluate(self, uv, *, exact: bool = False) -> np.ndarray:
+    def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Surface points (k, 3) at image coordinates ``uv`` (k, 2); ``exact`` sums over every face
         instead of the truncated neighbourhood."""
 
     @abstractmethod
-    def derivatives(self, uv, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Analytic first derivatives ``(P_u, P_v)``, each of shape (k, 3)."""
 
     @abstractmethod
-    def normals(self, uv, *, exact: bool = False) -> np.ndarray:
+    def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Unit normals (k, 3) from the analytic derivatives, pointing like the mesh's faces."""
 
     @abstractmethod

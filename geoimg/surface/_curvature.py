@@ -11,6 +11,7 @@ sphere with outward normals has ``H = -1/r``.
 from __future__ import annotations
 
 import numpy as np
+from typing import Any
 
 from ..parametrization import grid_directions
 
@@ -19,7 +20,8 @@ __all__ = ["surface_curvature", "planar_curvature", "sphere_curvature", "shape_o
 STEP = 1e-4
 
 
-def shape_operator_curvatures(J1, J2, N1, N2) -> tuple[np.ndarray, np.ndarray]:
+def shape_operator_curvatures(J1: np.ndarray, J2: np.ndarray, N1: np.ndarray,
+                              N2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(K, H)`` from tangents ``J1, J2`` (k, 3) and the normal's derivatives ``N1, N2`` along them.
 
     Examples
@@ -80,7 +82,7 @@ def sphere_curvature(surface, resolution):
     return K.reshape(n, n), H.reshape(n, n)
 
 
-def surface_curvature(surface, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+def surface_curvature(surface: Any, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Gaussian and mean curvature ``(K, H)`` of a fitted surface on the grid ``surface.sample(resolution)``
     uses, each (H, W) float64.
 

@@ -50,9 +50,9 @@ class SphereFaceMaps(FaceMaps):
     """Per-face arrays of a mesh mapped onto the sphere: ``centres`` (F, 3) are unit directions, and each
     face's map is affine in the frame ``(e1, e2)`` of its chord plane through ``origin``."""
 
-    origin: np.ndarray = None   # (F, 3) the chord polygon's centroid
-    e1: np.ndarray = None       # (F, 3) in-plane frame
-    e2: np.ndarray = None
+    origin: np.ndarray = None   # type: ignore[assignment]   # (F, 3) the chord polygon's centroid (required)
+    e1: np.ndarray = None       # type: ignore[assignment]   # (F, 3) in-plane frame
+    e2: np.ndarray = None       # type: ignore[assignment]
 
 
 def enclosing_circle_radius(p: np.ndarray) -> np.ndarray:

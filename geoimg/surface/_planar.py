@@ -10,8 +10,10 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
@@ -49,13 +51,13 @@ class PlanarSurface(Surface):
     n: int
     tol: float
     sliver_rule: str
-    polygons: np.ndarray = field(repr=False, default=None)   # (F, K, 2) parametric faces, for the mask
-    sizes: np.ndarray = field(repr=False, default=None)
-    _radius: np.ndarray = field(repr=False, default=None)
-    _param: np.ndarray = field(repr=False, default=None)
-    _cells: tuple = field(repr=False, default=None)
-    s_face: np.ndarray = field(repr=False, default=None)   # per-face s when it varies (s is then its minimum)
-    s_map: object = field(repr=False, default=None)        # s(u, v) varying with the point (s is its minimum)
+    polygons: Any = field(repr=False, default=None)   # (F, K, 2) parametric faces, for the mask
+    sizes: Any = field(repr=False, default=None)
+    _radius: Any = field(repr=False, default=None)
+    _param: Any = field(repr=False, default=None)
+    _cells: Any = field(repr=False, default=None)
+    s_face: Any = field(repr=False, default=None)   # per-face s when it varies (s is then its minimum)
+    s_map: Any = field(repr=False, default=None)        # s(u, v) varying with the point (s is its minimum)
 
     @property
     def g_ref(self) -> float:
@@ -84,7 +86,7 @@ class PlanarSurface(Surface):
                                        self._cells, log_g_ref=self.log_g_ref, exact=exact or self.tol == 0,
                                        factor=factor)
 
-    def evaluate(self, uv, *, exact: bool = False) -> np.ndarray:
+    def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Surface points at parameter points.
 
         Parameters
@@ -107,12 +109,12 @@ class PlanarSurface(Surface):
         """
         return self._points(uv, exact)[0]
 
-    def derivatives(self, uv, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Analytic first derivatives ``(P_u, P_v)``, each of shape (k, 3)."""
         _, pu, pv, _ = self._points(uv, exact)
         return pu, pv
 
-    def normals(self, uv, *, exact: bool = False) -> np.ndarray:
+    def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Unit normals ``orientation * (P_u x P_v) / |P_u x P_v|`` from the analytic derivatives, shape (k, 3)."""
         pu, pv = self.derivatives(uv, exact=exact)
         return unit(np.cross(pu, pv) * self.orientation)

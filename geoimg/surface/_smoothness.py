@@ -7,6 +7,7 @@ evaluated, so it keeps a region sharp inside a smoothed surrounding (:func:`uv_s
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from .._ball import ball_weights, checked_positive
@@ -15,7 +16,7 @@ from ..mesh import Mesh
 __all__ = ["smoothness_field", "SmoothnessMap", "uv_smoothness"]
 
 
-def smoothness_field(mesh: Mesh, centre, radius: float, inside: float, outside: float = 1.0,
+def smoothness_field(mesh: Mesh, centre: ArrayLike, radius: float, inside: float, outside: float = 1.0,
                      feather: float = 0.0) -> np.ndarray:
     """Per-face ``s`` for :func:`geoimg.fit_surface`: ``inside`` for faces whose centroid lies in the
     ball around ``centre`` (3-D), ``outside`` elsewhere, blended over ``feather``.
@@ -50,7 +51,7 @@ class SmoothnessMap:
     ([1.0, 2.5, 4.0], (1.0, 4.0))
     """
 
-    def __init__(self, centre, radius: float, inside: float, outside: float, feather: float):
+    def __init__(self, centre: ArrayLike, radius: float, inside: float, outside: float, feather: float):
         self.centre = np.asarray(centre, np.float64)
         if self.centre.shape != (2,) or not np.isfinite(self.centre).all():
             raise InputError(f"centre: expected (u, v), got {centre!r}")
@@ -73,6 +74,7 @@ class SmoothnessMap:
         return s, grad[:, 0], grad[:, 1]
 
 
-def uv_smoothness(centre, radius: float, inside: float, outside: float = 1.0, feather: float = 0.05):
+def uv_smoothness(centre: ArrayLike, radius: float, inside: float, outside: float = 1.0,
+                  feather: float = 0.05) -> SmoothnessMap:
     """A :class:`SmoothnessMap` round ``centre`` in the parameter domain (the image's u, v)."""
     return SmoothnessMap(centre, radius, inside, outside, feather)

@@ -12,8 +12,10 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import InputError, ParametrizationError
 from ..image import Domain
@@ -109,21 +111,21 @@ class SphereSurface(Surface):
     face_index: np.ndarray = field(repr=False)
     n_slivers: int = 0
     n_degenerate: int = 0
-    _faces: tuple = field(repr=False, default=None)
-    _cells: tuple = field(repr=False, default=None)
+    _faces: Any = field(repr=False, default=None)
+    _cells: Any = field(repr=False, default=None)
     weights: str = "gaussian"
     n: int = 0
-    s_face: np.ndarray = field(repr=False, default=None)   # per-face s when it varies (s is its minimum)
+    s_face: Any = field(repr=False, default=None)   # per-face s when it varies (s is its minimum)
 
-    def evaluate_directions(self, q, *, exact: bool = False):
+    def evaluate_directions(self, q: ArrayLike, *, exact: bool = False) -> tuple:
         """Points and derivatives along a tangent frame ``(t1, t2)`` (with ``t1 x t2 = q``) at unit
         directions ``q`` (k, 3). Returns ``P, P_t1, P_t2, t1, t2, status``."""
-        q = np.asarray(q, dtype=np.float64)
-        if q.ndim != 2 or q.shape[1] != 3 or not np.isfinite(q).all():
-            raise InputError(f"q: expected finite directions of shape (k, 3), got {q.shape}")
-        q = q / np.linalg.norm(q, axis=1, keepdims=True)
-        t1, t2 = _tangent_frame(q)
-        P, P1, P2, st = sphere_kernels.evaluate_sphere(q, t1, t2, self._faces, self._cells, log_g_ref=self.log_g_ref,
+        d = np.asarray(q, dtype=np.float64)
+        if d.ndim != 2 or d.shape[1] != 3 or not np.isfinite(d).all():
+            raise InputError(f"q: expected finite directions of shape (k, 3), got {d.shape}")
+        d = d / np.linalg.norm(d, axis=1, keepdims=True)
+        t1, t2 = _tangent_frame(d)
+        P, P1, P2, st = sphere_kernels.evaluate_sphere(d, t1, t2, self._faces, self._cells, log_g_ref=self.log_g_ref,
                                                        exact=exact or self.tol == 0)
         return P, P1, P2, t1, t2, st
 
@@ -135,20 +137,20 @@ class SphereSurface(Surface):
             raise InputError("uv: octahedral image coordinates must lie in [0, 1]")
         return pts
 
-    def evaluate(self, uv, *, exact: bool = False) -> np.ndarray:
+    def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Surface points at octahedral image coordinates ``uv`` (k, 2); shape (k, 3)."""
         return self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)[0]
 
-    def derivatives(self, uv, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """``(P_u, P_v)`` at image coordinates (one-sided on the octahedron's creases)."""
-        uv = self._uv(uv)
-        _, P1, P2, t1, t2, _ = self.evaluate_directions(square_to_sphere(uv), exact=exact)
-        du, dv = square_jacobian(uv)
+        pts = self._uv(uv)
+        _, P1, P2, t1, t2, _ = self.evaluate_directions(square_to_sphere(pts), exact=exact)
+        du, dv = square_jacobian(pts)
         pu = P1 * (du * t1).sum(1, keepdims=True) + P2 * (du * t2).sum(1, keepdims=True)
         pv = P1 * (dv * t1).sum(1, keepdims=True) + P2 * (dv * t2).sum(1, keepdims=True)
         return pu, pv
 
-    def normals(self, uv, *, exact: bool = False) -> np.ndarray:
+    def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Unit normals from the analytic derivatives (smooth across the creases), shape (k, 3)."""
         _, P1, P2, _, _, _ = self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)
         return unit(np.cross(P1, P2) * self.orientation)
@@ -168,7 +170,7 @@ class SphereSurface(Surface):
     def _sample_grid(self, shape, normals: bool):
         """Glued boundary pixels are evaluated at bit-identical directions, so they hold identical values."""
         n = shape[0]
-        q = self.domain.directions(n).reshape(-1, 3)
+        q = self.domain.directions(n).reshape(-1, 3)             # type: ignore[attr-defined]   # octahedral
         P, P1, P2, _, _, st = self.evaluate_directions(q)
         nrm = unit(np.cross(P1, P2) * self.orientation).reshape(n, n, 3) if normals else None
         return P.reshape(n, n, 3), nrm, None, int((st == sphere_kernels.EXACT).sum()), 0

@@ -24,6 +24,16 @@ def test_kernel_equals_the_numpy_twin_in_every_region_and_on_degenerate_triangle
     np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-12)
 
 
+def test_degenerate_triangles_measure_to_their_edges_without_dividing_by_zero():
+    v = np.array([[0.0, 0, 0], [1, 0, 0], [1, 0, 0], [0, 0, 0]])
+    tris = np.array([[0, 1, 2], [0, 0, 0], [0, 3, 1]])          # a segment, a point, a segment
+    pts = np.array([[2.0, 0, 0], [0.5, 1, 0], [-1, 0, 0]])
+    for t in range(3):
+        got = nearest_triangle_distances(pts, v, tris, np.full((3, 1), t))
+        want = [2.0, np.hypot(0.5, 1), 1.0] if t == 1 else [1.0, 1.0, 1.0]
+        np.testing.assert_allclose(got, want, atol=1e-15)
+
+
 def test_point_mesh_distance_of_a_unit_square():
     square = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
     p = np.array([[0.5, 0.5, 2.0], [2.0, 0.5, 0.0], [-3.0, -4.0, 0.0], [0.25, 0.75, 0.0]])
