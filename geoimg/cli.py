@@ -468,6 +468,26 @@ def _positive(kind):
     return check
 
 
+EXAMPLES = {
+    "image": ["geoimg image terrain.obj -o terrain.exr --res 257 --s 2 --preview terrain.png",
+              "geoimg image spot.obj -o spot.exr --res 257          # closed: an octahedral image, colours kept",
+              "geoimg image scan.ply -o scan.npz --res 513 --no-colors"],
+    "mesh": ["geoimg mesh terrain.exr -o terrain_quads.obj", "geoimg mesh spot.exr -o spot.glb   # with its texture",
+             "geoimg mesh other.exr -o q.ply --assume planar"],
+    "filter": ["geoimg filter terrain.exr -o smooth.exr --mean 5 --sharpen 3",
+               "geoimg filter scan.exr -o clean.exr --median 3 --nlmeans 0.002 --mesh clean.obj",
+               "geoimg filter spot.exr -o head.exr --gaussian 3 --region 0.1 0.4 0.5 0.2 --feather 8"],
+    "curvature": ["geoimg curvature terrain.exr -o terrain_curv"],
+    "render": ["geoimg render spot.exr -o spot.png --azimuth 60",
+               "geoimg render terrain.exr -o terrain.png --elevation 35 --transparent"],
+    "morph": ["geoimg morph spot.obj bunny.obj --frames 30 -o morph.glb --gif morph.gif",
+              "geoimg morph a.exr b.exr c.exr --frames-dir frames --frame-format ply"],
+    "batch": ["geoimg batch meshes/ -o out --res 257 --quads", "geoimg batch 'scans/*.ply' -o out --res 129 --zarr data.zarr"],
+    "info": ["geoimg info spot.exr", "geoimg info scan.ply"],
+    "demo": ["geoimg demo", "geoimg demo -o here --res 129"],
+}
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="geoimg", description="Polygon meshes to geometry images and back.")
     p.add_argument("--version", action="version", version=f"geoimg {__version__}")
@@ -646,6 +666,9 @@ def build_parser() -> argparse.ArgumentParser:
     demo.add_argument("--force", action="store_true",
                       help="write into a folder that an earlier demo did not make (its files are replaced)")
     demo.set_defaults(func=cmd_demo)
+    for name, examples in EXAMPLES.items():          # a few examples under each command's help
+        sub.choices[name].epilog = "examples:\n" + "\n".join(f"  {e}" for e in examples)
+        sub.choices[name].formatter_class = argparse.RawDescriptionHelpFormatter
     return p
 
 

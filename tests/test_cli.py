@@ -289,3 +289,17 @@ def test_denoising_steps_run_from_the_command_line(tmp_path):
                  "0.5", "-q"]) == 0
     out = geoimg.load_image(tmp_path / "f.exr")
     assert [f.split("(")[0] for f in out.metadata["filters"]] == ["median_filter", "denoise_tv", "denoise_nl_means"]
+
+
+def test_every_command_shows_examples_that_parse():
+    import shlex
+    from geoimg.cli import EXAMPLES, build_parser
+    parser = build_parser()
+    commands = [a for a in parser._actions if isinstance(a, __import__("argparse")._SubParsersAction)][0].choices
+    assert sorted(commands) == sorted(EXAMPLES)
+    for name, examples in EXAMPLES.items():
+        assert "examples:" in commands[name].format_help() and len(examples) >= 1
+        for example in examples:
+            argv = shlex.split(example.split("#")[0])
+            assert argv[0] == "geoimg" and argv[1] == name
+            parser.parse_args(argv[1:])                 # exits (fails the test) on an option that does not exist
