@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import OpenImageIO as oiio
 
+from ._budget import check_memory
 from .errors import ImageFileError
 
 __all__ = ["read_raster", "write_raster", "FLOAT", "UINT16", "UINT8"]
@@ -76,6 +77,9 @@ def read_raster(path, attributes=(), what: str = "image", *, integers: str | Non
         spec = inp.spec()
         if integers and spec.format.basetype not in (oiio.FLOAT, oiio.HALF, oiio.DOUBLE):
             raise ImageFileError(f"{path}: {integers}")
+        # what its header declares, as float32, checked before anything is read (a hostile header)
+        check_memory(4.0 * spec.width * spec.height * max(spec.nchannels, 1), f"{path}: {what} of "
+                     f"{spec.width} x {spec.height} x {spec.nchannels}")
         data = inp.read_image(oiio.FLOAT)
         if data is None:
             raise ImageFileError(f"{path}: pixel data could not be read ({_error(inp)})")

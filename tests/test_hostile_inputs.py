@@ -166,3 +166,13 @@ def test_an_impossible_path_is_one_line(tmp_path, capsys):
     assert main(["image", str(MOUNTAIN), "-o", str(tmp_path / ("n" * 300 + ".exr")), "--res", "9"]) == 2
     err = capsys.readouterr().err
     assert "File name too long" in err and len(err.strip().splitlines()) == 1
+
+
+def test_raster_headers_are_checked_against_the_memory_limit_before_reading(tmp_path, monkeypatch):
+    from helpers import textured_spot
+    obj = textured_spot(tmp_path)
+    monkeypatch.setenv("GEOIMG_MAX_MEMORY", "1M")              # the 1024 x 1024 texture needs 12 MiB as floats
+    with pytest.raises(ResourceError, match="texture of 1024 x 1024 x 3"):
+        geoimg.mesh._appearance.read_texture(tmp_path / "spot_texture.png")
+    with pytest.warns(UserWarning, match="spot_texture.png cannot be read"):
+        assert geoimg.load_mesh(obj).texture is None            # a texture too large is left out, said once
