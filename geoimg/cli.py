@@ -21,12 +21,12 @@ from ._steps import FILTER_STEPS, apply_steps
 from .batch import QUAD_FORMATS, convert as convert_batch
 from ._optional import MissingDependency, require
 from .animation import ALIGNMENTS, EASINGS, FRAME_FORMATS, UP_AXES, RenderError, Renderer, frame_jobs, morph, \
-    save_animation, save_glb, save_png
+    label_points, save_animation, save_glb, save_png
 from . import __version__
 from .errors import GeoimgError, InputError
 from .image import (ASSUMABLE_DOMAINS, EXR_LAYOUTS, IMAGE_FORMATS, grid_normals, image_curvature, image_region,
                     load_image, load_mask, save_colormap, save_normal_map, save_scalar, uv_region)
-from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh, surface_distance, topology
+from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh, suggest_landmarks, surface_distance, topology
 from .parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
 from .surface import SLIVER_RULES, WEIGHTS
 
@@ -152,6 +152,29 @@ def cmd_mesh(args) -> int:
         beside = f" (its material {out.with_suffix('.mtl').name} and texture {out.with_suffix('.png').name} beside it)" \
             if mesh.texture is not None and out.suffix.lower() == ".obj" else ""
         print(f"wrote {out}: {mesh.n_vertices} vertices, {mesh.n_faces} quads{beside}")
+    return 0
+
+
+def cmd_landmarks(args) -> int:
+    _check_outputs(args.force, (args.output, (".csv",), "the landmarks"), (args.picture, (".png",), "the picture"))
+    if args.picture:
+        require("moderngl", "rendering")
+        require("imageio", "writing pictures")
+    mesh = load_mesh(args.mesh)
+    index = suggest_landmarks(mesh, args.count)
+    points = mesh.vertices[index]
+    rows = "".join(f"{i},{x!r},{y!r},{z!r}\n" for i, (x, y, z) in zip(index.tolist(), points.tolist()))
+    jobs: list = [(Path(args.output), lambda tmp: tmp.write_text("index,x,y,z\n" + rows))]
+    if args.picture:
+        with Renderer(args.width, args.height) as r:
+            cam = r.camera_for(mesh, azimuth=args.azimuth, elevation=args.elevation, up=args.up)
+            rgb = label_points(r.render(mesh, cam), points, cam)
+        jobs.append((Path(args.picture), lambda tmp: save_png(rgb, tmp, overwrite=True)))
+    written = write_all(jobs, overwrite=args.force)
+    if not args.quiet:
+        print(f"{len(index)} landmarks (extremities, most extreme first): vertices {', '.join(map(str, index))}")
+        for f in written:
+            print(f"wrote {f}")
     return 0
 
 
@@ -484,6 +507,8 @@ EXAMPLES = {
               "geoimg morph a.exr b.exr c.exr --frames-dir frames --frame-format ply"],
     "batch": ["geoimg batch meshes/ -o out --res 257 --quads", "geoimg batch 'scans/*.ply' -o out --res 129 --zarr data.zarr"],
     "info": ["geoimg info spot.exr", "geoimg info scan.ply"],
+    "landmarks": ["geoimg landmarks spot.obj -o spot_points.csv --picture spot_points.png",
+                  "geoimg landmarks armadillo.obj -o points.csv --count 12 --azimuth 180"],
     "demo": ["geoimg demo", "geoimg demo -o here --res 129"],
 }
 
@@ -653,6 +678,15 @@ def build_parser() -> argparse.ArgumentParser:
     ba.add_argument("--force", action="store_true",
                     help="redo every input; write into a folder (or replace a store) that holds something else")
     ba.set_defaults(func=cmd_batch, ops=None)
+
+    lm = sub.add_parser("landmarks", help="suggest landmarks: a mesh's extremities (tips of limbs, ears, tail)",
+                        parents=[common, view])
+    lm.add_argument("mesh", help="a mesh file of one piece")
+    lm.add_argument("-o", "--output", required=True, help="output .csv: index,x,y,z per landmark, most extreme first")
+    lm.add_argument("--count", type=_positive(int), default=8, help="how many landmarks at most (default 8)")
+    lm.add_argument("--picture", default=None, help="also draw them numbered on a render (.png)")
+    lm.add_argument("--force", action="store_true", help="overwrite existing files")
+    lm.set_defaults(func=cmd_landmarks)
 
     info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common, reading])
     info.add_argument("file", help="a mesh file or a geometry image (.exr, .npz)")

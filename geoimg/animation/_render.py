@@ -12,7 +12,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .._atomic import atomic_path
 from .._optional import require
@@ -22,7 +24,8 @@ from ..mesh import Mesh
 from ..mesh._appearance import split_corners
 from .._types import PathLike
 
-__all__ = ["Renderer", "Camera", "render", "save_png", "save_animation", "RenderError", "UP_AXES", "up_axis"]
+__all__ = ["Renderer", "Camera", "render", "save_png", "save_animation", "RenderError", "UP_AXES", "up_axis",
+           "label_points"]
 
 UP_AXES = ("x", "y", "z")
 MARGIN = 0.04             # a fitted camera leaves this fraction of the picture free on the tightest side
@@ -343,6 +346,33 @@ def render(obj: Any, width: int = 800, height: int = 600, *, azimuth: float = 30
     """
     with Renderer(width, height, background=None if transparent else (1.0, 1.0, 1.0)) as r:
         return r.render(obj, r.camera_for(obj, azimuth=azimuth, elevation=elevation, up=up))
+
+
+def label_points(rgb: np.ndarray, points: ArrayLike, camera: Camera, labels: list | None = None) -> np.ndarray:
+    """The picture with each 3-D point (k, 3) drawn as a ring and numbered (``labels``, default 0, 1, ...)
+    where ``camera`` sees it: a copy; points behind the camera are left out.
+
+    Examples
+    --------
+    >>> cam = Camera.fit([-1, -1, -1], [1, 1, 1], aspect=1.0)
+    >>> out = label_points(np.full((64, 64, 3), 255, np.uint8), [[0.0, 0.0, 0.0]], cam)
+    >>> bool((out[32, 32] == 255).all()) and bool((out != 255).any())       # a ring around the middle
+    True
+    """
+    out = np.ascontiguousarray(np.array(rgb, np.uint8))
+    h, w = out.shape[:2]
+    p = np.atleast_2d(np.asarray(points, np.float64))
+    clip = np.hstack([p, np.ones((len(p), 1))]) @ camera.matrices(w / h).T
+    size = max(4, round(min(h, w) / 60))
+    for k, (x, y, _, depth) in enumerate(clip):
+        if depth <= 0:
+            continue
+        px, py = int(round((x / depth + 1) * 0.5 * w)), int(round((1 - y / depth) * 0.5 * h))
+        text = str(k if labels is None else labels[k])
+        cv2.circle(out, (px, py), size, (200, 20, 20), max(1, size // 3), cv2.LINE_AA)
+        cv2.putText(out, text, (px + size + 2, py - size), cv2.FONT_HERSHEY_SIMPLEX, size / 12, (20, 20, 20),
+                    max(1, size // 4), cv2.LINE_AA)
+    return out
 
 
 def save_png(rgb: np.ndarray, path: PathLike, *, overwrite: bool = False) -> Path:
