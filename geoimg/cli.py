@@ -350,6 +350,26 @@ def cmd_render(args) -> int:
     return 0
 
 
+def read_landmarks(path, keys: int) -> np.ndarray:
+    """A landmarks CSV: a row per feature, a vertex index of each key's mesh per column (a first line that
+    is not numbers, a header, is skipped), as an (L, keys) int array."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no such landmarks file")
+    rows = [line.split(",") for line in path.read_text(encoding="utf-8-sig").splitlines() if line.strip()]
+    if rows and not rows[0][0].strip().lstrip("-").isdigit():
+        rows = rows[1:]
+    lengths = sorted({len(row) for row in rows})
+    if lengths != [keys]:
+        raise InputError(f"{path}: expected rows of {keys} vertex indices (one per key), got "
+                         f"{'no rows' if not rows else 'rows of ' + ' and '.join(map(str, lengths)) + ' values'}")
+    try:
+        table = np.array([[int(v) for v in row] for row in rows], np.int64)
+    except ValueError as e:
+        raise InputError(f"{path}: landmarks are whole vertex indices, one column per key ({e})") from None
+    return table
+
+
 def cmd_morph(args) -> int:
     progress = Progress(args.quiet, always=args.progress)
     if not (args.output or args.gif or args.mp4 or args.frames_dir):
@@ -372,12 +392,18 @@ def cmd_morph(args) -> int:
         if taken:
             raise FileExistsError(f"{args.frames_dir} already holds {len(taken)} frame files (use --force to "
                                   "replace them)")
+    landmarks = None if args.landmarks is None else read_landmarks(args.landmarks, len(args.shapes))
     shapes = []
     for f in args.shapes:
         progress(f"loading {f}")
         shapes.append(_load_shape(f, args))
     m = morph(*shapes, frames=args.frames, easing=args.easing, align=args.align, rotate=not args.no_rotate,
-              resolution=args.res, resample=True, progress=progress)
+              resolution=args.res, resample=True, landmarks=landmarks, progress=progress)
+    for entry in m.report[1:]:
+        if "landmarks" in entry and not args.quiet:
+            w = entry["landmarks"]
+            print(f"shape {entry['shape']}: landmarks warped onto shape 0's in {w['steps']} steps, within "
+                  f"{w['residual_rad']:.1e} rad, {w['folded']} folded triangles")
     jobs = []
     if args.output:
         jobs.append((args.output, lambda tmp: save_glb(m, tmp, fps=args.fps, overwrite=True)))
@@ -637,6 +663,10 @@ def build_parser() -> argparse.ArgumentParser:
                     help="bring shapes 2.. onto shape 1: centre, centre and scale (similarity, the default), "
                          "or none")
     mo.add_argument("--no-rotate", action="store_true", help="spherical images: keep the spheres as they are")
+    mo.add_argument("--landmarks", default=None, metavar="CSV",
+                    help="corresponding features: a row per feature, a vertex index of each key's mesh per column "
+                         "(see geoimg landmarks); each later key's sphere is warped onto key 0's there "
+                         "(default: none, only the best turn of the sphere)")
     mo.add_argument("--res", type=_positive(int), default=129, help="pixels per side for meshes (default 129)")
     mo.add_argument("--gif", default=None, help="also render an animated GIF")
     mo.add_argument("--mp4", default=None, help="also render an MP4 (needs imageio-ffmpeg)")

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Callable, Iterator
 
@@ -22,7 +23,8 @@ from ..errors import InputError, InputTypeError
 from .._convert import mesh_to_image
 from ..image import GeometryImage
 from ..mesh import Mesh
-from ..parametrization import grid_directions, parametrize, sphere_to_square
+from ..parametrization import Parametrization, grid_directions, parametrize, sphere_to_square
+from ..parametrization._warp import warp_sphere
 from .._types import Progress
 
 __all__ = ["morph", "Morph", "EASINGS", "ALIGNMENTS"]
@@ -48,10 +50,49 @@ def _ease(easing):
     return EASINGS[easing]
 
 
-def _as_images(shapes, resolution, progress):
+def _check_landmarks(landmarks, shapes) -> np.ndarray:
+    """``landmarks`` as an (L, K) int array: a row per feature, a vertex index of each key's mesh."""
+    table = np.asarray(landmarks)
+    if table.ndim != 2 or table.shape[1] != len(shapes) or len(table) == 0 or table.dtype == object \
+            or not np.issubdtype(table.dtype, np.integer):
+        raise InputError(f"landmarks: expected one tuple of {len(shapes)} vertex indices (one per key) per feature, "
+                         f"got an array of shape {table.shape}")
+    for k, shape in enumerate(shapes):
+        if not isinstance(shape, Mesh):
+            raise InputError(f"landmarks: shape {k} is a geometry image without its mesh; landmarks name mesh "
+                             "vertices, so every key must be a mesh")
+        column = table[:, k]
+        if column.min() < 0 or column.max() >= shape.n_vertices:
+            bad = int(column.max() if column.max() >= shape.n_vertices else column.min())
+            raise InputError(f"landmarks: vertex {bad} of shape {k} does not exist (it has {shape.n_vertices})")
+        if len(np.unique(column)) != len(column) or \
+                len(np.unique(np.round(shape.vertices[column], 12), axis=0)) != len(column):
+            raise InputError(f"landmarks: two landmarks of shape {k} coincide")
+    return table
+
+
+def _landmarked(mesh: Mesh, param, landmarks: np.ndarray, targets: np.ndarray, k: int):
+    """The key's spherical parametrization warped so that its landmarks land on ``targets``."""
+    if param.domain != "octahedral":
+        raise InputError(f"landmarks: shape {k} is parametrized onto the {param.domain} domain; landmark warps are "
+                         "for closed genus-0 meshes (spherical parametrizations)")
+    tris, _ = mesh.triangulate()
+    coords, info = warp_sphere(param.coords, tris, landmarks, targets)
+    if not info["met"]:
+        warnings.warn(f"landmarks: shape {k}'s landmarks stop up to {info['residual']:.3g} rad from shape 0's: no "
+                      "fold-free step of the warp was left (landmarks too close together, or whose paths cross)",
+                      stacklevel=4)
+    warped = Parametrization(coords, param.extent, param.domain, f"{param.method} + landmarks",
+                             info["folded"], param.degenerate_faces, dict(param.info, landmarks=info))
+    return warped, info
+
+
+def _as_images(shapes, resolution, progress, landmarks=None):
     """Geometry images of the shapes; meshes with the same faces as the previous mesh reuse its
-    parametrization, so their images correspond vertex for vertex."""
-    images, used_param, last = [], [], None
+    parametrization, so their images correspond vertex for vertex. With ``landmarks`` ((L, K) vertex
+    indices), each later key's sphere is warped so that its landmarks land on key 0's."""
+    images, used_param, last, warps = [], [], None, [None] * len(shapes)
+    targets = None
     for k, shape in enumerate(shapes):
         if isinstance(shape, GeometryImage):
             images.append(shape)
@@ -65,11 +106,20 @@ def _as_images(shapes, resolution, progress):
         else:
             param = parametrize(shape)
             used_param.append(param.method)
+        sampled = param
+        if landmarks is not None and k == 0:
+            if param.domain != "octahedral":
+                raise InputError(f"landmarks: shape 0 is parametrized onto the {param.domain} domain; landmark "
+                                 "warps are for closed genus-0 meshes (spherical parametrizations)")
+            targets = param.coords[landmarks[:, 0]]
+        elif landmarks is not None:
+            sampled, warps[k] = _landmarked(shape, param, landmarks[:, k], targets, k)
+            used_param[-1] += " + landmark warp"
         if progress:
             progress(f"shape {k}: {used_param[-1]} parametrization, sampling {resolution} pixels")
-        images.append(mesh_to_image(shape, resolution, parametrization=param))
+        images.append(mesh_to_image(shape, resolution, parametrization=sampled))
         last = (shape, param, k)
-    return images, used_param
+    return images, used_param, warps
 
 
 def _centre_and_radius(img: GeometryImage):
@@ -114,7 +164,7 @@ def _best_rotation(reference: GeometryImage, moving: np.ndarray) -> tuple[Rotati
     return rot, identity, min(res.fun, identity)
 
 
-def _align(images, align: str, rotate: bool, shared, progress):
+def _align(images, align: str, rotate: bool, shared, progress, warps=None):
     """Move keys 1.. into key 0's frame; returns the new images and what was done to each. A key whose
     parametrization is shared with the key before it (``shared[k]``) gets that key's rotation, not a
     search of its own: its correspondence is the vertices'."""
@@ -130,7 +180,12 @@ def _align(images, align: str, rotate: bool, shared, progress):
             scale = r0 / r if align == "similarity" and r > 0 else 1.0
             p = p + (c0 - c) if scale == 1.0 else (p - c) * scale + c0     # a shape already in place stays exact
             entry.update(translation=(c0 - c).tolist(), scale=float(scale))
-        if rotate and img.domain.rotations:
+        if warps is not None and warps[k] is not None:       # its sphere already matches key 0's at the landmarks
+            w = warps[k]
+            entry.update(landmarks={"residual_rad": w["residual"], "met": w["met"], "folded": w["folded"],
+                                    "steps": w["steps"]})
+            previous = Rotation.identity()
+        elif rotate and img.domain.rotations:
             if shared[k]:
                 rot = previous
                 entry.update(rotation_from=k - 1)
@@ -214,7 +269,7 @@ class Morph:
 
 def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: ArrayLike | None = None, lag: float = 0.5,
           align: str = "similarity", rotate: bool = True, resolution: int = DEFAULT_RESOLUTION,
-          resample: bool = False, progress: Progress | None = None) -> Morph:
+          resample: bool = False, landmarks: Any = None, progress: Progress | None = None) -> Morph:
     """Morph through two or more shapes.
 
     Parameters
@@ -238,6 +293,12 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         previous mesh's parametrization takes that mesh's rotation (its correspondence is the vertices').
     resample : bool, default False
         Resize keys of another size to key 0's size (else such keys are refused).
+    landmarks : sequence of tuples of int, optional
+        Corresponding features: one tuple per feature holding a vertex index of each key's mesh (every key a
+        closed genus-0 mesh). Each later key's spherical parametrization is first turned by the rotation that
+        best matches the landmarks and then warped, fold-free, until its landmarks lie on key 0's (within
+        1e-4 rad); the rotation search is skipped for it. ``Morph.report`` gives each key's residual, steps
+        and folded triangles. (Suggested landmarks: :func:`geoimg.mesh.suggest_landmarks`.)
 
     Returns
     -------
@@ -265,7 +326,8 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         raise InputError(f"align: expected one of {ALIGNMENTS}, got {align!r}")
     if not (isinstance(lag, numbers.Real) and 0 <= lag < 1):
         raise InputError(f"lag: expected a number in [0, 1), got {lag!r}")
-    images, how = _as_images(shapes, resolution, progress)
+    table = None if landmarks is None else _check_landmarks(landmarks, shapes)
+    images, how, warps = _as_images(shapes, resolution, progress, table)
     if not all(img.domain.same_kind(images[0].domain) for img in images[1:]):
         kinds = ", ".join(f"shape {k}: {img.domain.kind}" for k, img in enumerate(images))
         raise InputError(f"shapes: cannot morph between domains ({kinds}); geometry images must share a "
@@ -284,7 +346,7 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
     weights = None
     if mask is not None:
         weights = images[0].domain.symmetric_mask(filters.as_weights(mask, images[0].shape))
-    keys, report = _align(images, align, bool(rotate), [h.startswith("shared") for h in how], progress)
+    keys, report = _align(images, align, bool(rotate), [h.startswith("shared") for h in how], progress, warps)
     for entry, h in zip(report, how):
         entry["parametrization"] = h
     times = np.linspace(0.0, len(keys) - 1, int(frames))

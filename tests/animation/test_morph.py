@@ -281,3 +281,63 @@ def test_a_renderer_still_draws_after_another_is_released(renderer, spots):
     with Renderer(32, 24) as other:
         other.render(a)
     assert np.array_equal(renderer.render(a, renderer.camera_for(a)), before)
+
+
+def _pixel_of(direction, n):
+    from geoimg.parametrization import sphere_to_square
+    uv = sphere_to_square(np.asarray(direction, float)[None])[0]
+    return int(round(uv[1] * (n - 1))), int(round(uv[0] * (n - 1)))
+
+
+def test_landmarks_make_features_meet_and_do_better_than_the_rigid_turn():
+    from scipy.spatial import cKDTree
+    from geoimg.mesh import suggest_landmarks
+    a, b = load_data("spot_low_resolution.obj"), geoimg.load_mesh(data_file("spot.obj"))
+    la = suggest_landmarks(a, 8)
+    lb = cKDTree(b.vertices).query(a.vertices[la])[1]          # the same cow: its features by position
+    b = geoimg.Mesh(b.vertices @ Rotation.from_rotvec([np.pi / 2, 0, 0]).as_matrix().T, b.faces)   # lying down
+    marked = morph(a, b, frames=3, resolution=65, align="none", landmarks=list(zip(la, lb)))
+    rigid = morph(a, b, frames=3, resolution=65, align="none")
+    report = marked.report[1]["landmarks"]
+    assert report["met"] and report["folded"] == 0 and report["residual_rad"] < 1e-4
+    directions = geoimg.parametrize(a).coords[la]
+    diag = b.bounding_box_diagonal()
+    errors = {}
+    for name, m in (("landmarks", marked), ("rigid", rigid)):
+        px = [m.keys[1].pixels[_pixel_of(d, 65)] for d in directions]
+        errors[name] = np.linalg.norm(np.array(px) - b.vertices[lb], axis=1) / diag
+    assert errors["landmarks"].max() < 0.05                     # key 1's feature where key 0's is
+    assert errors["rigid"].mean() > 0.2       # the best turn of the sphere matches the shapes in space, not features
+
+
+@pytest.mark.parametrize("landmarks, message", [
+    ([(0, 99999)], "vertex 99999 of shape 1 does not exist"),
+    ([(0, 1), (0, 2)], "two landmarks of shape 0 coincide"),
+    ([(0, 1, 2)], "one tuple of 2 vertex indices"),
+    ([("a", "b")], "one tuple of 2 vertex indices"),
+])
+def test_bad_landmarks_are_refused(landmarks, message):
+    a = load_data("spot_low_resolution.obj")
+    with pytest.raises(geoimg.InputError, match=message):
+        morph(a, a, frames=2, resolution=17, landmarks=landmarks)
+
+
+def test_landmarks_need_meshes_on_the_sphere(spots, mountain):
+    with pytest.raises(geoimg.InputError, match="geometry image without its mesh"):
+        morph(spots[0], load_data("spot_low_resolution.obj"), landmarks=[(0, 0)])
+    with pytest.raises(geoimg.InputError, match="closed genus-0 meshes"):
+        morph(mountain, mountain, frames=2, resolution=17, landmarks=[(0, 1)])
+
+
+def test_morph_command_reads_a_landmarks_file(tmp_path, capsys):
+    a, b = str(data_file("spot_low_resolution.obj")), str(data_file("sphere.obj"))
+    pairs = tmp_path / "pairs.csv"
+    pairs.write_text("cow,ball\n0,0\n100,50\n300,120\n")
+    assert main(["morph", a, b, "--landmarks", str(pairs), "--frames", "2", "--res", "17",
+                 "-o", str(tmp_path / "m.glb")]) == 0
+    assert "landmarks warped onto shape 0's" in capsys.readouterr().out
+    for text, message in (("0,1,2\n", "rows of 2 vertex indices"), ("0,x\n", "whole vertex indices"),
+                          ("0,999999\n", "vertex 999999 of shape 1 does not exist")):
+        pairs.write_text(text)
+        assert main(["morph", a, b, "--landmarks", str(pairs), "-o", str(tmp_path / "n.glb")]) == 2
+        assert message in capsys.readouterr().err and not (tmp_path / "n.glb").exists()

@@ -1,6 +1,5 @@
 """Colours on geometry images: resampled from vertex colours or a texture, kept by filters and files,
 carried to the quad mesh, drawn in pictures."""
-import warnings
 
 import numpy as np
 import pytest
