@@ -392,13 +392,17 @@ def cmd_morph(args) -> int:
         if taken:
             raise FileExistsError(f"{args.frames_dir} already holds {len(taken)} frame files (use --force to "
                                   "replace them)")
-    landmarks = None if args.landmarks is None else read_landmarks(args.landmarks, len(args.shapes))
+    landmarks = args.landmarks if args.landmarks in (None, "auto") else read_landmarks(args.landmarks,
+                                                                                      len(args.shapes))
     shapes = []
     for f in args.shapes:
         progress(f"loading {f}")
         shapes.append(_load_shape(f, args))
     m = morph(*shapes, frames=args.frames, easing=args.easing, align=args.align, rotate=not args.no_rotate,
               resolution=args.res, resample=True, landmarks=landmarks, progress=progress)
+    if "auto_landmarks" in m.report[0] and not args.quiet:
+        print(f"auto landmarks: {len(m.report[0]['auto_landmarks'])} matched (vertex of each key per feature: "
+              f"{m.report[0]['auto_landmarks']})")
     for entry in m.report[1:]:
         if "landmarks" in entry and not args.quiet:
             w = entry["landmarks"]
@@ -665,8 +669,9 @@ def build_parser() -> argparse.ArgumentParser:
     mo.add_argument("--no-rotate", action="store_true", help="spherical images: keep the spheres as they are")
     mo.add_argument("--landmarks", default=None, metavar="CSV",
                     help="corresponding features: a row per feature, a vertex index of each key's mesh per column "
-                         "(see geoimg landmarks); each later key's sphere is warped onto key 0's there "
-                         "(default: none, only the best turn of the sphere)")
+                         "(see geoimg landmarks), or 'auto' (suggested extremities matched on the turned spheres); "
+                         "each later key's sphere is warped onto key 0's there (default: none, only the best turn "
+                         "of the sphere)")
     mo.add_argument("--res", type=_positive(int), default=129, help="pixels per side for meshes (default 129)")
     mo.add_argument("--gif", default=None, help="also render an animated GIF")
     mo.add_argument("--mp4", default=None, help="also render an MP4 (needs imageio-ffmpeg)")

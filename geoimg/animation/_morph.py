@@ -22,7 +22,7 @@ import filters
 from ..errors import InputError, InputTypeError
 from .._convert import mesh_to_image
 from ..image import GeometryImage
-from ..mesh import Mesh
+from ..mesh import Mesh, suggest_landmarks
 from ..parametrization import Parametrization, grid_directions, parametrize, sphere_to_square
 from ..parametrization._warp import warp_sphere
 from .._types import Progress
@@ -85,6 +85,44 @@ def _landmarked(mesh: Mesh, param, landmarks: np.ndarray, targets: np.ndarray, k
     warped = Parametrization(coords, param.extent, param.domain, f"{param.method} + landmarks",
                              info["folded"], param.degenerate_faces, dict(param.info, landmarks=info))
     return warped, info
+
+
+AUTO_COUNT = 8               # landmarks suggested on each key for landmarks="auto"
+AUTO_MATCH_DEG = 40.0        # ... matched to key 0's when their spheres, turned, put them this close
+
+
+def _auto_landmarks(shapes, resolution, align, progress):
+    """Landmarks matched between keys: each key's suggested extremities, on its sphere turned the way the
+    rigid alignment turns it, paired with key 0's by least total angle (Hungarian), pairs farther than
+    AUTO_MATCH_DEG dropped; a feature is kept when every key has a partner for it. Returns the (L, K) table
+    and what was matched."""
+    if not all(isinstance(s, Mesh) for s in shapes):
+        raise InputError("landmarks='auto': every key must be a mesh (landmarks are suggested on meshes)")
+    images, how, _ = _as_images(shapes, resolution, progress)
+    _, report = _align(images, align, True, [h.startswith("shared") for h in how], None)
+    marks = [suggest_landmarks(s, AUTO_COUNT) for s in shapes]
+    params = [parametrize(s) for s in shapes]
+    if any(p.domain != "octahedral" for p in params):
+        raise InputError("landmarks='auto': for closed genus-0 meshes (spherical parametrizations)")
+    base = params[0].coords[marks[0]]
+    partner = np.full((len(marks[0]), len(shapes)), -1, np.int64)
+    partner[:, 0] = marks[0]
+    for k in range(1, len(shapes)):
+        entry = report[k]
+        turn = Rotation.from_rotvec(np.radians(entry.get("rotation_deg", 0.0)) * np.asarray(entry.get(
+            "rotation_axis", [0.0, 0.0, 1.0])))
+        d = turn.inv().apply(params[k].coords[marks[k]])
+        angle = np.degrees(np.arccos(np.clip(base @ d.T, -1.0, 1.0)))
+        rows, cols = optimize.linear_sum_assignment(angle)
+        keep = angle[rows, cols] <= AUTO_MATCH_DEG
+        partner[rows[keep], k] = marks[k][cols[keep]]
+    table = partner[(partner >= 0).all(axis=1)]
+    if len(table) == 0:
+        raise InputError("landmarks='auto': no suggested landmark of shape 0 has a partner on every key; give "
+                         "them (geoimg landmarks writes suggestions to edit)")
+    if progress:
+        progress(f"auto landmarks: {len(table)} matched (vertices {table.tolist()})")
+    return table, table.tolist()
 
 
 def _as_images(shapes, resolution, progress, landmarks=None):
@@ -293,12 +331,14 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         previous mesh's parametrization takes that mesh's rotation (its correspondence is the vertices').
     resample : bool, default False
         Resize keys of another size to key 0's size (else such keys are refused).
-    landmarks : sequence of tuples of int, optional
+    landmarks : sequence of tuples of int, or "auto", optional
         Corresponding features: one tuple per feature holding a vertex index of each key's mesh (every key a
         closed genus-0 mesh). Each later key's spherical parametrization is first turned by the rotation that
         best matches the landmarks and then warped, fold-free, until its landmarks lie on key 0's (within
         1e-4 rad); the rotation search is skipped for it. ``Morph.report`` gives each key's residual, steps
-        and folded triangles. (Suggested landmarks: :func:`geoimg.mesh.suggest_landmarks`.)
+        and folded triangles. (Suggested landmarks: :func:`geoimg.mesh.suggest_landmarks`.) ``"auto"``: each key's
+        suggested extremities, matched to key 0's on the rigidly turned spheres (within 40 degrees); the
+        report's ``auto_landmarks`` says which were matched.
 
     Returns
     -------
@@ -326,6 +366,11 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         raise InputError(f"align: expected one of {ALIGNMENTS}, got {align!r}")
     if not (isinstance(lag, numbers.Real) and 0 <= lag < 1):
         raise InputError(f"lag: expected a number in [0, 1), got {lag!r}")
+    matched = None
+    if isinstance(landmarks, str):
+        if landmarks != "auto":
+            raise InputError(f"landmarks: expected vertex-index tuples or 'auto', got {landmarks!r}")
+        landmarks, matched = _auto_landmarks(shapes, resolution, align, progress)
     table = None if landmarks is None else _check_landmarks(landmarks, shapes)
     images, how, warps = _as_images(shapes, resolution, progress, table)
     if not all(img.domain.same_kind(images[0].domain) for img in images[1:]):
@@ -349,5 +394,7 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
     keys, report = _align(images, align, bool(rotate), [h.startswith("shared") for h in how], progress, warps)
     for entry, h in zip(report, how):
         entry["parametrization"] = h
+    if matched is not None:
+        report[0]["auto_landmarks"] = matched
     times = np.linspace(0.0, len(keys) - 1, int(frames))
     return Morph(keys, times, ease, weights, float(lag) if weights is not None else 0.0, report)

@@ -341,3 +341,20 @@ def test_morph_command_reads_a_landmarks_file(tmp_path, capsys):
         pairs.write_text(text)
         assert main(["morph", a, b, "--landmarks", str(pairs), "-o", str(tmp_path / "n.glb")]) == 2
         assert message in capsys.readouterr().err and not (tmp_path / "n.glb").exists()
+
+
+def test_auto_landmarks_pair_the_same_features_and_say_which(tmp_path, capsys):
+    a, b = load_data("spot_low_resolution.obj"), geoimg.load_mesh(data_file("spot.obj"))
+    m = morph(a, b, frames=2, resolution=65, align="none", landmarks="auto")
+    pairs = np.array(m.report[0]["auto_landmarks"])
+    assert len(pairs) >= 6 and m.report[1]["landmarks"]["met"]
+    # the same cow in the same pose: partners are the same feature, close in space
+    assert np.linalg.norm(a.vertices[pairs[:, 0]] - b.vertices[pairs[:, 1]], axis=1).max() < 0.05 * \
+        b.bounding_box_diagonal()
+    with pytest.raises(geoimg.InputError, match="every key must be a mesh"):
+        morph(m.keys[0], b, landmarks="auto")
+    with pytest.raises(geoimg.InputError, match="or 'auto'"):
+        morph(a, b, landmarks="some")
+    assert main(["morph", str(data_file("spot_low_resolution.obj")), str(data_file("spot.obj")), "--landmarks",
+                 "auto", "--frames", "2", "--res", "33", "-o", str(tmp_path / "a.glb")]) == 0
+    assert "auto landmarks:" in capsys.readouterr().out
