@@ -86,6 +86,10 @@ def locate(points: np.ndarray, corners: np.ndarray, candidates: int = CANDIDATES
         todo = np.flatnonzero(score < -1e-9)
         if not len(todo):
             break
+    lost = ~np.isfinite(score)                 # no usable face near it at all (all of zero area): the nearest
+    if lost.any():
+        triangle[lost] = tree.query(points[lost], k=1)[1]
+        bary[lost] = 1.0 / 3.0
     chosen = np.clip(bary, 0.0, None)
     return triangle, chosen / np.maximum(chosen.sum(axis=1, keepdims=True), 1e-300)
 

@@ -123,3 +123,9 @@ def test_cut_open_meshes_keep_vertex_colours_and_say_the_texture_is_not_carried(
                            texture=np.zeros((2, 2, 3), np.uint8))
     with pytest.warns(UserWarning, match="texture is not carried onto a cut-open image"):
         assert geoimg.mesh_to_image(textured, 65).colors is None
+
+
+def test_a_point_near_only_faces_of_zero_area_gets_the_nearest_one():
+    flat = np.array([[[0.0, 0], [1, 0], [2, 0]], [[0.0, 1], [1, 1], [2, 1]]])      # two collinear "triangles"
+    t, b = locate(np.array([[0.9, 0.2], [1.0, 0.9]]), flat)
+    assert t.tolist() == [0, 1] and np.allclose(b, 1 / 3)
