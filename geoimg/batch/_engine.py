@@ -287,8 +287,8 @@ def _run(client, todo, rows, pending_records, manifest, zarr, say, skipped, tota
             item = row.pop("record", None)
             if item is not None:
                 pending_records[job.index] = item
-            log.add(row)
-            rows[job.input] = row
+            rows[job.input] = row       # kept first: an interrupt after the log has it must not lose it in the
+            log.add(row)                # compaction, which rewrites the manifest from these rows
 
         try:
             ac = distributed.as_completed(list(futures))
