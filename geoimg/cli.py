@@ -147,11 +147,10 @@ def cmd_mesh(args) -> int:
     _check_outputs(args.force, (args.output, MESH_FORMATS, "the quad mesh"))
     image = _read_image(args.image, args)
     mesh = image.to_mesh()
-    out = save_mesh(mesh, args.output, overwrite=args.force)
+    out, *beside = write_all(mesh_file_jobs(mesh, args.output), overwrite=args.force)
     if not args.quiet:
-        beside = f" (its material {out.with_suffix('.mtl').name} and texture {out.with_suffix('.png').name} beside it)" \
-            if mesh.texture is not None and out.suffix.lower() == ".obj" else ""
-        print(f"wrote {out}: {mesh.n_vertices} vertices, {mesh.n_faces} quads{beside}")
+        also = f" (its material {beside[0].name} and texture {beside[1].name} beside it)" if beside else ""
+        print(f"wrote {out}: {mesh.n_vertices} vertices, {mesh.n_faces} quads{also}")
     return 0
 
 

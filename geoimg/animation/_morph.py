@@ -71,11 +71,16 @@ def _check_landmarks(landmarks, shapes) -> np.ndarray:
     return table
 
 
-def _landmarked(mesh: Mesh, param, landmarks: np.ndarray, targets: np.ndarray, k: int):
-    """The key's spherical parametrization warped so that its landmarks land on ``targets``."""
+def _require_sphere(param, k: int) -> None:
+    """Landmarks are for keys on the sphere: refuse another parametrization."""
     if param.domain != "octahedral":
         raise InputError(f"landmarks: shape {k} is parametrized onto the {param.domain} domain; landmark warps are "
                          "for closed genus-0 meshes (spherical parametrizations)")
+
+
+def _landmarked(mesh: Mesh, param, landmarks: np.ndarray, targets: np.ndarray, k: int):
+    """The key's spherical parametrization warped so that its landmarks land on ``targets``."""
+    _require_sphere(param, k)
     tris, _ = mesh.triangulate()
     coords, info = warp_sphere(param.coords, tris, landmarks, targets)
     if not info["met"]:
@@ -94,16 +99,15 @@ AUTO_MATCH_DEG = 40.0        # ... matched to key 0's when their spheres, turned
 def _auto_landmarks(shapes, resolution, align, progress):
     """Landmarks matched between keys: each key's suggested extremities, on its sphere turned the way the
     rigid alignment turns it, paired with key 0's by least total angle (Hungarian), pairs farther than
-    AUTO_MATCH_DEG dropped; a feature is kept when every key has a partner for it. Returns the (L, K) table
-    and what was matched."""
+    AUTO_MATCH_DEG dropped; a feature is kept when every key has a partner for it. Returns the (L, K) table,
+    what was matched and the keys' parametrizations (for the morph to use again)."""
     if not all(isinstance(s, Mesh) for s in shapes):
         raise InputError("landmarks='auto': every key must be a mesh (landmarks are suggested on meshes)")
-    images, how, _ = _as_images(shapes, resolution, progress)
+    images, how, _, params = _as_images(shapes, resolution, progress)
+    for k, param in enumerate(params):
+        _require_sphere(param, k)
     _, report = _align(images, align, True, [h.startswith("shared") for h in how], None)
     marks = [suggest_landmarks(s, AUTO_COUNT) for s in shapes]
-    params = [parametrize(s) for s in shapes]
-    if any(p.domain != "octahedral" for p in params):
-        raise InputError("landmarks='auto': for closed genus-0 meshes (spherical parametrizations)")
     base = params[0].coords[marks[0]]
     partner = np.full((len(marks[0]), len(shapes)), -1, np.int64)
     partner[:, 0] = marks[0]
@@ -122,14 +126,18 @@ def _auto_landmarks(shapes, resolution, align, progress):
                          "them (geoimg landmarks writes suggestions to edit)")
     if progress:
         progress(f"auto landmarks: {len(table)} matched (vertices {table.tolist()})")
-    return table, table.tolist()
+    return table, table.tolist(), params
 
 
-def _as_images(shapes, resolution, progress, landmarks=None):
+def _as_images(shapes, resolution, progress, landmarks=None, params=None):
     """Geometry images of the shapes; meshes with the same faces as the previous mesh reuse its
     parametrization, so their images correspond vertex for vertex. With ``landmarks`` ((L, K) vertex
-    indices), each later key's sphere is warped so that its landmarks land on key 0's."""
-    images, used_param, last, warps = [], [], None, [None] * len(shapes)
+    indices), each later key's sphere is warped so that its landmarks land on key 0's. ``params``: the
+    parametrizations an earlier call returned, used instead of making them again. Returns the images, how
+    each key was parametrized, each key's warp report (or None) and the parametrizations (None for images)."""
+    images, used_param, last = [], [], None
+    warps: list = [None] * len(shapes)
+    made: list = [None] * len(shapes)
     targets = None
     for k, shape in enumerate(shapes):
         if isinstance(shape, GeometryImage):
@@ -142,13 +150,11 @@ def _as_images(shapes, resolution, progress, landmarks=None):
             param = last[1]
             used_param.append(f"shared with shape {last[2]} (same faces)")
         else:
-            param = parametrize(shape)
+            param = parametrize(shape) if params is None else params[k]
             used_param.append(param.method)
-        sampled = param
+        made[k] = sampled = param
         if landmarks is not None and k == 0:
-            if param.domain != "octahedral":
-                raise InputError(f"landmarks: shape 0 is parametrized onto the {param.domain} domain; landmark "
-                                 "warps are for closed genus-0 meshes (spherical parametrizations)")
+            _require_sphere(param, 0)
             targets = param.coords[landmarks[:, 0]]
         elif landmarks is not None:
             sampled, warps[k] = _landmarked(shape, param, landmarks[:, k], targets, k)
@@ -157,7 +163,7 @@ def _as_images(shapes, resolution, progress, landmarks=None):
             progress(f"shape {k}: {used_param[-1]} parametrization, sampling {resolution} pixels")
         images.append(mesh_to_image(shape, resolution, parametrization=sampled))
         last = (shape, param, k)
-    return images, used_param, warps
+    return images, used_param, warps, made
 
 
 def _centre_and_radius(img: GeometryImage):
@@ -366,13 +372,13 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         raise InputError(f"align: expected one of {ALIGNMENTS}, got {align!r}")
     if not (isinstance(lag, numbers.Real) and 0 <= lag < 1):
         raise InputError(f"lag: expected a number in [0, 1), got {lag!r}")
-    matched = None
+    matched = params = None
     if isinstance(landmarks, str):
         if landmarks != "auto":
             raise InputError(f"landmarks: expected vertex-index tuples or 'auto', got {landmarks!r}")
-        landmarks, matched = _auto_landmarks(shapes, resolution, align, progress)
+        landmarks, matched, params = _auto_landmarks(shapes, resolution, align, progress)
     table = None if landmarks is None else _check_landmarks(landmarks, shapes)
-    images, how, warps = _as_images(shapes, resolution, progress, table)
+    images, how, warps, _ = _as_images(shapes, resolution, progress, table, params)
     if not all(img.domain.same_kind(images[0].domain) for img in images[1:]):
         kinds = ", ".join(f"shape {k}: {img.domain.kind}" for k, img in enumerate(images))
         raise InputError(f"shapes: cannot morph between domains ({kinds}); geometry images must share a "

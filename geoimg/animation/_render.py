@@ -136,11 +136,7 @@ class Camera:
         """The view-projection matrix (4 x 4, row-major) for an image of this aspect (width / height)."""
         f = self.target - self.eye
         f /= np.linalg.norm(f)
-        side = np.cross(f, self.up)
-        if np.linalg.norm(side) < 1e-9:              # looking straight along up
-            side = np.cross(f, np.roll(self.up, 1))
-        side /= np.linalg.norm(side)
-        upv = np.cross(side, f)
+        side, upv = _view_frame(f, self.up)
         view = np.eye(4)
         view[0, :3], view[1, :3], view[2, :3] = side, upv, -f
         view[:3, 3] = -view[:3, :3] @ self.eye
@@ -156,23 +152,26 @@ class Camera:
         """Key light from the upper left of the viewer, fill from the right (unit vectors)."""
         f = self.target - self.eye
         f /= np.linalg.norm(f)
-        side = np.cross(f, self.up)
-        side /= max(np.linalg.norm(side), 1e-12)
-        upv = np.cross(side, f)
+        side, upv = _view_frame(f, self.up)
         key = -f + 0.6 * upv - 0.5 * side
         fill = -f + 0.8 * side - 0.2 * upv
         return key / np.linalg.norm(key), fill / np.linalg.norm(fill)
+
+
+def _view_frame(forward: np.ndarray, up: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The unit right and up directions of a view along the unit ``forward`` with ``up`` above."""
+    side = np.cross(forward, up)
+    if np.linalg.norm(side) < 1e-9:              # looking straight along up
+        side = np.cross(forward, np.roll(up, 1))
+    side /= np.linalg.norm(side)
+    return side, np.cross(side, forward)
 
 
 def _fitting_distance(p: np.ndarray, d: np.ndarray, up: np.ndarray, t: float, aspect: float):
     """The least distance along the unit view direction ``d`` (from the target towards the eye) at which a
     camera of half-angle tangent ``t`` sees all of ``p`` (relative to the target) inside the margin, and
     the move of the target that would centre the points' picture."""
-    side = np.cross(-d, up)
-    if np.linalg.norm(side) < 1e-9:
-        side = np.cross(-d, np.roll(up, 1))
-    side /= np.linalg.norm(side)
-    upv = np.cross(side, -d)
+    side, upv = _view_frame(-d, up)
     toward, x, y = p @ d, p @ side, p @ upv
     reach = (1.0 - 2.0 * MARGIN) * t
     dist = float(np.max(toward + np.maximum(np.abs(x) / (reach * aspect), np.abs(y) / reach)))
@@ -245,12 +244,16 @@ class Renderer:
                    up: str | None = None) -> Camera:
         """A camera framing all the objects (meshes or geometry images) together, tightly; ``up`` defaults
         to the first object's (:func:`up_axis`)."""
-        pts = [(_geometry(o)[0]) for o in objects]
+        return self._camera([_geometry(o)[0] for o in objects], azimuth, elevation,
+                            up_axis(objects[0]) if up is None else up)
+
+    def _camera(self, pts: list, azimuth: float, elevation: float, up: str) -> Camera:
+        """A camera framing the point sets ``pts`` together, tightly (a subsample of each, and their box)."""
         lo = np.min([p.min(axis=0) for p in pts], axis=0)
         hi = np.max([p.max(axis=0) for p in pts], axis=0)
         hull = np.vstack([p[:: max(1, len(p) // 20000)] for p in pts] + [lo[None], hi[None]])
-        return Camera.fit(lo, hi, azimuth=azimuth, elevation=elevation, up=up_axis(objects[0]) if up is None else up,
-                          aspect=self.size[0] / self.size[1], points=hull)
+        return Camera.fit(lo, hi, azimuth=azimuth, elevation=elevation, up=up, aspect=self.size[0] / self.size[1],
+                          points=hull)
 
     def render(self, obj: Any, camera: Camera | None = None, *, edges: Mesh | None = None,
                edge_color: tuple[float, float, float] = (0.75, 0.1, 0.1)) -> np.ndarray:
@@ -258,8 +261,8 @@ class Renderer:
         mesh whose polygon edges are drawn over it (hidden where the surface is in front)."""
         v, tris, n, c, uv, texture = _geometry(obj)
         self.ctx.__enter__()        # this context made current: another renderer's release unbinds it
-        if camera is None:
-            camera = self.camera_for(obj)
+        if camera is None:                              # the default view of camera_for, from what is drawn
+            camera = self._camera([v], 30.0, 20.0, up_axis(obj))
         if c is None:
             c = np.broadcast_to(np.asarray(self.albedo, np.float64), v.shape)
         mvp = camera.matrices(self.size[0] / self.size[1]).T.astype("f4").tobytes()

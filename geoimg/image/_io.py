@@ -135,10 +135,19 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
         record = _tiff_record(path, attrs[0])
         if record is None:
             return _from_channels(path, data, names, None, None, assume)
-        return _from_channels(path, data, ["R", "G", "B", "A"][: data.shape[2]], json.dumps(record.get("metadata", {})),
+        return _from_channels(path, data, ["R", "G", "B", "A"][: data.shape[2]], record.get("metadata", {}),
                               record.get("domain"), assume)
     data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"), integers=floats)
-    return _from_channels(path, data, names, attrs[0], attrs[1], assume)
+    meta = _parsed_metadata(path, attrs[0]) if attrs[0] is not None else None if attrs[1] is None else {}
+    return _from_channels(path, data, names, meta, attrs[1], assume)
+
+
+def _parsed_metadata(path, text: str):
+    """An EXR's ``geoimg:metadata`` attribute, parsed (empty: no fields)."""
+    try:
+        return json.loads(text) if text else {}
+    except json.JSONDecodeError as e:
+        raise ImageFileError(f"{path}: geoimg:metadata is not valid JSON ({e})") from None
 
 
 def _tiff_record(path, description):
@@ -154,11 +163,11 @@ def _tiff_record(path, description):
     return record[TIFF_DESCRIPTION]
 
 
-def _from_channels(path, data, names, meta_json, domain, assume) -> GeometryImage:
-    """The image of a file's named channels (R, G, B; mask or A; N.X, N.Y, N.Z; color.R ...) and its
-    metadata JSON and domain kind (both None: a file without geoimg's metadata, read only with ``assume``)."""
-    if meta_json is None and domain is None:
-        domain = _unmarked(path, assume)
+def _from_channels(path, data, names, meta, domain, assume) -> GeometryImage:
+    """The image of a file's named channels (R, G, B; mask or A; N.X, N.Y, N.Z; color.R ...), its parsed
+    metadata and its domain kind (both None: a file without geoimg's metadata, read only with ``assume``)."""
+    if meta is None and domain is None:
+        domain, meta = _unmarked(path, assume), {}
     domain = domain or "planar"
 
     def channels(keys):
@@ -176,10 +185,6 @@ def _from_channels(path, data, names, meta_json, domain, assume) -> GeometryImag
     normals = channels(["N.X", "N.Y", "N.Z"])
     colors = channels(list(COLOR_CHANNELS))
     colors = channels(list(COLOR_CHANNELS[:3])) if colors is None else colors
-    try:
-        meta = json.loads(meta_json) if meta_json else {}
-    except json.JSONDecodeError as e:
-        raise ImageFileError(f"{path}: geoimg:metadata is not valid JSON ({e})") from None
     if not isinstance(meta, dict):
         raise ImageFileError(f"{path}: geoimg:metadata is not a JSON object")
     try:
@@ -209,7 +214,7 @@ def _load_npy(path, assume: str | None) -> GeometryImage:
             raise ValueError(f"channels must name the array's {data.shape[2]} channels")
     except (OSError, UnicodeDecodeError, json.JSONDecodeError, KeyError, TypeError, ValueError) as e:
         raise ImageFileError(f"{sidecar}: not a geoimg sidecar ({type(e).__name__}: {e})") from None
-    return _from_channels(path, data, names, json.dumps(meta), domain, assume)
+    return _from_channels(path, data, names, meta, domain, assume)
 
 
 def _load_npz(path, assume: str | None) -> GeometryImage:

@@ -34,12 +34,11 @@ def write_npz(path: Path, pixels: np.ndarray, mask, normals, record: dict, color
         np.savez_compressed(f, **arrays)       # type: ignore[arg-type]   # numpy's stub: allow_pickle
 
 
-def _header(archive: zipfile.ZipFile, name: str):
-    """(shape, dtype) of one member array, read from its header alone (nothing is unpacked)."""
-    with archive.open(name + ".npy") as f:
-        version = np.lib.format.read_magic(f)
-        read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
-        shape, _, dtype = read(f)
+def _header(f) -> tuple[tuple, np.dtype]:
+    """(shape, dtype) of the array in an open ``.npy`` stream, read from its header alone (nothing unpacked)."""
+    version = np.lib.format.read_magic(f)
+    read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+    shape, _, dtype = read(f)
     return shape, dtype
 
 
@@ -63,7 +62,8 @@ def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, di
                                      f"{', '.join(sorted(archive.namelist())) or 'none'}; expected positions and "
                                      "optionally mask, normals, metadata)")
             for name in names:
-                shape, dtype = _header(archive, name)
+                with archive.open(name + ".npy") as f:
+                    shape, dtype = _header(f)
                 if dtype.kind != _KINDS[name] or len(shape) != _SHAPES[name]:
                     raise ImageFileError(f"{path}: {name} is a {len(shape)}-D {dtype} array; expected "
                                          f"{_SHAPES[name]}-D of kind {_KINDS[name]!r}")
@@ -102,9 +102,7 @@ def read_npy(path) -> np.ndarray:
     path = Path(path)
     try:
         with open(path, "rb") as f:
-            version = np.lib.format.read_magic(f)
-            read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
-            shape, _, dtype = read(f)
+            shape, dtype = _header(f)
     except (ValueError, OSError, EOFError) as e:
         raise ImageFileError(f"{path}: not a .npy array ({e})") from None
     if dtype.kind != "f" or len(shape) != 3 or shape[2] < 3:

@@ -115,9 +115,9 @@ def mesh_file_jobs(mesh: Mesh, path: PathLike) -> list:
     writers = {".obj": _write_obj, ".off": _write_off, ".ply": _write_ply, ".stl": _write_trimesh, ".glb": _write_trimesh}
     if ext not in writers:
         raise MeshFileError(f"{path}: unknown mesh format {ext!r}; expected one of {', '.join(MESH_FORMATS)}")
-    lost = [name for name, kept in (("colours", ext in (".obj", ".ply", ".glb")),
-                                    ("texture", ext in (".obj", ".glb"))) if getattr(mesh, _ATTRS[name]) is not None
-            and not kept]
+    lost = [name for name, value, kept in (("colours", mesh.colors, ext in (".obj", ".ply", ".glb")),
+                                           ("texture", mesh.texture, ext in (".obj", ".glb")))
+            if value is not None and not kept]
     if lost:
         warnings.warn(f"{path}: {ext[1:].upper()} keeps no {' or '.join(lost)}; not written (OBJ keeps both, PLY "
                       "colours, GLB either)", stacklevel=3)
@@ -128,9 +128,6 @@ def mesh_file_jobs(mesh: Mesh, path: PathLike) -> list:
                     f"# written by geoimg\nnewmtl geoimg\nKd 1 1 1\nmap_Kd {stem}{TEXTURE_SUFFIX}\n")),
                 (path.with_suffix(TEXTURE_SUFFIX), lambda tmp: write_texture(mesh.texture, tmp))]
     return [(path, lambda tmp: writers[ext](mesh, tmp, ext))]
-
-
-_ATTRS = {"colours": "colors", "texture": "texture"}
 
 
 # ----------------------------------------------------------------------------------------- OBJ

@@ -49,7 +49,11 @@ def average_geodesic_distance(mesh: Mesh, sources: int = SOURCES) -> np.ndarray:
     >>> int(np.argmax(d))                        # the far corner
     2
     """
-    g = _edge_graph(mesh)
+    return _average_distance(mesh, _edge_graph(mesh), sources)
+
+
+def _average_distance(mesh: Mesh, g: sparse.csr_matrix, sources: int) -> np.ndarray:
+    """:func:`average_geodesic_distance` over the edge graph ``g`` already built."""
     used = mesh.referenced_vertices()
     n_pieces, label = connected_components(g[used][:, used], directed=False)
     if n_pieces > 1:
@@ -86,8 +90,8 @@ def suggest_landmarks(mesh: Mesh, count: int = 8, *, radius: float = RADIUS) -> 
         raise InputError(f"count: expected a positive whole number of landmarks, got {count!r}")
     if not (isinstance(radius, (int, float, np.floating)) and 0 < radius < 1):
         raise InputError(f"radius: expected a fraction between 0 and 1, got {radius!r}")
-    agd = average_geodesic_distance(mesh)
     g = _edge_graph(mesh)
+    agd = _average_distance(mesh, g, SOURCES)
     reach = radius * float(np.nanmax(agd))
     value = np.where(np.isnan(agd), -np.inf, agd)
     around = np.full(mesh.n_vertices, -np.inf)      # the largest value among each vertex's neighbours

@@ -14,7 +14,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import MeshError
 
-__all__ = ["Mesh", "pad_faces"]
+__all__ = ["Mesh", "pad_faces", "reverse_corners"]
 
 
 MAX_PADDED_ENTRIES = 200_000_000     # the padded (F, K) face table: 1.6 GB
@@ -61,6 +61,23 @@ def pad_faces(faces: Any) -> np.ndarray:
         if not np.all(np.isfinite(arr)) or np.any(arr != np.round(arr)):
             raise MeshError(f"faces: expected integer vertex indices, got dtype {arr.dtype} with non-integers")
     return np.array(arr, dtype=np.int64)
+
+
+def reverse_corners(table: np.ndarray, sizes: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """A copy of a per-corner table (F, K[, ...]) with the corners of faces ``rows`` in reverse order (padding
+    after a face's ``sizes`` corners stays where it is): faces turned over.
+
+    Examples
+    --------
+    >>> reverse_corners(np.array([[0, 1, 2, -1], [3, 4, 5, 6]]), np.array([3, 4]), np.array([0, 1])).tolist()
+    [[2, 1, 0, -1], [6, 5, 4, 3]]
+    """
+    out = table.copy()
+    j = np.arange(table.shape[1])
+    k = sizes[rows][:, None]
+    order = np.where(j < k, k - 1 - j, j)
+    out[rows] = np.take_along_axis(table[rows], order.reshape(order.shape + (1,) * (table.ndim - 2)), axis=1)
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -203,10 +220,8 @@ class Mesh:
         if face_uv is not None:
             face_uv = face_uv if face_source is None else face_uv[face_source]
             if turned is not None and np.any(turned):
-                face_uv = face_uv.copy()
-                k = self.face_sizes if face_source is None else self.face_sizes[face_source]
-                for i in np.flatnonzero(turned):
-                    face_uv[i, :k[i]] = face_uv[i, :k[i]][::-1]
+                sizes = self.face_sizes if face_source is None else self.face_sizes[face_source]
+                face_uv = reverse_corners(face_uv, sizes, np.flatnonzero(turned))
         return Mesh(pick(self.vertices), faces, uv=pick(self.uv), normals=pick(self.normals),
                     colors=pick(self.colors), face_uv=face_uv, texture=self.texture)
 

@@ -19,7 +19,7 @@ from scipy import sparse
 from scipy.sparse.csgraph import connected_components
 
 from ..errors import MeshError
-from ._mesh import Mesh
+from ._mesh import Mesh, reverse_corners
 from ._topology import corner_fans
 
 __all__ = ["Repair", "drop_degenerate_faces", "split_fans", "orient_faces", "split_components", "repair"]
@@ -139,10 +139,7 @@ def orient_faces(mesh: Mesh) -> tuple[Mesh, int]:
     turn |= (keep_votes[label[:F]] == turn_votes[label[F:]]) & (label[:F] > label[F:])
     if not turn.any():
         return mesh, 0
-    faces = mesh.faces.copy()
-    k = mesh.face_sizes
-    for i in np.flatnonzero(turn):
-        faces[i, :k[i]] = faces[i, :k[i]][::-1]
+    faces = reverse_corners(mesh.faces, mesh.face_sizes, np.flatnonzero(turn))
     return mesh.derived(faces, turned=turn), int(turn.sum())
 
 
