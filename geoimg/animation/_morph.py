@@ -136,8 +136,7 @@ def _as_images(shapes, resolution, progress, landmarks=None, params=None):
     parametrizations an earlier call returned, used instead of making them again. Returns the images, how
     each key was parametrized, each key's warp report (or None) and the parametrizations (None for images)."""
     images, used_param, last = [], [], None
-    warps: list = [None] * len(shapes)
-    made: list = [None] * len(shapes)
+    warps, made = [None] * len(shapes), [None] * len(shapes)
     targets = None
     for k, shape in enumerate(shapes):
         if isinstance(shape, GeometryImage):
