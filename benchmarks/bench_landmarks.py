@@ -1,6 +1,6 @@
 """Landmark-aligned morphs against the rigid turn of the sphere (issue 17), with ground truth.
 
-    python benchmarks/bench_landmarks.py [--res 129] [--count 10]
+    python benchmarks/bench_landmarks.py [--res 129] [--counts 5 8 10 12]
 
 `human_man` and `human_woman` (../shared/data) have the same vertices in the same order. The woman is
 remeshed by splitting every triangle in four (her vertices keep their indices; the new ones sit on her
@@ -8,7 +8,12 @@ edges), so the two keys no longer share a parametrization. Key 0: the man; key 1
 Each man vertex is sent by the morph to key 1's image at the pixel of its own sphere direction; the truth
 is the woman's vertex of the same index. The table gives the RMS and largest of those distances, per cent
 of the woman's bounding-box diagonal, for the rigid turn (today's default) and for landmarks suggested on
-the man (`suggest_landmarks`) with their ground-truth partners; and what the warp reports.
+the man (`suggest_landmarks(man, count, spread=True)`: his extremities, then the points farthest from those)
+with their ground-truth partners; and what the warp reports. "Landmarks meet": the largest distance, on key 1's
+mesh, between the point where the warp sends key 0's landmark direction and key 1's landmark vertex (the
+same warp the morph made, again); "as imaged": key 1 as the morph shows it at key 0's landmark directions
+against key 1's own image at its landmarks' directions (both interpolated: this one is limited by the
+pixels, where the warp stretches a squeezed part of key 1's sphere).
 """
 from __future__ import annotations
 
@@ -21,6 +26,8 @@ import numpy as np
 
 import geoimg
 from geoimg.animation import morph
+from geoimg.animation._morph import _landmark_warp, _octahedral_sampler
+from geoimg.surface._attributes import locate
 from geoimg.mesh import suggest_landmarks
 from geoimg.parametrization import sphere_to_square
 
@@ -50,30 +57,45 @@ def sent(m, directions: np.ndarray, n: int) -> np.ndarray:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument("--res", type=int, default=129)
-    ap.add_argument("--count", type=int, default=10)
+    ap.add_argument("--counts", type=int, nargs="+", default=[5, 8, 10, 12])
     args = ap.parse_args(argv)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         man = geoimg.load_mesh(SHARED / "human_man.obj")
         woman = split_in_four(geoimg.load_mesh(SHARED / "human_woman.obj"))
         directions = geoimg.parametrize(man).coords
+        own = geoimg.parametrize(woman)
+        woman_image = geoimg.mesh_to_image(woman, args.res, parametrization=own)
+        at_own = _octahedral_sampler(woman_image.pixels, woman_image.domain)
         truth = woman.vertices[: man.n_vertices]
         diag = woman.bounding_box_diagonal()
-        marks = suggest_landmarks(man, args.count)
-        print(f"man {man.n_vertices} vertices; remeshed woman {woman.n_vertices}; {len(marks)} landmarks; "
-              f"{args.res}² images\n")
-        print("| alignment | RMS (% diag) | largest (% diag) | seconds | warp |")
-        print("|---|---:|---:|---:|---|")
-        for name, kw in (("rigid turn of the sphere", {}),
-                         (f"{len(marks)} landmarks", {"landmarks": [(int(i), int(i)) for i in marks]})):
+        print(f"man {man.n_vertices} vertices; remeshed woman {woman.n_vertices} ({own.method}, {own.flipped_faces} folded "
+              f"faces); {args.res}² images\n")
+        print("| alignment | RMS (% diag) | largest (% diag) | landmarks meet (% diag, largest) | as imaged "
+              "| seconds | warp |")
+        print("|---|---:|---:|---:|---:|---:|---|")
+        runs = [("rigid turn of the sphere", None)] + [(f"{c} landmarks", suggest_landmarks(man, c, spread=True))
+                                                         for c in args.counts]
+        for name, marks in runs:
+            kw = {} if marks is None else {"landmarks": [(int(i), int(i)) for i in marks]}
             t = time.perf_counter()
             m = morph(man, woman, frames=2, resolution=args.res, align="none", **kw)
             dt = time.perf_counter() - t
             err = np.linalg.norm(sent(m, directions, args.res) - truth, axis=1) / diag * 100
             w = m.report[1].get("landmarks")
-            warp = "" if w is None else (f"met {w['met']}, residual {w['residual_rad']:.1e} rad, {w['folded']} folded, "
-                                         f"{w['steps']} steps")
-            print(f"| {name} | {np.sqrt((err ** 2).mean()):.2f} | {err.max():.1f} | {dt:.1f} | {warp} |", flush=True)
+            warp = off = meet = ""
+            if w is not None:
+                warp = (f"met {w['met']}, residual {w['residual_rad']:.1e} rad, {w['folded']} folded, {w['steps']} "
+                        f"steps, area log-RMS {w['area_log_rms']:.2f}")
+                sent_to = _landmark_warp(directions[marks], own.coords[marks], args.res, 1)["landmarks"]
+                tri = woman.faces[:, :3]
+                t, bary = locate(sent_to, own.coords[tri])
+                on_mesh = np.einsum("pk,pkd->pd", bary, woman.vertices[tri[t]])
+                meet = f"{(np.linalg.norm(on_mesh - woman.vertices[marks], axis=1) / diag * 100).max():.4f}"
+                shown = _octahedral_sampler(m.keys[1].pixels, m.keys[1].domain)(directions[marks])
+                off = f"{(np.linalg.norm(shown - at_own(own.coords[marks]), axis=1) / diag * 100).max():.3f}"
+            print(f"| {name} | {np.sqrt((err ** 2).mean()):.2f} | {err.max():.1f} | {meet} | {off} | {dt:.1f} | {warp} |",
+                  flush=True)
 
 
 if __name__ == "__main__":

@@ -160,7 +160,7 @@ def cmd_landmarks(args) -> int:
         require("moderngl", "rendering")
         require("imageio", "writing pictures")
     mesh = load_mesh(args.mesh)
-    index = suggest_landmarks(mesh, args.count)
+    index = suggest_landmarks(mesh, args.count, spread=args.spread)
     points = mesh.vertices[index]
     rows = "".join(f"{i},{x!r},{y!r},{z!r}\n" for i, (x, y, z) in zip(index.tolist(), points.tolist()))
     jobs: list = [(Path(args.output), lambda tmp: tmp.write_text("index,x,y,z\n" + rows))]
@@ -171,7 +171,8 @@ def cmd_landmarks(args) -> int:
         jobs.append((Path(args.picture), lambda tmp: save_png(rgb, tmp, overwrite=True)))
     written = write_all(jobs, overwrite=args.force)
     if not args.quiet:
-        print(f"{len(index)} landmarks (extremities, most extreme first): vertices {', '.join(map(str, index))}")
+        kind = "extremities first, then spread" if args.spread else "extremities, most extreme first"
+        print(f"{len(index)} landmarks ({kind}): vertices {', '.join(map(str, index))}")
         for f in written:
             print(f"wrote {f}")
     return 0
@@ -406,7 +407,8 @@ def cmd_morph(args) -> int:
         if "landmarks" in entry and not args.quiet:
             w = entry["landmarks"]
             print(f"shape {entry['shape']}: landmarks warped onto shape 0's in {w['steps']} steps, within "
-                  f"{w['residual_rad']:.1e} rad, {w['folded']} folded triangles")
+                  f"{w['residual_rad']:.1e} rad, {w['folded']} folded triangles, area log-RMS of the warp "
+                  f"{w['area_log_rms']:.2f}")
     jobs = []
     if args.output:
         jobs.append((args.output, lambda tmp: save_glb(m, tmp, fps=args.fps, overwrite=True)))
@@ -718,6 +720,8 @@ def build_parser() -> argparse.ArgumentParser:
     lm.add_argument("mesh", help="a mesh file of one piece")
     lm.add_argument("-o", "--output", required=True, help="output .csv: index,x,y,z per landmark, most extreme first")
     lm.add_argument("--count", type=_positive(int), default=8, help="how many landmarks at most (default 8)")
+    lm.add_argument("--spread", action="store_true",
+                    help="exactly --count: after the extremities, the points farthest from those picked")
     lm.add_argument("--picture", default=None, help="also draw them numbered on a render (.png)")
     lm.add_argument("--force", action="store_true", help="overwrite existing files")
     lm.set_defaults(func=cmd_landmarks)

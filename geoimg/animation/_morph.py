@@ -23,7 +23,7 @@ from ..errors import InputError, InputTypeError
 from .._convert import mesh_to_image
 from ..image import GeometryImage
 from ..mesh import Mesh, suggest_landmarks
-from ..parametrization import Parametrization, grid_directions, parametrize, sphere_to_square
+from ..parametrization import grid_directions, parametrize, sphere_to_square
 from ..parametrization._warp import warp_sphere
 from .._types import Progress
 
@@ -50,13 +50,28 @@ def _ease(easing):
     return EASINGS[easing]
 
 
+def _landmark_entry(entry, shape, k: int) -> int:
+    """One key's landmark: a vertex index as it is, or a 3-D point snapped to the mesh's nearest vertex."""
+    if isinstance(entry, (numbers.Integral, np.integer)) and not isinstance(entry, bool):
+        return int(entry)
+    point = np.asarray(entry) if isinstance(entry, (list, tuple, np.ndarray)) else None
+    if point is None or point.shape != (3,) or point.dtype == object or not np.issubdtype(point.dtype, np.number) \
+            or not np.isfinite(point).all():
+        raise InputError(f"landmarks: shape {k}'s landmark {entry!r} is neither a vertex index nor a 3-D point")
+    if not isinstance(shape, Mesh):       # refused below with its own message
+        return -1
+    used = np.flatnonzero(shape.referenced_vertices())
+    return int(used[np.argmin(((shape.vertices[used] - point) ** 2).sum(axis=1))])
+
+
 def _check_landmarks(landmarks, shapes) -> np.ndarray:
-    """``landmarks`` as an (L, K) int array: a row per feature, a vertex index of each key's mesh."""
-    table = np.asarray(landmarks)
-    if table.ndim != 2 or table.shape[1] != len(shapes) or len(table) == 0 or table.dtype == object \
-            or not np.issubdtype(table.dtype, np.integer):
-        raise InputError(f"landmarks: expected one tuple of {len(shapes)} vertex indices (one per key) per feature, "
-                         f"got an array of shape {table.shape}")
+    """``landmarks`` as an (L, K) int array: a row per feature, a vertex index (or a 3-D point, snapped to the
+    nearest vertex) of each key's mesh."""
+    rows = list(landmarks) if isinstance(landmarks, (list, tuple, np.ndarray)) else None
+    if not rows or any(not isinstance(r, (list, tuple, np.ndarray)) or len(r) != len(shapes) for r in rows):
+        raise InputError(f"landmarks: expected one tuple of {len(shapes)} vertex indices or 3-D points (one per "
+                         f"key) per feature")
+    table = np.array([[_landmark_entry(e, shapes[k], k) for k, e in enumerate(r)] for r in rows], np.int64)
     for k, shape in enumerate(shapes):
         if not isinstance(shape, Mesh):
             raise InputError(f"landmarks: shape {k} is a geometry image without its mesh; landmarks name mesh "
@@ -78,20 +93,33 @@ def _require_sphere(param, k: int) -> None:
                          "for closed genus-0 meshes (spherical parametrizations)")
 
 
-def _landmarked(mesh: Mesh, param, landmarks: np.ndarray, targets: np.ndarray, k: int):
-    """The key's spherical parametrization warped so that its landmarks land on ``targets``."""
-    _require_sphere(param, k)
-    tris, _ = mesh.triangulate()
-    coords, info = warp_sphere(param.coords, tris, landmarks, targets)
+def _grid_triangles(n: int) -> np.ndarray:
+    """Two triangles per cell of an ``n x n`` pixel grid, as indices of its raveled pixels."""
+    i = np.arange(n * n).reshape(n, n)
+    a, b, c, d = i[:-1, :-1], i[:-1, 1:], i[1:, 1:], i[1:, :-1]
+    return np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+
+
+def _landmark_warp(sources: np.ndarray, targets: np.ndarray, n: int, k: int) -> dict:
+    """The warp of the sphere taking key 0's landmark directions ``sources`` onto key ``k``'s ``targets``,
+    carried by the directions of an ``n x n`` octahedral image: key ``k`` resampled there lines up with key 0.
+    The warp is checked for folds on a grid of at least WARP_CHECK² directions (a coarse image would refuse
+    steps that only squeeze below its pixels). Returns the warp's report with the warped ``directions``
+    (n, n, 3)."""
+    m = max(n, WARP_CHECK)
+    points = grid_directions(m).reshape(-1, 3)
+    if m > n:
+        points = np.vstack([points, grid_directions(n).reshape(-1, 3)])
+    moved, info = warp_sphere(points, _grid_triangles(m), sources, targets)
+    directions = moved[len(moved) - n * n:]
     if not info["met"]:
         warnings.warn(f"landmarks: shape {k}'s landmarks stop up to {info['residual']:.3g} rad from shape 0's: no "
                       "fold-free step of the warp was left (landmarks too close together, or whose paths cross)",
                       stacklevel=4)
-    warped = Parametrization(coords, param.extent, param.domain, f"{param.method} + landmarks",
-                             info["folded"], param.degenerate_faces, dict(param.info, landmarks=info))
-    return warped, info
+    return dict(info, directions=directions.reshape(n, n, 3))
 
 
+WARP_CHECK = 257            # the least grid a landmark warp is checked for folds on
 AUTO_COUNT = 8               # landmarks suggested on each key for landmarks="auto"
 AUTO_MATCH_DEG = 40.0        # ... matched to key 0's when their spheres, turned, put them this close
 
@@ -132,12 +160,13 @@ def _auto_landmarks(shapes, resolution, align, progress):
 def _as_images(shapes, resolution, progress, landmarks=None, params=None):
     """Geometry images of the shapes; meshes with the same faces as the previous mesh reuse its
     parametrization, so their images correspond vertex for vertex. With ``landmarks`` ((L, K) vertex
-    indices), each later key's sphere is warped so that its landmarks land on key 0's. ``params``: the
+    indices), each later key gets the warp of the sphere that brings key 0's landmarks onto its own (the
+    alignment resamples it there). ``params``: the
     parametrizations an earlier call returned, used instead of making them again. Returns the images, how
     each key was parametrized, each key's warp report (or None) and the parametrizations (None for images)."""
     images, used_param, last = [], [], None
     warps, made = [None] * len(shapes), [None] * len(shapes)
-    targets = None
+    sources = None
     for k, shape in enumerate(shapes):
         if isinstance(shape, GeometryImage):
             images.append(shape)
@@ -151,16 +180,17 @@ def _as_images(shapes, resolution, progress, landmarks=None, params=None):
         else:
             param = parametrize(shape) if params is None else params[k]
             used_param.append(param.method)
-        made[k] = sampled = param
-        if landmarks is not None and k == 0:
-            _require_sphere(param, 0)
-            targets = param.coords[landmarks[:, 0]]
-        elif landmarks is not None:
-            sampled, warps[k] = _landmarked(shape, param, landmarks[:, k], targets, k)
-            used_param[-1] += " + landmark warp"
+        made[k] = param
+        if landmarks is not None:
+            _require_sphere(param, k)
+            if k == 0:
+                sources = param.coords[landmarks[:, 0]]
+            else:
+                warps[k] = _landmark_warp(sources, param.coords[landmarks[:, k]], resolution, k)
+                used_param[-1] += " + landmark warp"
         if progress:
             progress(f"shape {k}: {used_param[-1]} parametrization, sampling {resolution} pixels")
-        images.append(mesh_to_image(shape, resolution, parametrization=sampled))
+        images.append(mesh_to_image(shape, resolution, parametrization=param))
         last = (shape, param, k)
     return images, used_param, warps, made
 
@@ -207,6 +237,16 @@ def _best_rotation(reference: GeometryImage, moving: np.ndarray) -> tuple[Rotati
     return rot, identity, min(res.fun, identity)
 
 
+def _resample(pixels: np.ndarray, colors, domain, directions: np.ndarray):
+    """An octahedral image's pixels (and colours) at other ``directions`` (one per pixel): pixel ``i`` of the
+    result shows the surface at ``directions[i]``; glued pixels averaged."""
+    q = directions.reshape(-1, 3)
+    out = domain.average_glued(_octahedral_sampler(pixels, domain)(q).reshape(pixels.shape))
+    if colors is not None:            # the colours move with the surface
+        colors = np.clip(domain.average_glued(_octahedral_sampler(colors, domain)(q).reshape(colors.shape)), 0.0, 1.0)
+    return out, colors
+
+
 def _align(images, align: str, rotate: bool, shared, progress, warps=None):
     """Move keys 1.. into key 0's frame; returns the new images and what was done to each. A key whose
     parametrization is shared with the key before it (``shared[k]``) gets that key's rotation, not a
@@ -223,10 +263,11 @@ def _align(images, align: str, rotate: bool, shared, progress, warps=None):
             scale = r0 / r if align == "similarity" and r > 0 else 1.0
             p = p + (c0 - c) if scale == 1.0 else (p - c) * scale + c0     # a shape already in place stays exact
             entry.update(translation=(c0 - c).tolist(), scale=float(scale))
-        if warps is not None and warps[k] is not None:       # its sphere already matches key 0's at the landmarks
+        if warps is not None and warps[k] is not None:       # resampled where the warp sends key 0's pixels
             w = warps[k]
             entry.update(landmarks={"residual_rad": w["residual"], "met": w["met"], "folded": w["folded"],
-                                    "steps": w["steps"]})
+                                    "steps": w["steps"], "area_log_rms": w["area_log_rms"]})
+            p, colors = _resample(p, colors, img.domain, w["directions"])
             previous = Rotation.identity()
         elif rotate and img.domain.rotations:
             if shared[k]:
@@ -237,11 +278,7 @@ def _align(images, align: str, rotate: bool, shared, progress, warps=None):
                 entry.update(rms_before=math.sqrt(before) / r0, rms_after=math.sqrt(after) / r0)
             angle = float(np.degrees(rot.magnitude()))
             if angle > 0:
-                q = rot.apply(grid_directions(p.shape[0]).reshape(-1, 3))
-                p = img.domain.average_glued(_octahedral_sampler(p, img.domain)(q).reshape(p.shape))
-                if colors is not None:            # the colours turn with the sphere
-                    colors = _octahedral_sampler(colors, img.domain)(q).reshape(colors.shape)
-                    colors = np.clip(img.domain.average_glued(colors), 0.0, 1.0)
+                p, colors = _resample(p, colors, img.domain, rot.apply(grid_directions(p.shape[0]).reshape(-1, 3)))
             entry.update(rotation_deg=angle, rotation_axis=(rot.as_rotvec() / max(rot.magnitude(), 1e-300)).tolist())
             previous = rot
             if progress and "rms_before" in entry:
@@ -336,11 +373,12 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         previous mesh's parametrization takes that mesh's rotation (its correspondence is the vertices').
     resample : bool, default False
         Resize keys of another size to key 0's size (else such keys are refused).
-    landmarks : sequence of tuples of int, or "auto", optional
-        Corresponding features: one tuple per feature holding a vertex index of each key's mesh (every key a
-        closed genus-0 mesh). Each later key's spherical parametrization is first turned by the rotation that
-        best matches the landmarks and then warped, fold-free, until its landmarks lie on key 0's (within
-        1e-4 rad); the rotation search is skipped for it. ``Morph.report`` gives each key's residual, steps
+    landmarks : sequence of tuples, or "auto", optional
+        Corresponding features: one tuple per feature holding, for each key's mesh (every key a closed
+        genus-0 mesh), a vertex index or a 3-D point (snapped to the nearest vertex). Each later key is
+        resampled through a smooth, one-to-one warp of the sphere (a rotation that best matches the
+        landmarks, then a fold-free flow) that takes key 0's landmark directions onto its own (within 1e-4
+        rad); the rotation search is skipped for it. ``Morph.report`` gives each key's residual, steps
         and folded triangles. (Suggested landmarks: :func:`geoimg.mesh.suggest_landmarks`.) ``"auto"``: each key's
         suggested extremities, matched to key 0's on the rigidly turned spheres (within 40 degrees); the
         report's ``auto_landmarks`` says which were matched.

@@ -4,7 +4,9 @@ on average, from everywhere else on the surface is at the end of something that 
 
 Geodesic distances are shortest paths along the mesh's edges (Dijkstra), from a farthest-point sample of
 sources; a local maximum is a vertex whose average distance is the largest within a geodesic radius of it,
-and maxima are kept largest first, no two within that radius of each other.
+and maxima are kept largest first, no two within that radius of each other. With ``spread``, a mesh with
+fewer extremities than asked for is filled up by farthest-point sampling: each further point the vertex
+geodesically farthest from every point already picked (elbows, knees, the chest of a figure).
 """
 from __future__ import annotations
 
@@ -70,10 +72,11 @@ def _average_distance(mesh: Mesh, g: sparse.csr_matrix, sources: int) -> np.ndar
     return np.where(used, total / len(chosen), np.nan)
 
 
-def suggest_landmarks(mesh: Mesh, count: int = 8, *, radius: float = RADIUS) -> np.ndarray:
+def suggest_landmarks(mesh: Mesh, count: int = 8, *, radius: float = RADIUS, spread: bool = False) -> np.ndarray:
     """Up to ``count`` vertex indices at the mesh's extremities, most extreme first: local maxima of
     :func:`average_geodesic_distance` over a geodesic ball of ``radius`` times its largest value, no two
-    closer than that.
+    closer than that. With ``spread``, exactly ``count`` (as many as the mesh has vertices at most): after
+    the extremities, each further point the vertex geodesically farthest from all those picked.
 
     Examples
     --------
@@ -85,6 +88,8 @@ def suggest_landmarks(mesh: Mesh, count: int = 8, *, radius: float = RADIUS) -> 
     ...                     np.stack([i[:-1, :-1], i[1:, 1:], i[1:, :-1]], -1).reshape(-1, 3)])
     >>> sorted({round(float(x)) for x in Mesh(v, f).vertices[suggest_landmarks(Mesh(v, f), 2), 0]})
     [0, 4]
+    >>> len(suggest_landmarks(Mesh(v, f), 5, spread=True))
+    5
     """
     if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 1:
         raise InputError(f"count: expected a positive whole number of landmarks, got {count!r}")
@@ -109,4 +114,20 @@ def suggest_landmarks(mesh: Mesh, count: int = 8, *, radius: float = RADIUS) -> 
         if agd[v] >= np.nanmax(agd[ball]):            # the largest around it: an extremity, not a slope
             picked.append(int(v))
             taken |= ball
+    if spread and len(picked) < count:
+        picked = _farthest_points(g, picked, count, np.isfinite(value))
     return np.array(picked, np.int64)
+
+
+def _farthest_points(g: sparse.csr_matrix, picked: list[int], count: int, usable: np.ndarray) -> list[int]:
+    """``picked`` filled up to ``count`` (at most the usable vertices) by farthest-point sampling of the
+    edge graph's distances."""
+    picked = list(picked)
+    nearest = np.full(g.shape[0], np.inf)
+    if picked:
+        nearest = dijkstra(g, indices=picked, min_only=True)
+    while len(picked) < min(count, int(usable.sum())):
+        v = int(np.argmax(np.where(usable, nearest, -1.0)))
+        picked.append(v)
+        nearest = np.minimum(nearest, dijkstra(g, indices=v))
+    return picked

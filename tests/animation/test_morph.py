@@ -313,13 +313,33 @@ def test_landmarks_make_features_meet_and_do_better_than_the_rigid_turn():
 @pytest.mark.parametrize("landmarks, message", [
     ([(0, 99999)], "vertex 99999 of shape 1 does not exist"),
     ([(0, 1), (0, 2)], "two landmarks of shape 0 coincide"),
-    ([(0, 1, 2)], "one tuple of 2 vertex indices"),
-    ([("a", "b")], "one tuple of 2 vertex indices"),
+    ([(0, 1, 2)], "one tuple of 2 vertex indices or 3-D points"),
+    ([], "one tuple of 2"),
+    ([5], "one tuple of 2"),
+    ("0,1", "vertex-index tuples or 'auto'"),
+    ([("a", "b")], "shape 0's landmark 'a' is neither a vertex index nor a 3-D point"),
+    ([(True, 1)], "neither a vertex index nor a 3-D point"),
+    ([(0, (1.0, 2.0))], "shape 1's landmark .* neither"),
+    ([(0, (np.nan, 0.0, 0.0))], "neither a vertex index nor a 3-D point"),
+    ([(0, ("x", "y", "z"))], "neither a vertex index nor a 3-D point"),
 ])
 def test_bad_landmarks_are_refused(landmarks, message):
     a = load_data("spot_low_resolution.obj")
     with pytest.raises(geoimg.InputError, match=message):
         morph(a, a, frames=2, resolution=17, landmarks=landmarks)
+
+
+def test_landmark_points_are_snapped_to_the_nearest_vertex():
+    a, b = load_data("spot_low_resolution.obj"), geoimg.load_mesh(data_file("spot.obj"))
+    from scipy.spatial import cKDTree
+    ia = np.array([12, 300, 700, 501])
+    pairs = list(zip(ia.tolist(), cKDTree(b.vertices).query(a.vertices[ia])[1].tolist()))   # the same places
+    by_index = morph(a, b, frames=2, resolution=33, align="none", landmarks=pairs)
+    near = [(i, tuple(b.vertices[j] + 1e-4)) for i, j in pairs]           # points just off key 1's vertices
+    by_point = morph(a, b, frames=2, resolution=33, align="none", landmarks=near)
+    np.testing.assert_array_equal(by_point.keys[1].pixels, by_index.keys[1].pixels)
+    assert by_point.report[1]["landmarks"] == by_index.report[1]["landmarks"]
+    assert by_index.report[1]["landmarks"]["met"]
 
 
 def test_landmarks_need_meshes_on_the_sphere(spots, mountain):

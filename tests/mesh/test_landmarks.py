@@ -42,6 +42,22 @@ def test_a_finger_has_its_two_ends_as_landmarks():
     assert ends[0] < 0.01 and ends[1] > 3.2
 
 
+def test_spread_fills_up_with_the_farthest_points_after_the_extremities():
+    m = star()
+    index = suggest_landmarks(m, 10, spread=True)
+    assert len(index) == 10 and len(set(index.tolist())) == 10
+    np.testing.assert_array_equal(index[:6], suggest_landmarks(m, 10))      # the six tips first, as they were
+    from geoimg.mesh._landmarks import _edge_graph
+    from scipy.sparse.csgraph import dijkstra
+    d = dijkstra(_edge_graph(m), indices=index)                          # (10, N) edge-path distances
+    for k in range(6, 10):       # each further point the farthest from all those before it
+        nearest = d[:k].min(axis=0)
+        assert nearest[index[k]] == pytest.approx(nearest.max())
+    assert len(suggest_landmarks(m, 3, spread=True)) == 3           # enough extremities: spread adds nothing
+    tiny = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    assert sorted(suggest_landmarks(tiny, 9, spread=True).tolist()) == [0, 1, 2, 3]     # at most every vertex
+
+
 def test_several_pieces_and_bad_counts_are_refused():
     two = meshes.three_pieces()
     with pytest.raises(MeshError, match="separate pieces"):
@@ -60,6 +76,8 @@ def test_the_command_writes_the_points_and_a_picture_or_nothing(tmp_path, capsys
     assert main(["landmarks", obj, "-o", str(csv), "--picture", str(png), "--width", "80", "--height", "60"]) == 0
     rows = csv.read_text().splitlines()
     assert rows[0] == "index,x,y,z" and len(rows) == 7 and png.is_file()
+    assert main(["landmarks", obj, "-o", str(csv), "--count", "9", "--spread", "--force"]) == 0
+    assert len(csv.read_text().splitlines()) == 10 and "then spread" in capsys.readouterr().out
     index = int(rows[1].split(",")[0])
     assert np.allclose([float(x) for x in rows[1].split(",")[1:]], geoimg.load_mesh(obj).vertices[index])
     capsys.readouterr()
