@@ -671,8 +671,8 @@ def build_parser() -> argparse.ArgumentParser:
     mo.add_argument("--landmarks", default=None, metavar="CSV",
                     help="corresponding features: a row per feature, a vertex index of each key's mesh per column "
                          "(see geoimg landmarks), or 'auto' (suggested extremities matched on the turned spheres); "
-                         "each later key's sphere is warped onto key 0's there (default: none, only the best turn "
-                         "of the sphere)")
+                         "each later key is resampled through a fold-free warp of the sphere that makes them meet "
+                         "(default: none, only the best turn of the sphere)")
     mo.add_argument("--res", type=_positive(int), default=129, help="pixels per side for meshes (default 129)")
     mo.add_argument("--gif", default=None, help="also render an animated GIF")
     mo.add_argument("--mp4", default=None, help="also render an MP4 (needs imageio-ffmpeg)")

@@ -2,7 +2,7 @@
 
 :func:`morph` takes two or more key shapes (geometry images, or meshes it turns into geometry images),
 brings them into one frame (centre, scale and, for spherical images, the rotation of the sphere that best
-matches the first shape) and returns a :class:`Morph` whose frames are blends of consecutive keys, with an
+matches the first shape, or with landmarks a fold-free warp of the sphere that makes them meet) and returns a :class:`Morph` whose frames are blends of consecutive keys, with an
 easing curve and optionally a per-pixel timing mask (one region leads, the rest follows).
 """
 from __future__ import annotations
@@ -40,6 +40,7 @@ ALIGNMENTS = ("similarity", "centre", "none")
 DEFAULT_RESOLUTION = 129
 MAX_FRAMES = 100_000      # over an hour at 24 frames a second
 _PAD = 16
+WARP_CHECK = 257         # the least grid of directions a landmark warp is checked for folds on
 
 
 def _ease(easing):
@@ -119,7 +120,6 @@ def _landmark_warp(sources: np.ndarray, targets: np.ndarray, n: int, k: int) -> 
     return dict(info, directions=directions.reshape(n, n, 3))
 
 
-WARP_CHECK = 257            # the least grid a landmark warp is checked for folds on
 AUTO_COUNT = 8               # landmarks suggested on each key for landmarks="auto"
 AUTO_MATCH_DEG = 40.0        # ... matched to key 0's when their spheres, turned, put them this close
 

@@ -378,3 +378,24 @@ def test_auto_landmarks_pair_the_same_features_and_say_which(tmp_path, capsys):
     assert main(["morph", str(data_file("spot_low_resolution.obj")), str(data_file("spot.obj")), "--landmarks",
                  "auto", "--frames", "2", "--res", "33", "-o", str(tmp_path / "a.glb")]) == 0
     assert "auto landmarks:" in capsys.readouterr().out
+
+
+def test_landmarks_with_three_keys_a_timing_mask_and_the_files_downstream(tmp_path):
+    from scipy.spatial import cKDTree
+    a, b = load_data("spot_low_resolution.obj"), geoimg.load_mesh(data_file("spot.obj"))
+    c = geoimg.Mesh(a.vertices * [1.0, 1.3, 1.0], a.faces)            # a taller Spot, the same faces as a
+    ia = np.array([12, 300, 700, 501])
+    ib = cKDTree(b.vertices).query(a.vertices[ia])[1]
+    weights = np.zeros((33, 33))
+    weights[:16] = 1.0
+    m = morph(a, b, c, frames=5, resolution=33, align="none", landmarks=list(zip(ia, ib, ia)), mask=weights)
+    for k in (1, 2):
+        assert m.report[k]["landmarks"]["met"] and m.report[k]["landmarks"]["folded"] == 0
+    assert np.array_equal(m.frame(2.0).pixels, m.keys[2].pixels)
+    half = m.frame(1.5).pixels                      # the mask's rows lead: nearer key 2 than the others
+    lead, lag = np.abs(half - m.keys[2].pixels)[:16].mean(), np.abs(half - m.keys[2].pixels)[17:].mean()
+    assert lead < lag
+    g = gl.GLTF2().load(str(save_glb(m, tmp_path / "m.glb")))
+    assert len(g.meshes[0].primitives[0].targets) >= 2 and len(g.animations) == 1
+    files = save_frames(m, tmp_path / "frames", "ply")
+    assert len(files) == 5 and all(f.is_file() for f in files)
