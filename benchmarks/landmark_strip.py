@@ -14,7 +14,6 @@ import sys
 import warnings
 from pathlib import Path
 
-import numpy as np
 
 import geoimg
 from geoimg.animation import Renderer, morph

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from ._choices import COMPONENT_CHOICES
 from .errors import InputTypeError, MeshError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair
@@ -18,7 +19,6 @@ from ._types import Progress
 
 __all__ = ["mesh_to_image", "mesh_to_images", "COMPONENT_CHOICES"]
 
-COMPONENT_CHOICES = ("all", "largest")
 
 
 @contextmanager

@@ -4,28 +4,11 @@ from __future__ import annotations
 
 import filters
 
+from ._choices import FILTER_STEPS
 from .errors import InputError
 from .image import GeometryImage
 
 __all__ = ["FILTER_STEPS", "apply_steps", "check_steps"]
-
-# step name -> (filters function, argument types, metavar, help)
-FILTER_STEPS: dict[str, tuple[str, tuple[type, ...], str | tuple[str, ...], str]] = {
-    "mean": ("mean_filter", (int,), "SIZE", "mean (box) filter of SIZE x SIZE pixels (odd), as in the paper"),
-    "gaussian": ("gaussian_filter", (float,), "SIGMA", "Gaussian smoothing, SIGMA pixels"),
-    "bilateral": ("bilateral_filter", (float, float), ("SIGMA", "RANGE"),
-                  "edge-preserving bilateral filter: SIGMA pixels, RANGE in coordinate units"),
-    "guided": ("guided_filter", (int, float), ("RADIUS", "EPS"), "edge-preserving guided filter"),
-    "median": ("median_filter", (int,), "SIZE", "median of SIZE x SIZE pixels per channel: removes spikes"),
-    "tv": ("denoise_tv", (float,), "WEIGHT", "total-variation denoising (scikit-image), WEIGHT in coordinate units"),
-    "nlmeans": ("denoise_nl_means", (float,), "H",
-                "non-local means denoising (scikit-image), H in coordinate units (about the noise's sigma)"),
-    "sharpen": ("inverse_filter", (int,), "SIZE", "inverse filter undoing a SIZE x SIZE mean filter (Wiener, --nsr)"),
-    "unsharp": ("unsharp_mask", (float, float), ("SIGMA", "AMOUNT"), "unsharp masking"),
-    "lowpass": ("lowpass", (float,), "CUTOFF", "Fourier low-pass, CUTOFF cycles per pixel (0.5 = Nyquist)"),
-    "bandpass": ("bandpass", (float, float), ("LOW", "HIGH"), "Fourier band-pass (the detail between two cutoffs)"),
-}
-
 
 def check_steps(steps) -> tuple[tuple[str, tuple], ...]:
     """``steps`` as a tuple of ``(name, values)`` after checking the names and the number of values.

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import geoimg
-from geoimg import batch, cli
+from geoimg import _commands, batch, cli
 from geoimg.batch._task import Job, run_job
 from helpers import DATA
 from meshes import mobius, write
@@ -284,7 +284,7 @@ def _counts(done, elapsed, total=10):
 
 def test_progress_lines_off_a_terminal_a_bar_on_one_and_nothing_when_quiet():
     logs = _Stream(tty=False)
-    p = cli.BatchProgress(every=5.0, stream=logs)
+    p = _commands.BatchProgress(every=5.0, stream=logs)
     for done, t in ((0, 0.0), (1, 1.0), (2, 4.0), (3, 5.5), (4, 7.0), (10, 12.0)):
         p(_counts(done, t))
     lines = logs.text.splitlines()
@@ -292,12 +292,12 @@ def test_progress_lines_off_a_terminal_a_bar_on_one_and_nothing_when_quiet():
     assert lines[1].endswith("3/10 done, 0 refused, 0 failed, 32.7/min, 13s left")
     assert lines[-1].startswith("[12s] 10/10 done") and "left" not in lines[-1]
     term = _Stream(tty=True)
-    p = cli.BatchProgress(stream=term)
+    p = _commands.BatchProgress(stream=term)
     p(_counts(5, 10.0))
     p(_counts(10, 20.0))
     assert term.text.startswith("\r[###############...............] 5/10") and term.text.endswith("\n")
     quiet = _Stream(tty=True)
-    cli.BatchProgress(quiet=True, stream=quiet)(_counts(5, 1.0))
+    _commands.BatchProgress(quiet=True, stream=quiet)(_counts(5, 1.0))
     assert quiet.text == ""
 
 

@@ -219,12 +219,12 @@ def test_every_option_has_help_and_shows_its_default():
     (["morph", "I", "I", "--gif", "m.png"], "m.png: the GIF must be named *.gif"),
 ])
 def test_outputs_are_checked_before_any_work(tmp_path, monkeypatch, capsys, argv, message):
-    import geoimg.cli as cli
+    import geoimg._commands as commands
 
     def no_work(*args, **kwargs):
         raise AssertionError("work started before the outputs were checked")
     for name in ("mesh_to_images", "load_image", "load_mesh", "morph"):
-        monkeypatch.setattr(cli, name, no_work)
+        monkeypatch.setattr(commands, name, no_work)
     monkeypatch.chdir(tmp_path)
     argv = [str(MOUNTAIN) if a == "M" else "in.exr" if a == "I" else a for a in argv]
     assert main(argv) == 2

@@ -1,8 +1,9 @@
 """The house rules of the package layout: imports run one way (no cycles between modules, filters never
-imports geoimg), imports sit at the top of modules except for optional dependencies, and every public
-name a package exports exists."""
+imports geoimg), imports sit at the top of modules except for optional dependencies and the command line's
+commands, and every public name a package exports exists, whether imported at once or when first used."""
 import ast
 import importlib
+import subprocess
 import sys
 from pathlib import Path
 
@@ -11,6 +12,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 OPTIONAL = {"moderngl", "imageio", "imageio.v3", "pygltflib", "imageio_ffmpeg", "dask", "dask.utils", "distributed",
             "zarr", "pandas", "psutil"}
+DEFERRED = {("geoimg.cli", "geoimg._commands")}     # the parser runs without the commands' heavy imports
+HEAVY = ("numba", "trimesh", "scipy", "cv2", "OpenImageIO", "skimage", "igl", "PIL")
 
 
 def _modules(package: str) -> dict:
@@ -24,11 +27,21 @@ def _modules(package: str) -> dict:
 MODULES = {**_modules("geoimg"), **_modules("filters")}
 
 
+def _type_checking_only(tree) -> set:
+    """ids of the statements inside ``if TYPE_CHECKING:`` blocks (read by type checkers, never run)."""
+    inside = set()
+    for node in tree.body:
+        if isinstance(node, ast.If) and isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING":
+            inside |= {id(n) for n in node.body}
+    return inside
+
+
 def _imports(name: str, path: Path):
-    """(target module, at top level?) for each import statement of a module."""
+    """(target module, at top level?) for each import statement of a module (those only for type checkers
+    count as at the top)."""
     tree = ast.parse(path.read_text())
     package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
-    top = set(map(id, tree.body))
+    top = set(map(id, tree.body)) | _type_checking_only(tree)
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             for alias in node.names:
@@ -68,8 +81,34 @@ def test_no_import_cycles():
 
 def test_imports_are_at_the_top_except_optional_dependencies():
     inside = [(name, target) for name, path in MODULES.items() for target, top in _imports(name, path)
-              if not top and target not in OPTIONAL]
+              if not top and target not in OPTIONAL and (name, target) not in DEFERRED]
     assert inside == []
+
+
+@pytest.mark.parametrize("statement", ["import geoimg", "import filters", "import geoimg.cli; geoimg.cli.build_parser()"])
+def test_the_packages_and_the_parser_import_nothing_heavy(statement):
+    """``import geoimg`` and ``geoimg --help`` stay quick: the libraries behind the work are imported when
+    first used (their names are looked up, not timed: the machines are shared)."""
+    code = f"{statement}; import sys; print(sorted({{m.split('.')[0] for m in sys.modules}} & set({HEAVY!r})))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
+    assert out.stdout.strip() == "[]"
+
+
+def test_names_imported_when_first_used_are_the_real_ones():
+    import geoimg
+    import filters
+    from geoimg.mesh import Mesh
+    from filters.smoothing import mean_filter
+    assert geoimg.Mesh is Mesh and filters.mean_filter is mean_filter
+    code = "import filters; filters.resize; print(callable(filters.blend))"    # a module's names come together
+    assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                          cwd=ROOT).stdout.strip() == "True"
+    assert set(geoimg.__all__) <= set(dir(geoimg)) and set(filters.__all__) <= set(dir(filters))
+    assert geoimg.mesh.topology is importlib.import_module("geoimg.mesh").topology
+    with pytest.raises(AttributeError, match="has no attribute 'nothing'"):
+        geoimg.nothing
+    with pytest.raises(AttributeError, match="has no attribute 'nothing'"):
+        filters.nothing
 
 
 def test_filters_knows_nothing_of_geoimg():

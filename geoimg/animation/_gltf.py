@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._choices import FRAME_FORMATS
 from ..errors import InputError
 from .._atomic import atomic_path, write_all
 from .._optional import require
@@ -26,7 +27,6 @@ from .._types import PathLike, Progress
 
 __all__ = ["save_glb", "save_frames", "frame_jobs", "FRAME_FORMATS"]
 
-FRAME_FORMATS = ("obj", "ply", "off", "exr")
 
 
 def _triangles(mesh) -> np.ndarray:

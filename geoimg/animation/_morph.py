@@ -19,6 +19,7 @@ from scipy import ndimage, optimize
 from scipy.spatial.transform import Rotation
 
 import filters
+from .._choices import ALIGNMENTS, EASINGS
 from ..errors import InputError, InputTypeError
 from .._convert import mesh_to_image
 from ..image import GeometryImage
@@ -29,14 +30,6 @@ from .._types import Progress
 
 __all__ = ["morph", "Morph", "EASINGS", "ALIGNMENTS"]
 
-EASINGS = {
-    "linear": lambda t: t,
-    "smoothstep": lambda t: t * t * (3.0 - 2.0 * t),
-    "ease-in-out": lambda t: 0.5 - 0.5 * np.cos(np.pi * t),
-    "ease-in": lambda t: t * t,
-    "ease-out": lambda t: 1.0 - (1.0 - t) ** 2,
-}
-ALIGNMENTS = ("similarity", "centre", "none")
 DEFAULT_RESOLUTION = 129
 MAX_FRAMES = 100_000      # over an hour at 24 frames a second
 _PAD = 16

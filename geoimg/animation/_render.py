@@ -16,6 +16,7 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._choices import UP_AXES
 from .._atomic import atomic_path
 from .._optional import require
 from ..errors import GeoimgError, InputError, InputTypeError
@@ -27,7 +28,6 @@ from .._types import PathLike
 __all__ = ["Renderer", "Camera", "render", "save_png", "save_animation", "RenderError", "UP_AXES", "up_axis",
            "label_points"]
 
-UP_AXES = ("x", "y", "z")
 MARGIN = 0.04             # a fitted camera leaves this fraction of the picture free on the tightest side
 
 _VERTEX = """

@@ -8,16 +8,15 @@ import math
 
 import filters
 
+from .._choices import QUAD_FORMATS
 from .. import __version__
 from .._steps import check_steps
 from ..errors import InputError, InputTypeError
-from ..mesh import MESH_FORMATS
 from ..parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
 from ..surface import S_RANGE, SLIVER_RULES, WEIGHTS
 
 __all__ = ["ConvertOptions", "QUAD_FORMATS"]
 
-QUAD_FORMATS = tuple(f.lstrip(".") for f in MESH_FORMATS if f in (".obj", ".ply", ".off"))    # formats that keep quads
 
 
 def _choice(name, value, choices, optional=False):

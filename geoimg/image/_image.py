@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 import filters
+from .._choices import EXR_LAYOUTS, IMAGE_FORMATS
 from .._atomic import atomic_path, write_all
 from .._raster import FLOAT, UINT16, write_raster
 from ..errors import GeoimgError, ImageError, ImageFileError, InputError, InputTypeError
@@ -24,8 +25,6 @@ from .._types import PathLike
 __all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS", "IMAGE_FORMATS", "NPY_SIDECAR", "TIFF_DESCRIPTION"]
 
 DEFAULT_PAD = 16
-IMAGE_FORMATS = (".exr", ".npz", ".tif", ".tiff", ".npy")
-EXR_LAYOUTS = ("geoimg", "rgba")      # the mask as channel "mask", or as "A" (alpha) for compositing tools
 COLOR_CHANNELS = ("color.R", "color.G", "color.B", "color.A")
 NPY_SIDECAR = ".json"                 # x.npy's channel names and metadata are in x.npy.json
 TIFF_DESCRIPTION = "geoimg"           # the key of the record a TIFF keeps in its ImageDescription tag

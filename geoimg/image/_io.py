@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._choices import ASSUMABLE_DOMAINS
 from .._atomic import atomic_path
 from .._raster import FLOAT, UINT8, read_raster, write_raster
 from ..errors import GeoimgError, ImageFileError, InputError, InputTypeError
@@ -52,7 +53,6 @@ def save_image(image: GeometryImage, path: PathLike, *, overwrite: bool = False)
     return image.save(path, overwrite=overwrite)
 
 
-ASSUMABLE_DOMAINS = ("planar", "octahedral")     # a cut-open image cannot be read without its recorded layout
 
 
 def _unmarked(path, assume: str | None) -> str:

@@ -15,6 +15,7 @@ import numpy as np
 import trimesh
 from PIL import Image               # comes with scikit-image
 
+from .._choices import MESH_FORMATS
 from .._atomic import write_all
 from ..errors import InputTypeError, MeshError, MeshFileError
 from ._appearance import (TEXTURE_SUFFIX, obj_colors, ply_colors, read_mtl_texture, split_corners,
@@ -24,7 +25,6 @@ from .._types import PathLike
 
 __all__ = ["load_mesh", "save_mesh", "mesh_file_jobs", "MESH_FORMATS"]
 
-MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")
 BOM = b"\xef\xbb\xbf"
 
 

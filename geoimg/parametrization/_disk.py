@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._choices import DISK_BALANCES, DISK_BOUNDARIES
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._laplacian import corner_angles, mean_value_weights, solve_free
@@ -21,8 +22,6 @@ from ._slim import area_log_rms, relax
 
 __all__ = ["disk_coords", "DISK_BOUNDARIES", "DISK_BALANCES"]
 
-DISK_BOUNDARIES = ("square", "keep")
-DISK_BALANCES = ("slim", "none")
 _CANDIDATE_STARTS = 24
 BULGE = 0.02
 

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial import ConvexHull
 
+from .._choices import AXES, PARAMETRIZATION_METHODS
 from ..errors import InputTypeError, ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._cut import cut_coords
@@ -23,9 +24,7 @@ from .._types import Progress
 
 __all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATION_METHODS", "AXES"]
 
-PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere", "cut")
 _AXES = {"x": 0, "y": 1, "z": 2}
-AXES = tuple(_AXES)
 SNAP_DEGREES = 15.0
 MAX_OUTLINE_GAP = 0.25     # auto takes a height field or the mesh's UVs only when the outline fills its hull this well
 COORD_DIMS = {"planar": 2, "octahedral": 3, "cut": 2}   # a parametrization's domain kind -> per-vertex coordinates: (u, v), unit vectors

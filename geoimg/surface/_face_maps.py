@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import sparse
 
+from .._choices import SLIVER_RULES
 from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh
 from ..parametrization import signed_face_areas
@@ -27,7 +28,6 @@ from ..parametrization import signed_face_areas
 __all__ = ["FaceMaps", "SphereFaceMaps", "face_maps", "fit_planes", "enclosing_circle_radius", "robust_sliver_planes", "SLIVER_RULES",
            "SLIVER_RATIO"]
 
-SLIVER_RULES = ("robust", "paper")
 SLIVER_RATIO = 2.0
 
 

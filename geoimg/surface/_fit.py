@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._choices import WEIGHTS
 from ..errors import InputError, InputTypeError
 from ..image import Domain
 from ..mesh import Mesh
@@ -15,7 +16,6 @@ from ._sphere import fit_sphere_surface
 
 __all__ = ["fit_surface", "WEIGHTS"]
 
-WEIGHTS = ("gaussian", "local")
 _FITTERS = {2: fit_planar_surface, 3: fit_sphere_surface}     # by the dimension of the parameter coordinates
 
 

@@ -1,0 +1,61 @@
+"""Start-up times (issue 14): `import geoimg`, `import filters`, `geoimg --help`, and a small mesh through
+one CLI call, each the median of several fresh processes.
+
+    python benchmarks/bench_startup.py [--tree PATH] [--runs 7]
+
+``--tree`` measures another checkout of the project (e.g. a `git worktree` of an older commit) with the same
+interpreter, for a baseline in the same run.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+def timed(args, tree: Path, runs: int) -> float:
+    env = dict(os.environ, PYTHONPATH=str(tree))
+    times = []
+    for _ in range(runs):
+        t = time.perf_counter()
+        subprocess.run(args, cwd=tree, env=env, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument("--tree", type=Path, default=HERE.parent)
+    ap.add_argument("--runs", type=int, default=7)
+    args = ap.parse_args(argv)
+    tree = args.tree.resolve()
+    py = sys.executable
+    with tempfile.TemporaryDirectory() as tmp:
+        cases = {
+            "python -c pass (the interpreter alone)": [py, "-c", "pass"],
+            "import numpy": [py, "-c", "import numpy"],
+            "import geoimg": [py, "-c", "import geoimg"],
+            "import filters": [py, "-c", "import filters"],
+            "geoimg --help": [py, "-m", "geoimg.cli", "--help"],
+            "geoimg image --help": [py, "-m", "geoimg.cli", "image", "--help"],
+            "geoimg info sphere.obj": [py, "-m", "geoimg.cli", "info", str(HERE.parent / "tests" / "data" / "sphere.obj")],
+            "geoimg image sphere.obj --res 33": [py, "-m", "geoimg.cli", "image",
+                                                 str(HERE.parent / "tests" / "data" / "sphere.obj"), "-o",
+                                                 str(Path(tmp) / "s.exr"), "--res", "33", "--force"],
+        }
+        print(f"tree {tree}; median of {args.runs} fresh processes\n")
+        print("| what | seconds |")
+        print("|---|---:|")
+        for name, cmd in cases.items():
+            print(f"| {name} | {timed(cmd, tree, args.runs):.3f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
