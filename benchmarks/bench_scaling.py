@@ -1,7 +1,8 @@
 """How sampling scales (issue 14): seconds against faces at a fixed image size, and against pixels at a fixed
 face count, for the planar and the octahedral domain; and the peak memory of a 250k-face mesh to a 1025²
 image. Each case runs in a fresh process (so peak RSS is its own), after a warm-up call that loads the
-numba cache; the time is fit + sample, positions only, s = 1.
+numba cache; the time is fit + sample, positions only, s = 1. `--compare`: the octahedral kernel with and without
+normals against the planar one, at 513² to 2049².
 
     python benchmarks/bench_scaling.py          (about 5 minutes on 2 cores)
 
@@ -25,7 +26,7 @@ import numpy as np
 from scipy.spatial import Delaunay
 import geoimg
 warnings.simplefilter("ignore")
-kind, faces, res = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+kind, faces, res, normals = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), sys.argv[5] == "1"
 rng = np.random.default_rng(0)
 if kind == "planar":
     pts = rng.random((faces // 2 + 2, 2))
@@ -44,15 +45,16 @@ else:
     param = geoimg.Parametrization(d, (1.0, 1.0), "octahedral", "sphere")
 warm = geoimg.fit_surface(mesh, param, 1.0).sample(17, normals=False)          # numba cache loaded
 t = time.perf_counter()
-img = geoimg.fit_surface(mesh, param, 1.0).sample(res, normals=False)
+img = geoimg.fit_surface(mesh, param, 1.0).sample(res, normals=normals)
 dt = time.perf_counter() - t
 print(json.dumps({"kind": kind, "faces": int(mesh.n_faces), "res": res, "seconds": dt,
                   "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 '''
 
 
-def run(kind: str, faces: int, res: int) -> dict:
-    out = subprocess.run([sys.executable, "-c", CASE, kind, str(faces), str(res), str(ROOT / "tests")],
+def run(kind: str, faces: int, res: int, normals: bool = False) -> dict:
+    out = subprocess.run([sys.executable, "-c", CASE, kind, str(faces), str(res), str(ROOT / "tests"),
+                          "1" if normals else "0"],
                          capture_output=True, text=True, timeout=1200, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -62,7 +64,22 @@ def slope(x, y) -> float:
     return float(np.polyfit(np.log(x), np.log(y), 1)[0])
 
 
+def compare():
+    """Octahedral positions alone against positions with exact normals (what the kernel summed before the
+    positions-only path, whatever was asked), and the planar kernel at about the same face count."""
+    print("| image | planar 99,971 faces, positions | octahedral 81,920, positions | octahedral, with normals |"
+          " octahedral / planar (positions) |")
+    print("|---|---:|---:|---:|---:|")
+    for res in (513, 1025, 2049):
+        pl, oc, on = run("planar", 100_000, res), run("octahedral", 81_920, res), run("octahedral", 81_920, res, True)
+        print(f"| {res}² | {pl['seconds']:.2f} | {oc['seconds']:.2f} | {on['seconds']:.2f} | "
+              f"{oc['seconds'] / pl['seconds']:.1f} |", flush=True)
+
+
 def main():
+    if "--compare" in sys.argv:
+        compare()
+        return
     rows = []
     sweeps = {"planar": ([10_000, 30_000, 100_000, 250_000], [129, 257, 513, 1025, 2049]),
               "octahedral": ([20 * 4 ** k for k in (5, 6, 7)], [129, 257, 513, 1025, 2049])}

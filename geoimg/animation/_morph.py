@@ -2,8 +2,9 @@
 
 :func:`morph` takes two or more key shapes (geometry images, or meshes it turns into geometry images),
 brings them into one frame (centre, scale and, for spherical images, the rotation of the sphere that best
-matches the first shape, or with landmarks a fold-free warp of the sphere that makes them meet) and returns a :class:`Morph` whose frames are blends of consecutive keys, with an
-easing curve and optionally a per-pixel timing mask (one region leads, the rest follows).
+matches the first shape, or with landmarks a fold-free warp of the sphere that makes them meet) and
+returns a :class:`Morph` whose frames are blends of consecutive keys, with an easing curve and optionally
+a per-pixel timing mask (one region leads, the rest follows).
 """
 from __future__ import annotations
 
@@ -154,9 +155,9 @@ def _as_images(shapes, resolution, progress, landmarks=None, params=None):
     """Geometry images of the shapes; meshes with the same faces as the previous mesh reuse its
     parametrization, so their images correspond vertex for vertex. With ``landmarks`` ((L, K) vertex
     indices), each later key gets the warp of the sphere that brings key 0's landmarks onto its own (the
-    alignment resamples it there). ``params``: the
-    parametrizations an earlier call returned, used instead of making them again. Returns the images, how
-    each key was parametrized, each key's warp report (or None) and the parametrizations (None for images)."""
+    alignment resamples it there). ``params``: the parametrizations an earlier call returned, used instead
+    of making them again. Returns the images, how each key was parametrized, each key's warp (or None) and
+    the parametrizations (None for images)."""
     images, used_param, last = [], [], None
     warps, made = [None] * len(shapes), [None] * len(shapes)
     sources = None
@@ -371,10 +372,11 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         genus-0 mesh), a vertex index or a 3-D point (snapped to the nearest vertex). Each later key is
         resampled through a smooth, one-to-one warp of the sphere (a rotation that best matches the
         landmarks, then a fold-free flow) that takes key 0's landmark directions onto its own (within 1e-4
-        rad); the rotation search is skipped for it. ``Morph.report`` gives each key's residual, steps
-        and folded triangles. (Suggested landmarks: :func:`geoimg.mesh.suggest_landmarks`.) ``"auto"``: each key's
-        suggested extremities, matched to key 0's on the rigidly turned spheres (within 40 degrees); the
-        report's ``auto_landmarks`` says which were matched.
+        rad); the rotation search is skipped for it. ``Morph.report`` gives each key's residual, steps,
+        folded triangles and the warp's area log-RMS. (Suggested landmarks:
+        :func:`geoimg.mesh.suggest_landmarks`.) ``"auto"``: each key's suggested extremities, matched to key
+        0's on the rigidly turned spheres (within 40 degrees); the report's ``auto_landmarks`` says which
+        were matched.
 
     Returns
     -------

@@ -117,16 +117,17 @@ class SphereSurface(Surface):
     n: int = 0
     s_face: Any = field(repr=False, default=None)   # per-face s when it varies (s is its minimum)
 
-    def evaluate_directions(self, q: ArrayLike, *, exact: bool = False) -> tuple:
+    def evaluate_directions(self, q: ArrayLike, *, exact: bool = False, derivatives: bool = True) -> tuple:
         """Points and derivatives along a tangent frame ``(t1, t2)`` (with ``t1 x t2 = q``) at unit
-        directions ``q`` (k, 3). Returns ``P, P_t1, P_t2, t1, t2, status``."""
+        directions ``q`` (k, 3). Returns ``P, P_t1, P_t2, t1, t2, status`` (the derivatives zeros without
+        ``derivatives``: about half the work)."""
         d = np.asarray(q, dtype=np.float64)
         if d.ndim != 2 or d.shape[1] != 3 or not np.isfinite(d).all():
             raise InputError(f"q: expected finite directions of shape (k, 3), got {d.shape}")
         d = d / np.linalg.norm(d, axis=1, keepdims=True)
         t1, t2 = _tangent_frame(d)
         P, P1, P2, st = sphere_kernels.evaluate_sphere(d, t1, t2, self._faces, self._cells, log_g_ref=self.log_g_ref,
-                                                       exact=exact or self.tol == 0)
+                                                       exact=exact or self.tol == 0, derivatives=derivatives)
         return P, P1, P2, t1, t2, st
 
     def _uv(self, uv):
@@ -139,7 +140,7 @@ class SphereSurface(Surface):
 
     def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Surface points at octahedral image coordinates ``uv`` (k, 2); shape (k, 3)."""
-        return self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)[0]
+        return self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact, derivatives=False)[0]
 
     def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """``(P_u, P_v)`` at image coordinates (one-sided on the octahedron's creases)."""
@@ -171,7 +172,7 @@ class SphereSurface(Surface):
         """Glued boundary pixels are evaluated at bit-identical directions, so they hold identical values."""
         n = shape[0]
         q = self.domain.directions(n).reshape(-1, 3)             # type: ignore[attr-defined]   # octahedral
-        P, P1, P2, _, _, st = self.evaluate_directions(q)
+        P, P1, P2, _, _, st = self.evaluate_directions(q, derivatives=normals)
         nrm = unit(np.cross(P1, P2) * self.orientation).reshape(n, n, 3) if normals else None
         return P.reshape(n, n, 3), nrm, None, int((st == sphere_kernels.EXACT).sum()), 0
 

@@ -58,8 +58,9 @@ def _fill(lo, hi, n):
 
 
 @njit(cache=True)
-def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, origin, e1, e2, C, A, B, acc):
-    """Accumulate over candidate faces; returns the largest exponent (-inf when no face is in range)."""
+def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, origin, e1, e2, C, A, B, deriv, acc):
+    """Accumulate over candidate faces (the derivatives' sums only with ``deriv``); returns the largest
+    exponent (-inf when no face is in range)."""
     m = -np.inf
     for k in range(n_cand):
         f = k if all_faces else cand[k]
@@ -78,38 +79,43 @@ def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, origin, e1, 
     for k in range(n_cand):
         f = k if all_faces else cand[k]
         d2 = 0.0
-        dq1 = 0.0
-        dq2 = 0.0
         for c in range(3):
-            dc = q[c] - centre[f, c]
-            d2 += dc * dc
-            dq1 += dc * t1[c]
-            dq2 += dc * t2[c]
+            d2 += (q[c] - centre[f, c]) ** 2
         if not all_faces and d2 > radius[f] * radius[f]:
             continue
         w = math.exp(-d2 * inv2s[f] - m)
-        w1 = -2.0 * inv2s[f] * dq1 * w
-        w2 = -2.0 * inv2s[f] * dq2 * w
         a = 0.0
         b = 0.0
-        a1 = 0.0
-        b1 = 0.0
-        a2 = 0.0
-        b2 = 0.0
         for c in range(3):      # orthogonal projection onto the face's plane, in its frame: affine in q
             g = q[c] - origin[f, c]
             a += g * e1[f, c]
             b += g * e2[f, c]
+        acc[0] += w
+        if not deriv:
+            for c in range(3):
+                acc[1 + c] += w * (C[f, c] + A[f, c] * a + B[f, c] * b)
+            continue
+        dq1 = 0.0
+        dq2 = 0.0
+        a1 = 0.0
+        b1 = 0.0
+        a2 = 0.0
+        b2 = 0.0
+        for c in range(3):
+            dc = q[c] - centre[f, c]
+            dq1 += dc * t1[c]
+            dq2 += dc * t2[c]
             a1 += t1[c] * e1[f, c]
             b1 += t1[c] * e2[f, c]
             a2 += t2[c] * e1[f, c]
             b2 += t2[c] * e2[f, c]
+        w1 = -2.0 * inv2s[f] * dq1 * w
+        w2 = -2.0 * inv2s[f] * dq2 * w
         for c in range(3):
             p = C[f, c] + A[f, c] * a + B[f, c] * b
             acc[1 + c] += w * p
             acc[4 + c] += w1 * p + w * (A[f, c] * a1 + B[f, c] * b1)
             acc[7 + c] += w2 * p + w * (A[f, c] * a2 + B[f, c] * b2)
-        acc[0] += w
         acc[10] += w1
         acc[11] += w2
     return m
@@ -117,7 +123,7 @@ def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, origin, e1, 
 
 @njit(parallel=True, cache=True)
 def _kernel(q, t1, t2, centre, inv2s, radius, origin, e1, e2, C, A, B, h, n, ptr, cells,
-            log_g_ref, force_exact, P, P1, P2, status):
+            log_g_ref, force_exact, deriv, P, P1, P2, status):
     n_faces = centre.shape[0]
     dummy = np.zeros(1, np.int64)
     for p in prange(q.shape[0]):
@@ -130,11 +136,11 @@ def _kernel(q, t1, t2, centre, inv2s, radius, origin, e1, e2, C, A, B, h, n, ptr
             c = (iz * n + iy) * n + ix
             cand = cells[ptr[c]:ptr[c + 1]]
             m = _sum(q[p], t1[p], t2[p], cand, cand.shape[0], False, centre, inv2s, radius, origin, e1, e2,
-                     C, A, B, acc)
+                     C, A, B, deriv, acc)
             certified = m >= log_g_ref
         status[p] = TRUNCATED
         if not certified:
-            _sum(q[p], t1[p], t2[p], dummy, n_faces, True, centre, inv2s, radius, origin, e1, e2, C, A, B, acc)
+            _sum(q[p], t1[p], t2[p], dummy, n_faces, True, centre, inv2s, radius, origin, e1, e2, C, A, B, deriv, acc)
             status[p] = EXACT
         s = acc[0]
         for c in range(3):
@@ -144,11 +150,12 @@ def _kernel(q, t1, t2, centre, inv2s, radius, origin, e1, e2, C, A, B, h, n, ptr
             P2[p, c] = (acc[7 + c] - val * acc[11]) / s
 
 
-def evaluate_sphere(q, t1, t2, faces, cells, *, log_g_ref, exact=False):
+def evaluate_sphere(q, t1, t2, faces, cells, *, log_g_ref, exact=False, derivatives=True):
     """Surface points and derivatives along ``t1``, ``t2`` at unit directions ``q`` (k, 3).
 
     ``faces`` is a tuple ``(centre, inv2s, radius, origin, e1, e2, C, A, B)``; ``cells``
-    comes from :func:`build_cells_3d`. Returns ``P, P_t1, P_t2`` (k, 3) and a status per point.
+    comes from :func:`build_cells_3d`. Returns ``P, P_t1, P_t2`` (k, 3) and a status per point; without
+    ``derivatives`` the derivatives are not summed (about half the work) and come back as zeros.
     """
     q = np.ascontiguousarray(q, np.float64)
     k = len(q)
@@ -156,5 +163,5 @@ def evaluate_sphere(q, t1, t2, faces, cells, *, log_g_ref, exact=False):
     status = np.zeros(k, np.int8)
     h, n, ptr, cf = cells
     _kernel(q, np.ascontiguousarray(t1, np.float64), np.ascontiguousarray(t2, np.float64), *faces,
-            float(h), int(n), ptr, cf, float(log_g_ref), bool(exact), P, P1, P2, status)
+            float(h), int(n), ptr, cf, float(log_g_ref), bool(exact), bool(derivatives), P, P1, P2, status)
     return P, P1, P2, status

@@ -86,6 +86,20 @@ def test_sphere_surface_truncation_derivatives_and_convergence(spot_small):
     assert errs[0] > errs[1] > errs[2] and errs[2] < 0.003 * diag
 
 
+def test_positions_alone_are_the_same_points_as_with_derivatives(spot_small):
+    mesh, p = spot_small
+    surf = geoimg.fit_surface(mesh, p, s=1)
+    q = np.random.default_rng(5).normal(size=(300, 3))
+    for exact in (False, True):
+        full = surf.evaluate_directions(q, exact=exact)
+        alone = surf.evaluate_directions(q, exact=exact, derivatives=False)
+        np.testing.assert_array_equal(alone[0], full[0])                 # the same sums, bit for bit
+        np.testing.assert_array_equal(alone[5], full[5])
+        assert not alone[1].any() and not alone[2].any() and full[1].any()
+    plain, with_normals = surf.sample(33, normals=False), surf.sample(33)
+    np.testing.assert_array_equal(plain.pixels, with_normals.pixels)
+
+
 def test_octahedral_exr_round_trip(spot_small, tmp_path):
     mesh, p = spot_small
     img = geoimg.fit_surface(mesh, p, s=2).sample(17)
