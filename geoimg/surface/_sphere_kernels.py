@@ -25,25 +25,41 @@ TRUNCATED, EXACT = 0, 1
 
 
 def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96):
-    """Bin faces into a uniform grid of cubes over [-1, 1]^3 by the cube of half-size ``radius`` around
-    each centre. Returns ``(h, n, ptr, faces)``; cell ``(ix, iy, iz)`` is ``(iz * n + iy) * n + ix``."""
+    """Bin faces into a uniform grid of cubes over [-1, 1]^3: each face into the cubes its ball of
+    ``radius`` around its centre reaches (not every cube of the ball's bounding box: fewer candidates per
+    point, the same sums). Returns ``(h, n, ptr, faces)``; cell ``(ix, iy, iz)`` is ``(iz * n + iy) * n + ix``."""
     r = np.minimum(radius, 2.0)
     h = max(float(np.median(r)), 2.0 / max_cells)
     n = int(math.ceil(2.0 / h)) + 1
-    lo = np.clip(np.floor((centres - r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
-    hi = np.clip(np.floor((centres + r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
-    ptr, faces = _fill(lo, hi, n)
+    c = np.ascontiguousarray(centres, np.float64)
+    lo = np.clip(np.floor((c - r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
+    hi = np.clip(np.floor((c + r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
+    ptr, faces = _fill(c, np.ascontiguousarray(r, np.float64), lo, hi, n, h)
     return h, n, ptr, faces
 
 
 @njit(cache=True)
-def _fill(lo, hi, n):
+def _reaches(c, r, ix, iy, iz, h):
+    """Whether the ball of radius ``r`` round ``c`` meets cell (ix, iy, iz) (cube [-1 + i h, -1 + (i + 1) h])."""
+    d2 = 0.0
+    for k, i in ((0, ix), (1, iy), (2, iz)):
+        lo = -1.0 + i * h
+        if c[k] < lo:
+            d2 += (lo - c[k]) ** 2
+        elif c[k] > lo + h:
+            d2 += (c[k] - lo - h) ** 2
+    return d2 <= r * r
+
+
+@njit(cache=True)
+def _fill(c, r, lo, hi, n, h):
     counts = np.zeros(n * n * n + 1, np.int64)
     for f in range(lo.shape[0]):
         for iz in range(lo[f, 2], hi[f, 2] + 1):
             for iy in range(lo[f, 1], hi[f, 1] + 1):
                 for ix in range(lo[f, 0], hi[f, 0] + 1):
-                    counts[(iz * n + iy) * n + ix + 1] += 1
+                    if _reaches(c[f], r[f], ix, iy, iz, h):
+                        counts[(iz * n + iy) * n + ix + 1] += 1
     ptr = np.cumsum(counts)
     fill = ptr[:-1].copy()
     out = np.empty(ptr[-1], np.int64)
@@ -51,9 +67,10 @@ def _fill(lo, hi, n):
         for iz in range(lo[f, 2], hi[f, 2] + 1):
             for iy in range(lo[f, 1], hi[f, 1] + 1):
                 for ix in range(lo[f, 0], hi[f, 0] + 1):
-                    c = (iz * n + iy) * n + ix
-                    out[fill[c]] = f
-                    fill[c] += 1
+                    if _reaches(c[f], r[f], ix, iy, iz, h):
+                        cell = (iz * n + iy) * n + ix
+                        out[fill[cell]] = f
+                        fill[cell] += 1
     return ptr, out
 
 

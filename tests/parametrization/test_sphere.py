@@ -178,3 +178,24 @@ def test_balance_gradient_matches_finite_differences(spot_small):
             sm[v, c] -= h
             fd = (balance_energy(sp, tris, a, cot, 0.3)[0] - balance_energy(sm, tris, a, cot, 0.3)[0]) / (2 * h)
             assert abs(g[v, c] - fd) <= 1e-6 * np.abs(g).max(), (v, c, g[v, c], fd)
+
+
+def test_cell_lists_hold_every_face_within_reach_of_their_points():
+    """The 3-D cells bin each face by where its ball reaches: a point's cell lists every face within that
+    face's radius of it (the truncated sums miss nothing), and fewer than the balls' bounding boxes would."""
+    from geoimg.surface._sphere_kernels import build_cells_3d
+    rng = np.random.default_rng(7)
+    centres = rng.normal(size=(3000, 3))
+    centres /= np.linalg.norm(centres, axis=1, keepdims=True)
+    radius = rng.uniform(0.02, 0.3, 3000)
+    h, n, ptr, faces = build_cells_3d(centres, radius)
+    q = rng.normal(size=(2000, 3))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    ix = np.clip(np.floor((q + 1.0) / h).astype(int), 0, n - 1)
+    cell = (ix[:, 2] * n + ix[:, 1]) * n + ix[:, 0]
+    near = np.linalg.norm(q[:, None] - centres[None], axis=2) <= radius[None]
+    for k in range(len(q)):
+        assert set(np.flatnonzero(near[k])) <= set(faces[ptr[cell[k]]:ptr[cell[k] + 1]].tolist())
+    boxes = np.prod(np.clip(np.floor((centres + radius[:, None] + 1) / h), 0, n - 1)
+                    - np.clip(np.floor((centres - radius[:, None] + 1) / h), 0, n - 1) + 1, axis=1).sum()
+    assert len(faces) < boxes
