@@ -55,11 +55,13 @@ EXAMPLES = {
     "render": ["geoimg render spot.exr -o spot.png --azimuth 60",
                "geoimg render terrain.exr -o terrain.png --elevation 35 --transparent"],
     "morph": ["geoimg morph spot.obj bunny.obj --frames 30 -o morph.glb --gif morph.gif",
+              "geoimg morph spot.obj bunny.obj --landmarks pairs.csv -o morph.glb   # features meet",
               "geoimg morph a.exr b.exr c.exr --frames-dir frames --frame-format ply"],
     "batch": ["geoimg batch meshes/ -o out --res 257 --quads", "geoimg batch 'scans/*.ply' -o out --res 129 --zarr data.zarr"],
     "info": ["geoimg info spot.exr", "geoimg info scan.ply"],
     "landmarks": ["geoimg landmarks spot.obj -o spot_points.csv --picture spot_points.png",
-                  "geoimg landmarks armadillo.obj -o points.csv --count 12 --azimuth 180"],
+                  "geoimg landmarks armadillo.obj -o points.csv --count 12 --azimuth 180",
+                  "geoimg landmarks human.obj -o points.csv --count 10 --spread   # extremities, then spread"],
     "demo": ["geoimg demo", "geoimg demo -o here --res 129"],
 }
 
