@@ -10,12 +10,13 @@ import sys
 import threading
 import warnings
 
+from filters.padding import PAD_MODES
+
 from . import __version__
 from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
                        FILTER_STEPS, FRAME_FORMATS, MESH_FORMATS, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
                        UP_AXES, WEIGHTS)
 from .errors import GeoimgError
-from filters.padding import PAD_MODES
 
 
 class _Op(argparse.Action):
