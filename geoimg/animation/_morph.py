@@ -118,14 +118,11 @@ AUTO_COUNT = 8               # landmarks suggested on each key for landmarks="au
 AUTO_MATCH_DEG = 40.0        # ... matched to key 0's when their spheres, turned, put them this close
 
 
-def _auto_landmarks(shapes, resolution, align, progress):
+def _auto_landmarks(shapes, images, how, params, align, progress):
     """Landmarks matched between keys: each key's suggested extremities, on its sphere turned the way the
     rigid alignment turns it, paired with key 0's by least total angle (Hungarian), pairs farther than
-    AUTO_MATCH_DEG dropped; a feature is kept when every key has a partner for it. Returns the (L, K) table,
-    what was matched and the keys' parametrizations (for the morph to use again)."""
-    if not all(isinstance(s, Mesh) for s in shapes):
-        raise InputError("landmarks='auto': every key must be a mesh (landmarks are suggested on meshes)")
-    images, how, _, params = _as_images(shapes, resolution, progress)
+    AUTO_MATCH_DEG dropped; a feature is kept when every key has a partner for it. ``images``, ``how`` and
+    ``params``: what :func:`_as_images` made of the keys. Returns the (L, K) table."""
     for k, param in enumerate(params):
         _require_sphere(param, k)
     _, report = _align(images, align, True, [h.startswith("shared") for h in how], None)
@@ -148,19 +145,15 @@ def _auto_landmarks(shapes, resolution, align, progress):
                          "them (geoimg landmarks writes suggestions to edit)")
     if progress:
         progress(f"auto landmarks: {len(table)} matched (vertices {table.tolist()})")
-    return table, table.tolist(), params
+    return table
 
 
-def _as_images(shapes, resolution, progress, landmarks=None, params=None):
+def _as_images(shapes, resolution, progress):
     """Geometry images of the shapes; meshes with the same faces as the previous mesh reuse its
-    parametrization, so their images correspond vertex for vertex. With ``landmarks`` ((L, K) vertex
-    indices), each later key gets the warp of the sphere that brings key 0's landmarks onto its own (the
-    alignment resamples it there). ``params``: the parametrizations an earlier call returned, used instead
-    of making them again. Returns the images, how each key was parametrized, each key's warp (or None) and
-    the parametrizations (None for images)."""
+    parametrization, so their images correspond vertex for vertex. Returns the images, how each key was
+    parametrized and the parametrizations (None for images)."""
     images, used_param, last = [], [], None
-    warps, made = [None] * len(shapes), [None] * len(shapes)
-    sources = None
+    made = [None] * len(shapes)
     for k, shape in enumerate(shapes):
         if isinstance(shape, GeometryImage):
             images.append(shape)
@@ -172,21 +165,26 @@ def _as_images(shapes, resolution, progress, landmarks=None, params=None):
             param = last[1]
             used_param.append(f"shared with shape {last[2]} (same faces)")
         else:
-            param = parametrize(shape) if params is None else params[k]
+            param = parametrize(shape)
             used_param.append(param.method)
         made[k] = param
-        if landmarks is not None:
-            _require_sphere(param, k)
-            if k == 0:
-                sources = param.coords[landmarks[:, 0]]
-            else:
-                warps[k] = _landmark_warp(sources, param.coords[landmarks[:, k]], resolution, k)
-                used_param[-1] += " + landmark warp"
         if progress:
             progress(f"shape {k}: {used_param[-1]} parametrization, sampling {resolution} pixels")
         images.append(mesh_to_image(shape, resolution, parametrization=param))
         last = (shape, param, k)
-    return images, used_param, warps, made
+    return images, used_param, made
+
+
+def _landmark_warps(params, landmarks: np.ndarray, resolution: int) -> list:
+    """Each later key's warp of the sphere that brings key 0's landmarks ((L, K) vertex indices) onto its
+    own (the alignment resamples the key there); None for key 0."""
+    for k, param in enumerate(params):
+        _require_sphere(param, k)
+    sources = params[0].coords[landmarks[:, 0]]
+    warps: list = [None]
+    for k, param in enumerate(params[1:], start=1):      # a loop, not a comprehension: the warning's stacklevel
+        warps.append(_landmark_warp(sources, param.coords[landmarks[:, k]], resolution, k))
+    return warps
 
 
 def _centre_and_radius(img: GeometryImage):
@@ -404,13 +402,19 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         raise InputError(f"align: expected one of {ALIGNMENTS}, got {align!r}")
     if not (isinstance(lag, numbers.Real) and 0 <= lag < 1):
         raise InputError(f"lag: expected a number in [0, 1), got {lag!r}")
-    matched = params = None
-    if isinstance(landmarks, str):
-        if landmarks != "auto":
-            raise InputError(f"landmarks: expected vertex-index tuples or 'auto', got {landmarks!r}")
-        landmarks, matched, params = _auto_landmarks(shapes, resolution, align, progress)
-    table = None if landmarks is None else _check_landmarks(landmarks, shapes)
-    images, how, warps, _ = _as_images(shapes, resolution, progress, table, params)
+    auto = isinstance(landmarks, str)
+    if auto and landmarks != "auto":
+        raise InputError(f"landmarks: expected vertex-index tuples or 'auto', got {landmarks!r}")
+    if auto and not all(isinstance(s, Mesh) for s in shapes):
+        raise InputError("landmarks='auto': every key must be a mesh (landmarks are suggested on meshes)")
+    table = None if landmarks is None or auto else _check_landmarks(landmarks, shapes)   # refused before work
+    images, how, params = _as_images(shapes, resolution, progress)
+    if auto:
+        table = _auto_landmarks(shapes, images, how, params, align, progress)
+    warps = None
+    if table is not None:
+        warps = _landmark_warps(params, table, images[0].shape[0])
+        how = [h if k == 0 else h + " + landmark warp" for k, h in enumerate(how)]
     if not all(img.domain.same_kind(images[0].domain) for img in images[1:]):
         kinds = ", ".join(f"shape {k}: {img.domain.kind}" for k, img in enumerate(images))
         raise InputError(f"shapes: cannot morph between domains ({kinds}); geometry images must share a "
@@ -432,7 +436,7 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
     keys, report = _align(images, align, bool(rotate), [h.startswith("shared") for h in how], progress, warps)
     for entry, h in zip(report, how):
         entry["parametrization"] = h
-    if matched is not None:
-        report[0]["auto_landmarks"] = matched
+    if auto:
+        report[0]["auto_landmarks"] = table.tolist()
     times = np.linspace(0.0, len(keys) - 1, int(frames))
     return Morph(keys, times, ease, weights, float(lag) if weights is not None else 0.0, report)
