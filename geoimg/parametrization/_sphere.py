@@ -34,6 +34,7 @@ __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 
 DEFAULT_STEPS = 200
 DEFAULT_BETA = 0.3
+SCALE_SMOOTHING = 3      # neighbour means taken of the log area ratio behind the step's scale
 
 
 def _check_sphere(mesh: Mesh):
@@ -182,14 +183,25 @@ def _local_sizes(s: np.ndarray, edges: np.ndarray) -> np.ndarray:
     return h
 
 
+def _neighbour_mean(edges: np.ndarray, n: int) -> sparse.csr_matrix:
+    """The operator that replaces a value per vertex by its mean over the vertex and its neighbours."""
+    adj = sparse.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
+    adj = ((adj + adj.T) > 0).astype(np.float64) + sparse.identity(n, format="csr")
+    return (sparse.diags(1.0 / np.asarray(adj.sum(axis=1)).ravel()) @ adj).tocsr()
+
+
 def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
     """Descend the area-balancing energy from ``s``; every accepted step keeps all triangles positive.
     Returns ``(s, steps taken, (energy at the start, energy at the end))``.
 
-    Steps follow the Laplacian-smoothed gradient (limbs move as a whole). When that finds no step that
-    keeps every triangle positive (a region squeezed to 1e-15 of the sphere blocks any global move), a
-    step along the gradient scaled per vertex by its local size is taken instead, so tiny regions grow
-    by a fraction of themselves while the rest moves normally.
+    Steps follow the Laplacian-smoothed gradient (limbs move as a whole), scaled on both sides of the
+    smoothing by each vertex's linear scale ``sigma`` (the square root of its share of the sphere over
+    its share of the mesh, averaged over its neighbours): the energy's curvature grows like
+    ``1 / sigma^2`` where the map squeezes, so squeezed and stretched parts both move by a fraction of
+    their own size. If that step finds no lower energy, the unscaled one is tried. When neither finds a
+    step that keeps every triangle positive (a region squeezed to 1e-15 of the sphere blocks any global
+    move), a step along the gradient scaled per vertex by its local size is taken instead, so tiny
+    regions grow by a fraction of themselves while the rest moves normally.
     """
     a3 = _areas(x, tris)
     a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
@@ -202,10 +214,24 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
     mass = vertex_area / vertex_area.sum()
     precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
 
+    share = np.bincount(tris.ravel(), np.repeat(a, 3), minlength=len(s))   # each vertex's share of the mesh
+    smooth = _neighbour_mean(edges, len(s))
+
     def tangent(v):
         v = v - np.einsum("ij,ij->i", v, s)[:, None] * s
         v[~used] = 0.0
         return v
+
+    def scale(area):
+        ratio = np.bincount(tris.ravel(), np.repeat(area, 3), minlength=len(s)) / np.where(used, share, 1.0)
+        log_ratio = np.log(np.where(used, ratio, 1.0))
+        for _ in range(SCALE_SMOOTHING):
+            log_ratio = smooth @ log_ratio
+        return np.exp(0.5 * log_ratio)[:, None]
+
+    def sobolev(g, sigma):
+        d = tangent(-sigma * precond.solve(np.asfortranarray(sigma * g)))   # SuperLU takes columns: no copy
+        return d / max(np.abs(d).max(), 1e-300)
 
     def search(d, alpha):
         while alpha > 1e-10:
@@ -220,9 +246,9 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
     alpha, done = 1.0, 0
     for step in range(steps):
         g = tangent(balance_gradient(s, tris, a, cot, beta, state))
-        d = tangent(-precond.solve(np.asfortranarray(g)))     # SuperLU takes columns: no copy
-        d /= max(np.abs(d).max(), 1e-300)
-        found = search(d, alpha)
+        found = search(sobolev(g, scale(state[0] * state[1])), alpha)
+        if found is None:
+            found = search(sobolev(g, 1.0), alpha)
         local = found is None
         if local:
             h = _local_sizes(s, edges)
