@@ -12,11 +12,14 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from scipy import sparse
+from scipy.sparse.linalg import splu
 
 import geoimg
 from geoimg.mesh import surface_distance
 from geoimg.parametrization import area_ratio
 from geoimg.mesh import topology
+from geoimg.parametrization._laplacian import cotangent_weights
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "meshes"
 MESHES = ["closed_genus0/sphere.obj", "closed_genus0/bumpy.off", "closed_genus0/spot_low_resolution.obj",
@@ -38,15 +41,31 @@ def samples_per_area(mesh, s):
     return dens.min(), dens.max(), np.percentile(dens, 1), np.percentile(dens, 99)
 
 
+def linear_map_time(mesh) -> float:
+    """One linear conformal map with plain scipy: the cotangent Laplacian, one vertex pinned, one sparse LU solve
+    (COLAMD) for a dipole at a face; what issues 14 and 18 compare the parametrization's time with."""
+    t0 = time.perf_counter()
+    tris, _ = mesh.triangulate()
+    W = cotangent_weights(mesh.vertices, tris).tocsr()
+    L = (sparse.diags(np.asarray(W.sum(axis=1)).ravel()) - W).tocsc()
+    keep = np.flatnonzero(mesh.referenced_vertices())[1:]
+    rhs = np.zeros((len(keep), 2))
+    rhs[:3] = [[1.0, 0.0], [-1.0, 1.0], [0.0, -1.0]]
+    splu(L[keep][:, keep].tocsc(), permc_spec="COLAMD").solve(rhs)
+    return time.perf_counter() - t0
+
+
 def main(names):
     warnings.simplefilter("ignore")
-    print("| mesh | faces | param s | flips | samples/area min..max (p1..p99) | N | sample s | closed | Hausdorff/diag | PSNR dB |")
-    print("|---|---:|---:|---:|---|---:|---:|:--:|---:|---:|")
+    print("| mesh | faces | param s | x linear map | flips | area log-RMS | samples/area min..max (p1..p99) | N | "
+          "sample s | closed | Hausdorff/diag | PSNR dB |")
+    print("|---|---:|---:|---:|---:|---:|---|---:|---:|:--:|---:|---:|")
     for name in names:
         mesh = geoimg.load_mesh(DATA / name)
         t = time.perf_counter()
         param = geoimg.parametrize(mesh, "sphere")
         t_param = time.perf_counter() - t
+        t_linear = min(linear_map_time(mesh) for _ in range(3))
         lo, hi, p1, p99 = samples_per_area(mesh, param.coords)
         surf = geoimg.fit_surface(mesh, param, s=1.0)
         surf.sample(9)   # compile / warm the cells
@@ -57,7 +76,8 @@ def main(names):
             quads = img.to_mesh()
             topo = topology(quads)
             d = surface_distance(mesh, quads, n=100000)
-            print(f"| {name.split('/')[-1]} | {mesh.n_faces} | {t_param:.2f} | {param.flipped_faces} | "
+            print(f"| {name.split('/')[-1]} | {mesh.n_faces} | {t_param:.2f} | {t_param / t_linear:.0f} | "
+                  f"{param.flipped_faces} | {param.info['area_log_rms']:.2f} | "
                   f"{lo:.3f}..{hi:.2f} ({p1:.2f}..{p99:.2f}) | {n} | {t_sample:.2f} | "
                   f"{'yes' if topo.closed and topo.genus == 0 else 'NO'} | {d['hausdorff'] / d['diagonal']:.2e} | "
                   f"{d['psnr_db']:.1f} |", flush=True)

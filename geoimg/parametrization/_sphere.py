@@ -194,14 +194,15 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
     """Descend the area-balancing energy from ``s``; every accepted step keeps all triangles positive.
     Returns ``(s, steps taken, (energy at the start, energy at the end))``.
 
-    Steps follow the Laplacian-smoothed gradient (limbs move as a whole), scaled on both sides of the
-    smoothing by each vertex's linear scale ``sigma`` (the square root of its share of the sphere over
-    its share of the mesh, averaged over its neighbours): the energy's curvature grows like
-    ``1 / sigma^2`` where the map squeezes, so squeezed and stretched parts both move by a fraction of
-    their own size. If that step finds no lower energy, the unscaled one is tried. When neither finds a
-    step that keeps every triangle positive (a region squeezed to 1e-15 of the sphere blocks any global
-    move), a step along the gradient scaled per vertex by its local size is taken instead, so tiny
-    regions grow by a fraction of themselves while the rest moves normally.
+    Steps follow the Laplacian-smoothed gradient (limbs move as a whole). Every other step is scaled on
+    both sides of the smoothing by each squeezed vertex's linear scale ``sigma < 1`` (the square root of
+    its share of the sphere over its share of the mesh, averaged over its neighbours): the energy's
+    curvature grows like ``1 / sigma^2`` where the map squeezes, so a squeezed part moves by a fraction
+    of its own size instead of holding the whole step back. The two kinds of step take turns, each with
+    its own step length, and each stands in for the other when it finds no lower energy. When neither
+    finds a step that keeps every triangle positive (a region squeezed to 1e-15 of the sphere blocks any
+    global move), a step along the gradient scaled per vertex by its local size is taken instead, so
+    tiny regions grow by a fraction of themselves while the rest moves normally.
     """
     a3 = _areas(x, tris)
     a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
@@ -227,7 +228,7 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
         log_ratio = np.log(np.where(used, ratio, 1.0))
         for _ in range(SCALE_SMOOTHING):
             log_ratio = smooth @ log_ratio
-        return np.exp(0.5 * log_ratio)[:, None]
+        return np.exp(0.5 * np.minimum(log_ratio, 0.0))[:, None]   # only squeezed parts slow down
 
     def sobolev(g, sigma):
         d = tangent(-sigma * precond.solve(np.asfortranarray(sigma * g)))   # SuperLU takes columns: no copy
@@ -243,12 +244,16 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
             alpha *= 0.5
         return None
 
-    alpha, done = 1.0, 0
+    alphas, done = [1.0, 1.0], 0            # each kind of step keeps its own step length
     for step in range(steps):
         g = tangent(balance_gradient(s, tris, a, cot, beta, state))
-        found = search(sobolev(g, scale(state[0] * state[1])), alpha)
-        if found is None:
-            found = search(sobolev(g, 1.0), alpha)
+        kinds = (step % 2, 1 - step % 2)        # scaled and plain steps take turns; each stands in for the other
+        for kind in kinds:
+            found = search(sobolev(g, scale(state[0] * state[1]) if kind == 0 else 1.0), alphas[kind])
+            if found is not None:
+                alphas[kind] = min(2.0 * found[3], 1.0)
+                break
+            alphas[kind] = 1.0
         local = found is None
         if local:
             h = _local_sizes(s, edges)
@@ -259,10 +264,9 @@ def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
             found = search(d, 1.0)
             if found is None:
                 break
-        trial, e_new, st, alpha = found
+        trial, e_new, st, _ = found
         converged = not local and e - e_new < 1e-6 * e
         s, e, state, done = trial, e_new, st, step + 1
-        alpha = 1.0 if local else min(2.0 * alpha, 1.0)
         if progress is not None and step % 10 == 0:
             progress(f"area balancing step {step}: energy {e:.4f}")
         if converged:
