@@ -49,16 +49,17 @@ def evaluate_exact_numpy(pts, centres, sigma, C, A, B):
 
 
 class AreaBalanceNumpy:
-    """Energy ``sum_t a_t [log(r_t)^2 + beta (D_t / A_t - 2)]`` of points on the sphere and its gradient
-    (numpy; the kernels are in :mod:`geoimg.balance_kernels`).
+    """Energy ``sum_t a_t [log(r_t)^2 + beta (D_t / A_t - 2)]`` of points on the sphere (or, ``planar``, of
+    points ``(u, v, 0)`` seen from +z) and its gradient (numpy; the kernels are in
+    :mod:`geoimg.parametrization._balance_kernels`).
 
     ``a_t`` are the mesh's triangle areas (normalized to sum 1), ``A_t`` the sphere's chord-triangle areas
     (signed: projected on the triangle's mean direction) scaled to sum 1, ``r_t = A_t / a_t`` and ``D_t``
     the Dirichlet energy of the triangle's affine map (cotangent formula with the mesh's angles).
     """
 
-    def __init__(self, x, tris, n, beta):
-        self.tris, self.beta = tris, beta
+    def __init__(self, x, tris, n, beta, planar=False):
+        self.tris, self.beta, self.planar = tris, beta, planar
         p = x[tris]
         a3 = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
         self.a = a3 / a3.sum()
@@ -68,8 +69,8 @@ class AreaBalanceNumpy:
 
     def energy(self, s):
         p = s[self.tris]
-        u = p.sum(axis=1)
-        u /= np.linalg.norm(u, axis=1, keepdims=True)
+        u = np.broadcast_to([0.0, 0.0, 1.0], p[:, 0].shape) if self.planar else p.sum(axis=1)   # seen from
+        u = u / np.linalg.norm(u, axis=1, keepdims=True)
         area = 0.5 * np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), u)
         if not (area > 0).all():
             return np.inf, None
@@ -89,6 +90,8 @@ class AreaBalanceNumpy:
         corner_sum = p.sum(axis=1)
         n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
         turn = 0.5 * (n - np.einsum("ij,ij->i", n, u)[:, None] * u) / np.linalg.norm(corner_sum, axis=1)[:, None]
+        if self.planar:
+            turn = 0.0 * turn                                   # the plane's direction +z does not turn
         parts = []
         for k in range(3):
             k1, k2 = (k + 1) % 3, (k + 2) % 3

@@ -1,10 +1,11 @@
-"""numba kernels of the area-balancing energy of a spherical map (see :mod:`geoimg.sphere`).
+"""numba kernels of the area-balancing energy of a map onto the sphere or the plane (see :mod:`._balance`).
 
 ``E = sum_t a_t [log(A_t / a_t)^2 + beta (D_t / A_t - 2)]`` over triangles ``t``: ``a_t`` the mesh's
-triangle areas (summing to 1), ``A_t`` the chord triangles' areas on the sphere projected on their mean
-direction, scaled to sum 1, and ``D_t`` the Dirichlet energy of the triangle's affine map (cotangent
-formula with the mesh's corner cotangents ``cot``). The plain numpy version is
-:class:`geoimg.reference.AreaBalanceNumpy`; both give the same numbers.
+triangle areas (summing to 1), ``A_t`` the mapped triangles' areas scaled to sum 1, and ``D_t`` the
+Dirichlet energy of the triangle's affine map (cotangent formula with the mesh's corner cotangents
+``cot``). On the sphere (``planar=False``) ``A_t`` is the chord triangle's area projected on its mean
+direction; on the plane (points ``(u, v, 0)``, ``planar=True``) its area seen from +z. The plain numpy
+version is ``tests/reference.py``'s ``AreaBalanceNumpy``; both give the same numbers.
 """
 from __future__ import annotations
 
@@ -22,16 +23,28 @@ def _corner(s, tris, t, k):
     return s[v, 0], s[v, 1], s[v, 2]
 
 
+@njit(cache=True, inline="always")
+def _direction(s, tris, t, planar):
+    """The direction triangle ``t`` is seen from: +z on the plane, its corners' sum on the sphere; and the
+    sum's length (1 on the plane)."""
+    if planar:
+        return 0.0, 0.0, 1.0, 1.0
+    x0, y0, z0 = _corner(s, tris, t, 0)
+    x1, y1, z1 = _corner(s, tris, t, 1)
+    x2, y2, z2 = _corner(s, tris, t, 2)
+    ux, uy, uz = x0 + x1 + x2, y0 + y1 + y2, z0 + z1 + z2
+    return ux, uy, uz, math.sqrt(ux * ux + uy * uy + uz * uz)
+
+
 @njit(parallel=True, cache=True)
-def _areas(s, tris, out):
-    """Projected chord areas into ``out``; returns the number of triangles that are not positive."""
+def _areas(s, tris, planar, out):
+    """Projected areas into ``out``; returns the number of triangles that are not positive."""
     bad = 0
     for t in prange(tris.shape[0]):
         x0, y0, z0 = _corner(s, tris, t, 0)
         x1, y1, z1 = _corner(s, tris, t, 1)
         x2, y2, z2 = _corner(s, tris, t, 2)
-        ux, uy, uz = x0 + x1 + x2, y0 + y1 + y2, z0 + z1 + z2
-        ln = math.sqrt(ux * ux + uy * uy + uz * uz)
+        ux, uy, uz, ln = _direction(s, tris, t, planar)
         ax, ay, az = x1 - x0, y1 - y0, z1 - z0
         bx, by, bz = x2 - x0, y2 - y0, z2 - z0
         cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
@@ -65,20 +78,20 @@ def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
     return e, mean_log
 
 
-def balance_energy(s, tris, a, cot, beta):
-    """Energy of unit vectors ``s`` (n, 3); ``(inf, None)`` if a triangle is not positive, else
-    ``(E, state)`` with the state :func:`balance_gradient` needs."""
+def balance_energy(s, tris, a, cot, beta, planar=False):
+    """Energy of unit vectors ``s`` (n, 3), or of points ``(u, v, 0)`` with ``planar``; ``(inf, None)`` if a
+    triangle is not positive, else ``(E, state)`` with the state :func:`balance_gradient` needs."""
     area = np.empty(len(tris))
-    if _areas(s, tris, area):
+    if _areas(s, tris, bool(planar), area):
         return np.inf, None
     lam = 1.0 / area.sum()
     dirichlet = np.empty(len(tris))
     e, mean_log = _terms(s, tris, a, cot, area, lam, float(beta), dirichlet)
-    return float(e), (area, lam, dirichlet, float(mean_log))
+    return float(e), (area, lam, dirichlet, float(mean_log), bool(planar))
 
 
 @njit(parallel=True, cache=True)
-def _corner_gradients(s, tris, a, cot, area, lam, beta, dirichlet, shift, out):
+def _corner_gradients(s, tris, a, cot, area, lam, beta, dirichlet, shift, planar, out):
     """Each triangle's gradient with respect to its three corners, (T, 3, 3), in parallel."""
     for t in prange(tris.shape[0]):
         ay = lam * area[t]
@@ -86,18 +99,17 @@ def _corner_gradients(s, tris, a, cot, area, lam, beta, dirichlet, shift, out):
         f_d = beta * a[t] / ay * lam
         f_a = (2.0 * a[t] * lr / ay - beta * a[t] * dirichlet[t] / ay ** 2) * lam - shift
         i0, i1, i2 = tris[t, 0], tris[t, 1], tris[t, 2]
-        ux = s[i0, 0] + s[i1, 0] + s[i2, 0]
-        uy = s[i0, 1] + s[i1, 1] + s[i2, 1]
-        uz = s[i0, 2] + s[i1, 2] + s[i2, 2]
-        ln = math.sqrt(ux * ux + uy * uy + uz * uz)
+        ux, uy, uz, ln = _direction(s, tris, t, planar)
         ux, uy, uz = ux / ln, uy / ln, uz / ln
-        # area = 0.5 (e1 x e2) . u with u the normalized corner sum: its turning adds, to every corner,
-        # 0.5 (n - (n . u) u) / |p0 + p1 + p2| with n = e1 x e2
-        ax, ay_, az = s[i1, 0] - s[i0, 0], s[i1, 1] - s[i0, 1], s[i1, 2] - s[i0, 2]
-        bx, by, bz = s[i2, 0] - s[i0, 0], s[i2, 1] - s[i0, 1], s[i2, 2] - s[i0, 2]
-        nx, ny, nz = ay_ * bz - az * by, az * bx - ax * bz, ax * by - ay_ * bx
-        nu = nx * ux + ny * uy + nz * uz
-        tx, ty, tz = 0.5 * (nx - nu * ux) / ln, 0.5 * (ny - nu * uy) / ln, 0.5 * (nz - nu * uz) / ln
+        # area = 0.5 (e1 x e2) . u with u the normalized corner sum: on the sphere its turning adds, to every
+        # corner, 0.5 (n - (n . u) u) / |p0 + p1 + p2| with n = e1 x e2 (on the plane u is fixed)
+        tx, ty, tz = 0.0, 0.0, 0.0
+        if not planar:
+            ax, ay_, az = s[i1, 0] - s[i0, 0], s[i1, 1] - s[i0, 1], s[i1, 2] - s[i0, 2]
+            bx, by, bz = s[i2, 0] - s[i0, 0], s[i2, 1] - s[i0, 1], s[i2, 2] - s[i0, 2]
+            nx, ny, nz = ay_ * bz - az * by, az * bx - ax * bz, ax * by - ay_ * bx
+            nu = nx * ux + ny * uy + nz * uz
+            tx, ty, tz = 0.5 * (nx - nu * ux) / ln, 0.5 * (ny - nu * uy) / ln, 0.5 * (nz - nu * uz) / ln
         for k in range(3):
             vk, v1, v2 = tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
             c1, c2 = cot[t, (k + 1) % 3], cot[t, (k + 2) % 3]
@@ -120,12 +132,12 @@ def _scatter(tris, corner, g):
 
 def balance_gradient(s, tris, a, cot, beta, state):
     """Gradient (n, 3) of the energy at ``s``."""
-    area, lam, dirichlet, mean_log = state
+    area, lam, dirichlet, mean_log, planar = state
     # the areas' normalization lam = 1 / sum(area) depends on every area too: d lam / d area_t = -lam^2
     # (summed in the energy's kernel: a numpy dot here would wake BLAS threads that fight numba's)
     shift = 2.0 * lam * mean_log
     corner = np.empty((len(tris), 3, 3))
-    _corner_gradients(s, tris, a, cot, area, lam, float(beta), dirichlet, shift, corner)
+    _corner_gradients(s, tris, a, cot, area, lam, float(beta), dirichlet, shift, planar, corner)
     g = np.zeros_like(s)
     _scatter(tris, corner, g)
     return g

@@ -11,8 +11,9 @@
    ``E = sum_t a_t [log(r_t)^2 + beta (D_t / A_t - 2)]`` (``r_t`` a triangle's share of the sphere over
    its share of the mesh; ``D_t / A_t - 2`` its conformal distortion, the Dirichlet energy over the
    area) moves the vertices on the sphere. Gradients are smoothed by the mesh's Laplacian (a Sobolev
-   preconditioner: limbs move as a whole) and every step that would turn a triangle over is halved
-   until none does, so the map stays one-to-one.
+   preconditioner: limbs move as a whole); every other step is also scaled by each squeezed vertex's
+   linear scale, so a squeezed part grows by a fraction of its own size. Every step that would turn a
+   triangle over is halved until none does, so the map stays one-to-one.
 4. A rotation lines the sphere up with the mesh (vertex directions from the mesh's centre), so the
    octahedral image shows the shape the way it stands.
 """
@@ -24,8 +25,8 @@ from scipy import sparse
 
 from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh, topology
-from ._balance_kernels import balance_energy, balance_gradient
-from ._laplacian import factor_symmetric, corner_angles, corner_cotangents, cotangent_weights, mean_value_weights, solve_free
+from ._balance import balance
+from ._laplacian import factor_symmetric, corner_angles, cotangent_weights, mean_value_weights, solve_free
 from ._orientation import chord_orientation, facing_out
 from ._progressive import progressive_sphere
 from .._types import Progress
@@ -34,7 +35,6 @@ __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 
 DEFAULT_STEPS = 200
 DEFAULT_BETA = 0.3
-SCALE_SMOOTHING = 3      # neighbour means taken of the log area ratio behind the step's scale
 
 
 def _check_sphere(mesh: Mesh):
@@ -174,106 +174,6 @@ def _plane_to_sphere(z: np.ndarray, vertex_area: np.ndarray, used: np.ndarray, t
     return facing_out(s, tris)
 
 
-def _local_sizes(s: np.ndarray, edges: np.ndarray) -> np.ndarray:
-    """Each vertex's shortest chord edge on the sphere (inf for vertices on no edge)."""
-    length = np.linalg.norm(s[edges[:, 0]] - s[edges[:, 1]], axis=1)
-    h = np.full(len(s), np.inf)
-    np.minimum.at(h, edges[:, 0], length)
-    np.minimum.at(h, edges[:, 1], length)
-    return h
-
-
-def _neighbour_mean(edges: np.ndarray, n: int) -> sparse.csr_matrix:
-    """The operator that replaces a value per vertex by its mean over the vertex and its neighbours."""
-    adj = sparse.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
-    adj = ((adj + adj.T) > 0).astype(np.float64) + sparse.identity(n, format="csr")
-    return (sparse.diags(1.0 / np.asarray(adj.sum(axis=1)).ravel()) @ adj).tocsr()
-
-
-def _balance(s, x, tris, lap, vertex_area, used, beta, steps, progress):
-    """Descend the area-balancing energy from ``s``; every accepted step keeps all triangles positive.
-    Returns ``(s, steps taken, (energy at the start, energy at the end))``.
-
-    Steps follow the Laplacian-smoothed gradient (limbs move as a whole). Every other step is scaled on
-    both sides of the smoothing by each squeezed vertex's linear scale ``sigma < 1`` (the square root of
-    its share of the sphere over its share of the mesh, averaged over its neighbours): the energy's
-    curvature grows like ``1 / sigma^2`` where the map squeezes, so a squeezed part moves by a fraction
-    of its own size instead of holding the whole step back. The two kinds of step take turns, each with
-    its own step length, and each stands in for the other when it finds no lower energy. When neither
-    finds a step that keeps every triangle positive (a region squeezed to 1e-15 of the sphere blocks any
-    global move), a step along the gradient scaled per vertex by its local size is taken instead, so
-    tiny regions grow by a fraction of themselves while the rest moves normally.
-    """
-    a3 = _areas(x, tris)
-    a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
-    tris = np.ascontiguousarray(tris, np.int64)
-    e, state = balance_energy(s, tris, a, cot, beta)
-    if not np.isfinite(e):
-        return s, 0, (e, e)
-    e_start = e
-    edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
-    mass = vertex_area / vertex_area.sum()
-    precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
-
-    share = np.bincount(tris.ravel(), np.repeat(a, 3), minlength=len(s))   # each vertex's share of the mesh
-    smooth = _neighbour_mean(edges, len(s))
-
-    def tangent(v):
-        v = v - np.einsum("ij,ij->i", v, s)[:, None] * s
-        v[~used] = 0.0
-        return v
-
-    def scale(area):
-        ratio = np.bincount(tris.ravel(), np.repeat(area, 3), minlength=len(s)) / np.where(used, share, 1.0)
-        log_ratio = np.log(np.where(used, ratio, 1.0))
-        for _ in range(SCALE_SMOOTHING):
-            log_ratio = smooth @ log_ratio
-        return np.exp(0.5 * np.minimum(log_ratio, 0.0))[:, None]   # only squeezed parts slow down
-
-    def sobolev(g, sigma):
-        d = tangent(-sigma * precond.solve(np.asfortranarray(sigma * g)))   # SuperLU takes columns: no copy
-        return d / max(np.abs(d).max(), 1e-300)
-
-    def search(d, alpha):
-        while alpha > 1e-10:
-            trial = s + alpha * d
-            trial /= np.linalg.norm(trial, axis=1, keepdims=True)
-            e_new, st = balance_energy(trial, tris, a, cot, beta)
-            if e_new < e:
-                return trial, e_new, st, alpha
-            alpha *= 0.5
-        return None
-
-    alphas, done = [1.0, 1.0], 0            # each kind of step keeps its own step length
-    for step in range(steps):
-        g = tangent(balance_gradient(s, tris, a, cot, beta, state))
-        kinds = (step % 2, 1 - step % 2)        # scaled and plain steps take turns; each stands in for the other
-        for kind in kinds:
-            found = search(sobolev(g, scale(state[0] * state[1]) if kind == 0 else 1.0), alphas[kind])
-            if found is not None:
-                alphas[kind] = min(2.0 * found[3], 1.0)
-                break
-            alphas[kind] = 1.0
-        local = found is None
-        if local:
-            h = _local_sizes(s, edges)
-            on_edge = np.isfinite(h)
-            d = -g * np.where(on_edge, h, 0.0)[:, None] ** 2
-            reach = np.linalg.norm(d, axis=1) / np.where(on_edge, h, 1.0)
-            d /= max(2.0 * reach.max(), 1e-300)            # no vertex moves more than half its shortest edge
-            found = search(d, 1.0)
-            if found is None:
-                break
-        trial, e_new, st, _ = found
-        converged = not local and e - e_new < 1e-6 * e
-        s, e, state, done = trial, e_new, st, step + 1
-        if progress is not None and step % 10 == 0:
-            progress(f"area balancing step {step}: energy {e:.4f}")
-        if converged:
-            break
-    return s, done, (e_start, e)
-
-
 def _vertex_areas(x, tris):
     a3 = _areas(x, tris)
     return np.bincount(tris.ravel(), np.repeat(a3 / 3.0, 3), minlength=len(x))
@@ -316,7 +216,7 @@ def _coarse_map(x, beta):
         va = _vertex_areas(xs, t)
         lap = _laplacian(cotangent_weights(xs, t))
         sc, _, _ = _direct_start(xs, t, used, va, lap)
-        sc, _, _ = _balance(sc, xs, t, lap, va, used, float(beta), DEFAULT_STEPS, None)
+        sc, _, _ = balance(sc, xs, t, lap, va, used, float(beta), DEFAULT_STEPS, None)
         s = np.zeros((len(x), 3))
         s[:, 2] = 1.0
         s[idx] = sc
@@ -328,7 +228,7 @@ def _relax(x, beta, steps: int = 30):
     """Area-balance the map of an intermediate mesh (the vertices ``alive``, triangles ``tris``)."""
     def run(s, alive, tris):
         lap = _laplacian(cotangent_weights(x, tris))
-        out, _, _ = _balance(s, x, tris, lap, _vertex_areas(x, tris), alive, float(beta), steps, None)
+        out, _, _ = balance(s, x, tris, lap, _vertex_areas(x, tris), alive, float(beta), steps, None)
         return out
     return run
 
@@ -394,7 +294,7 @@ def sphere_coords(mesh: Mesh, *, steps: int = DEFAULT_STEPS, beta: float = DEFAU
             s, start = sp, "progressive"
     idx = np.flatnonzero(used)
     conformal = distortion(x, s, tris)   # of the starting map
-    s, done, energy = _balance(s, x, tris, lap, vertex_area, used, float(beta), int(steps), progress)
+    s, done, energy = balance(s, x, tris, lap, vertex_area, used, float(beta), int(steps), progress)
     s[idx] = _align(s[idx], x[idx], vertex_area[idx])
     det = chord_orientation(s, tris)
     info.update({"flipped_triangles": int(np.sum(det <= 0)), "balance_steps": done, "removed_face": f0,

@@ -199,3 +199,4 @@ def test_cell_lists_hold_every_face_within_reach_of_their_points():
     boxes = np.prod(np.clip(np.floor((centres + radius[:, None] + 1) / h), 0, n - 1)
                     - np.clip(np.floor((centres - radius[:, None] + 1) / h), 0, n - 1) + 1, axis=1).sum()
     assert len(faces) < boxes
+

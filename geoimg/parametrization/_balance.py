@@ -1,0 +1,176 @@
+"""Area balancing of a one-to-one map of a triangle mesh onto the sphere or the plane: one descent for both.
+
+A descent on ``E = sum_t a_t [log(r_t)^2 + beta (D_t / A_t - 2)]`` (``r_t`` a triangle's share of the map's
+area over its share of the mesh's, ``D_t / A_t - 2`` its conformal distortion; energy and gradient in
+numba, :mod:`._balance_kernels`) moves the vertices; every accepted step keeps every triangle positive, so
+a one-to-one map stays one. On the sphere the vertices move in their tangent planes and are put back on
+the sphere; on the plane a vertex may be held (a corner of the square) or slide along a line (a side of the
+square), so squeezed parts near the boundary can open along it.
+
+Examples
+--------
+A square's four triangles round a centre pulled towards one corner: balancing moves it back.
+
+>>> x = np.array([[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0]])
+>>> tris = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+>>> start = x.copy(); start[4, :2] = 0.2
+>>> held = np.array([True, True, True, True, False])
+>>> out, steps, (e0, e1) = balance(start, x, tris, planar=True, held=held)
+>>> bool(e1 < 1e-6 < e0), np.round(out[4], 3).tolist()
+(True, [0.5, 0.5, 0.0])
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import sparse
+
+from ._balance_kernels import balance_energy, balance_gradient
+from ._laplacian import corner_cotangents, cotangent_weights, factor_symmetric
+
+__all__ = ["balance", "squeeze_scale", "neighbour_mean", "SCALE_SMOOTHING"]
+
+SCALE_SMOOTHING = 3      # neighbour means taken of the log area ratio behind the scaled step
+
+
+def _mesh_areas(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    p = x[tris]
+    return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+
+
+def _local_sizes(s: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    """Each vertex's shortest edge in the map (inf for vertices on no edge)."""
+    length = np.linalg.norm(s[edges[:, 0]] - s[edges[:, 1]], axis=1)
+    h = np.full(len(s), np.inf)
+    np.minimum.at(h, edges[:, 0], length)
+    np.minimum.at(h, edges[:, 1], length)
+    return h
+
+
+def neighbour_mean(edges: np.ndarray, n: int) -> sparse.csr_matrix:
+    """The operator that replaces a value per vertex by its mean over the vertex and its neighbours."""
+    adj = sparse.coo_matrix((np.ones(len(edges)), (edges[:, 0], edges[:, 1])), shape=(n, n)).tocsr()
+    adj = ((adj + adj.T) > 0).astype(np.float64) + sparse.identity(n, format="csr")
+    return (sparse.diags(1.0 / np.asarray(adj.sum(axis=1)).ravel()) @ adj).tocsr()
+
+
+def squeeze_scale(area: np.ndarray, mesh_area: np.ndarray, tris: np.ndarray, used: np.ndarray,
+                  smooth: sparse.csr_matrix) -> np.ndarray:
+    """Each vertex's linear scale, (n, 1): the square root of its share of the map (``area``, per triangle,
+    summing to 1) over its share of the mesh (``mesh_area``), its log averaged ``SCALE_SMOOTHING`` times with
+    the neighbours' (``smooth``: :func:`neighbour_mean`), and at most 1: only squeezed parts are slowed."""
+    n = len(used)
+    share = np.bincount(tris.ravel(), np.repeat(mesh_area, 3), minlength=n)
+    ratio = np.bincount(tris.ravel(), np.repeat(area, 3), minlength=n) / np.where(used, share, 1.0)
+    log_ratio = np.log(np.where(used, ratio, 1.0))
+    for _ in range(SCALE_SMOOTHING):
+        log_ratio = smooth @ log_ratio
+    return np.exp(0.5 * np.minimum(log_ratio, 0.0))[:, None]
+
+
+def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3, steps: int = 200,
+            progress=None, *, planar: bool = False, held=None, along=None):
+    """Descend the area-balancing energy from the map ``s`` of the mesh ``x, tris``; every accepted step keeps
+    all triangles positive. Returns ``(s, steps taken, (energy at the start, energy at the end))``.
+
+    Parameters
+    ----------
+    s : (n, 3) float
+        Unit vectors (a map onto the sphere) or points ``(u, v, 0)`` (onto the plane, counter-clockwise).
+    x, tris : the mesh's vertices (n, 3) and triangles (T, 3).
+    lap, vertex_area : optional
+        The mesh's cotangent Laplacian and vertex areas (computed when not given).
+    used : (n,) bool, optional
+        The vertices that move (default: those on a triangle).
+    planar : bool, default False
+        A map onto the plane (``s[:, 2]`` is 0) rather than the sphere.
+    held : (n,) bool, optional
+        On the plane: vertices that stay where they are.
+    along : (n, 3) float, optional
+        On the plane: a unit direction per vertex that may only slide along it (zero rows move freely).
+
+    Steps follow the Laplacian-smoothed gradient (limbs move as a whole). Every other step is scaled on
+    both sides of the smoothing by each squeezed vertex's linear scale ``sigma < 1`` (:func:`squeeze_scale`):
+    the energy's curvature grows like ``1 / sigma^2`` where the map squeezes, so a squeezed part moves by
+    a fraction of its own size instead of holding the whole step back. The two kinds of step take turns,
+    each with its own step length, and each stands in for the other when it finds no lower energy. When
+    neither finds a step that keeps every triangle positive (a region squeezed to 1e-15 of the map blocks
+    any global move), a step along the gradient scaled per vertex by its local size is taken instead, so
+    tiny regions grow by a fraction of themselves while the rest moves normally.
+    """
+    s = np.array(s, dtype=np.float64)
+    tris = np.ascontiguousarray(tris, np.int64)
+    n = len(s)
+    used = np.isin(np.arange(n), tris) if used is None else np.asarray(used, bool)
+    a3 = _mesh_areas(x, tris)
+    if lap is None:
+        w = cotangent_weights(x, tris)
+        lap = (sparse.diags(np.asarray(w.sum(axis=1)).ravel()) - w).tocsc()
+    if vertex_area is None:
+        vertex_area = np.bincount(tris.ravel(), np.repeat(a3 / 3.0, 3), minlength=n)
+    moves = used & (~np.asarray(held, bool) if held is not None else True)
+    a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
+    e, state = balance_energy(s, tris, a, cot, beta, planar)
+    if not np.isfinite(e):
+        return s, 0, (e, e)
+    e_start = e
+    edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
+    mass = vertex_area / vertex_area.sum()
+    precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
+    smooth = neighbour_mean(edges, n)
+    slides = None if along is None else np.flatnonzero(np.any(np.asarray(along) != 0, axis=1))
+
+    def tangent(v):
+        if planar:
+            v[:, 2] = 0.0
+            if slides is not None:
+                t = along[slides]
+                v[slides] = np.einsum("ij,ij->i", v[slides], t)[:, None] * t
+        else:
+            v = v - np.einsum("ij,ij->i", v, s)[:, None] * s
+        v[~moves] = 0.0
+        return v
+
+    def sobolev(g, sigma):
+        d = tangent(-sigma * precond.solve(np.asfortranarray(sigma * g)))   # SuperLU takes columns: no copy
+        return d / max(np.abs(d).max(), 1e-300)
+
+    def search(d, alpha):
+        while alpha > 1e-10:
+            trial = s + alpha * d
+            if not planar:
+                trial /= np.linalg.norm(trial, axis=1, keepdims=True)
+            e_new, st = balance_energy(trial, tris, a, cot, beta, planar)
+            if e_new < e:
+                return trial, e_new, st, alpha
+            alpha *= 0.5
+        return None
+
+    alphas, done = [1.0, 1.0], 0            # each kind of step keeps its own step length
+    for step in range(steps):
+        g = tangent(balance_gradient(s, tris, a, cot, beta, state))
+        kinds = (step % 2, 1 - step % 2)        # scaled and plain steps take turns; each stands in for the other
+        for kind in kinds:
+            sigma = squeeze_scale(state[0] * state[1], a, tris, used, smooth) if kind == 0 else 1.0
+            found = search(sobolev(g, sigma), alphas[kind])
+            if found is not None:
+                alphas[kind] = min(2.0 * found[3], 1.0)
+                break
+            alphas[kind] = 1.0
+        local = found is None
+        if local:
+            h = _local_sizes(s, edges)
+            on_edge = np.isfinite(h)
+            d = -g * np.where(on_edge, h, 0.0)[:, None] ** 2
+            reach = np.linalg.norm(d, axis=1) / np.where(on_edge, h, 1.0)
+            d /= max(2.0 * reach.max(), 1e-300)            # no vertex moves more than half its shortest edge
+            found = search(d, 1.0)
+            if found is None:
+                break
+        trial, e_new, st, _ = found
+        converged = not local and e - e_new < 1e-6 * e
+        s, e, state, done = trial, e_new, st, step + 1
+        if progress is not None and step % 10 == 0:
+            progress(f"area balancing step {step}: energy {e:.4f}")
+        if converged:
+            break
+    return s, done, (e_start, e)

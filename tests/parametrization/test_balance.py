@@ -1,0 +1,81 @@
+"""The area-balancing descent shared by the sphere and the plane: its kernels against the numpy twin and finite
+differences on the plane, the scaled step's scale, and the sliding boundary of a disk map."""
+import numpy as np
+import pytest
+
+import geoimg
+from geoimg.parametrization._balance import SCALE_SMOOTHING, balance, neighbour_mean, squeeze_scale
+from geoimg.parametrization._balance_kernels import balance_energy, balance_gradient
+
+import meshes
+from reference import AreaBalanceNumpy
+
+
+@pytest.fixture(scope="module")
+def finger_map():
+    """The synthetic finger (a disk) and its plain mean-value map onto the square, as points (u, v, 0)."""
+    mesh = meshes.finger(segments=12, rows=12)
+    p = geoimg.parametrize(mesh, "disk", balance="none")
+    tris, _ = mesh.triangulate()
+    return mesh, np.ascontiguousarray(tris, np.int64), np.column_stack([p.coords, np.zeros(mesh.n_vertices)])
+
+
+def test_planar_kernels_match_the_numpy_reference(finger_map):
+    mesh, tris, s = finger_map
+    ref = AreaBalanceNumpy(mesh.vertices, tris, mesh.n_vertices, 0.3, planar=True)
+    e0, st0 = ref.energy(s)
+    e1, st1 = balance_energy(s, tris, ref.a, ref.cot, 0.3, True)
+    assert np.isfinite(e0) and e1 == pytest.approx(e0, rel=1e-12)
+    g0, g1 = ref.gradient(st0), balance_gradient(s, tris, ref.a, ref.cot, 0.3, st1)
+    assert np.abs(g1 - g0).max() <= 1e-12 * np.abs(g0).max() and np.all(g1[:, 2] == 0.0)
+    # the same points read as chords of the sphere give another energy: the flag is what decides
+    assert balance_energy(s + [0, 0, 1], tris, ref.a, ref.cot, 0.3, True)[0] == pytest.approx(e1, rel=1e-12)
+    mirrored = s * [1, -1, 0]                                    # every triangle turned over: no energy
+    assert balance_energy(mirrored, tris, ref.a, ref.cot, 0.3, True)[0] == np.inf
+
+
+def test_planar_gradient_matches_finite_differences(finger_map):
+    mesh, tris, s = finger_map
+    ref = AreaBalanceNumpy(mesh.vertices, tris, mesh.n_vertices, 0.3, planar=True)
+    e, state = balance_energy(s, tris, ref.a, ref.cot, 0.3, True)
+    g = balance_gradient(s, tris, ref.a, ref.cot, 0.3, state)
+    rng = np.random.default_rng(5)
+    for v in rng.choice(mesh.n_vertices, 6, replace=False):
+        for c in range(2):
+            h = 1e-7 * max(1e-3, np.abs(s[tris[np.any(tris == v, axis=1)]][..., :2] - s[v, :2]).max())
+            sp, sm = s.copy(), s.copy()
+            sp[v, c] += h
+            sm[v, c] -= h
+            fd = (balance_energy(sp, tris, ref.a, ref.cot, 0.3, True)[0]
+                  - balance_energy(sm, tris, ref.a, ref.cot, 0.3, True)[0]) / (2 * h)
+            assert abs(g[v, c] - fd) <= 1e-5 * np.abs(g).max(), (v, c, g[v, c], fd)
+
+
+def test_the_balancing_step_slows_only_squeezed_parts_by_their_linear_scale():
+    # the scale behind every other balancing step: sqrt(share of the sphere / share of the mesh), at most 1
+    mesh = meshes.icosphere(3)
+    tris = np.asarray(mesh.faces, np.int64)
+    p = mesh.vertices[tris]
+    a = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    a /= a.sum()
+    edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
+    used = np.ones(mesh.n_vertices, bool)
+    smooth = neighbour_mean(edges, mesh.n_vertices)
+    assert np.allclose(squeeze_scale(a, a, tris, used, smooth), 1.0)
+    # a cap squeezed to 1e-4 of its share, the rest stretched: sqrt(1e-4) deep inside the cap, 1 outside
+    centre = mesh.vertices[tris].mean(axis=1)
+    squeezed = centre[:, 2] > 0.5
+    area = a * np.where(squeezed, 1e-4, 1.0)
+    area /= area.sum()
+    sigma = squeeze_scale(area, a, tris, used, smooth).ravel()
+    hops = np.full(mesh.n_vertices, np.inf)          # edge hops from the cap's rim
+    rim = np.unique(tris[squeezed][np.isin(tris[squeezed], tris[~squeezed])])
+    hops[rim] = 0
+    for k in range(1, 2 * SCALE_SMOOTHING + 2):
+        ring = np.unique(edges[np.isin(edges[:, 0], np.flatnonzero(hops == k - 1)), 1])
+        hops[ring[np.isinf(hops[ring])]] = k
+    inside = np.isin(np.arange(mesh.n_vertices), tris[squeezed]) & (hops > SCALE_SMOOTHING)
+    outside = ~np.isin(np.arange(mesh.n_vertices), tris[squeezed]) & (hops > SCALE_SMOOTHING)
+    assert inside.any() and outside.any()
+    assert np.allclose(sigma[inside], 1e-2 * np.sqrt(1.0 / (1 - (a[squeezed].sum() * (1 - 1e-4)))), rtol=1e-9)
+    assert np.all(sigma[outside] == 1.0) and np.all(sigma <= 1.0)
