@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["MESH_FORMATS", "COMPONENT_CHOICES", "ASSUMABLE_DOMAINS", "IMAGE_FORMATS", "EXR_LAYOUTS",
-           "PARAMETRIZATION_METHODS", "AXES", "DISK_BOUNDARIES", "DISK_BALANCES", "EASINGS", "ALIGNMENTS",
+           "PARAMETRIZATION_METHODS", "AXES", "DISK_BOUNDARIES", "DISK_BALANCES", "DEFAULT_DISK_BALANCE", "EASINGS", "ALIGNMENTS",
            "FRAME_FORMATS", "UP_AXES", "QUAD_FORMATS", "WEIGHTS", "SLIVER_RULES", "FILTER_STEPS"]
 
 MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")
@@ -18,7 +18,8 @@ ASSUMABLE_DOMAINS = ("planar", "octahedral")     # a cut-open image cannot be re
 PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere", "cut")
 AXES = ("x", "y", "z")
 DISK_BOUNDARIES = ("square", "keep")
-DISK_BALANCES = ("slim", "none")
+DISK_BALANCES = ("area", "slim", "none")
+DEFAULT_DISK_BALANCE = "area"
 WEIGHTS = ("gaussian", "local")
 SLIVER_RULES = ("robust", "paper")
 EASINGS = {

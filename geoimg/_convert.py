@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from ._choices import COMPONENT_CHOICES
+from ._choices import COMPONENT_CHOICES, DEFAULT_DISK_BALANCE
 from .errors import InputTypeError, MeshError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair
@@ -87,7 +87,7 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.
 
 
 def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0, method: str = "auto", *,
-                  axis: str | None = None, boundary: str = "square", balance: str = "slim",
+                  axis: str | None = None, boundary: str = "square", balance: str = DEFAULT_DISK_BALANCE,
                   weights: str = "gaussian", n: int = 10,
                   tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True, colors: bool = True,
                   parametrization: Parametrization | None = None, progress: Progress | None = None,

@@ -13,7 +13,7 @@ import warnings
 from filters.padding import PAD_MODES
 
 from . import __version__
-from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
+from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
                        FILTER_STEPS, FRAME_FORMATS, MESH_FORMATS, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
                        UP_AXES, WEIGHTS)
 from .errors import GeoimgError
@@ -85,9 +85,10 @@ def build_parser() -> argparse.ArgumentParser:
     conversion.add_argument("--axis", choices=AXES, default=None, help="up axis of a height field")
     conversion.add_argument("--boundary", choices=DISK_BOUNDARIES, default="square",
                             help="disk meshes: boundary on the unit square (default) or kept (a convex planar outline)")
-    conversion.add_argument("--balance", choices=DISK_BALANCES, default="slim",
-                            help="disk meshes: relax the mean-value map with SLIM, opening up squeezed parts "
-                                 "(default slim), or keep it (none)")
+    conversion.add_argument("--balance", choices=DISK_BALANCES, default=DEFAULT_DISK_BALANCE,
+                            help="disk meshes: balance the mean-value map's area, the boundary sliding along the "
+                                 "square's sides (default area), relax it with SLIM, the boundary held (slim), or "
+                                 "keep it (none); either balancing opens up squeezed parts")
     conversion.add_argument("--weights", choices=WEIGHTS, default="gaussian",
                             help="the weight of each face: rational Gaussian (default gaussian) or local (its n "
                                  "nearest face centres)")

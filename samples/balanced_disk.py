@@ -1,11 +1,12 @@
 """What sticks out of a disk: Spot (from tests/data) opened at the belly, mapped onto the square by mean-value
-coordinates alone and after SLIM (`--balance slim`, the default).
+coordinates alone (`--balance none`), relaxed by SLIM with the boundary held (`--balance slim`) and area-balanced
+with the boundary sliding along the square's sides (`--balance area`, the default).
 
     python samples/balanced_disk.py [OUT_DIR] [--res 129]
 
 Left to right: the input (a hole of radius 0.15 at the belly, so it is a disk); the quad mesh of a 65 x 65
 image of the plain mean-value map with its grid lines (the legs, head and tail, squeezed into a few pixels,
-are cut off by the grid); the same after SLIM. The PSNRs are those of the `--res` images' quad meshes.
+are cut off by the grid); the same after SLIM; the same after area balancing. The PSNRs are those of the `--res` images' quad meshes.
 Writes OUT_DIR/balanced_disk.png.
 """
 from __future__ import annotations
@@ -43,14 +44,14 @@ def run(out_dir: Path, res: int = 129, size=(360, 300)) -> dict:
     with Renderer(*size) as r:
         cam = r.camera_for(mesh, azimuth=35, elevation=10)
         row.append(caption(r.render(mesh, cam), f"input: {mesh.n_faces} triangles, open at the belly"))
-        for balance in ("none", "slim"):
+        for balance in ("none", "slim", "area"):
             p = geoimg.parametrize(mesh, "disk", balance=balance)
             quads = geoimg.mesh_to_image(mesh, res, parametrization=p).to_mesh()
             d = surface_distance(mesh, quads, n=50000)
             coarse = geoimg.mesh_to_image(mesh, 65, parametrization=p).to_mesh()
             stats[balance] = {"area_log_rms": p.info["area_log_rms"], "folds": p.flipped_faces,
                               "psnr_db": d["psnr_db"], "hausdorff": d["hausdorff"] / d["diagonal"]}
-            label = "mean-value map" if balance == "none" else "after SLIM"
+            label = {"none": "mean-value map", "slim": "after SLIM", "area": "area-balanced"}[balance]
             row.append(caption(r.render(coarse, cam, edges=coarse, edge_color=(0.2, 0.2, 0.6)),
                                f"{label}: log-RMS {p.info['area_log_rms']:.1f}, {d['psnr_db']:.1f} dB"))
     stats["png"] = str(save(sheet([row]), Path(out_dir) / "balanced_disk.png"))

@@ -8,7 +8,7 @@ import math
 
 import filters
 
-from .._choices import QUAD_FORMATS
+from .._choices import DEFAULT_DISK_BALANCE, QUAD_FORMATS
 from .. import __version__
 from .._steps import check_steps
 from ..errors import InputError, InputTypeError
@@ -46,7 +46,7 @@ class ConvertOptions:
     method: str = "auto"
     axis: str | None = None
     boundary: str = "square"
-    balance: str = "slim"
+    balance: str = DEFAULT_DISK_BALANCE
     weights: str = "gaussian"
     n: int = 10
     tol: float = 1e-10

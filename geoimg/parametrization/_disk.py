@@ -7,17 +7,20 @@ four "ears"), the sides are bowed out by 2 % at their middles, so the outline is
 face is flat; the pixels outside the bowed square are masked. The interior follows from Floater's mean-value
 coordinates: every free vertex is the mean-value-weighted mean of its neighbours. The weights are
 positive and the boundary convex, so no triangle folds over (Floater 2003). The mean-value map squeezes
-what sticks out (a finger's area shrinks about geometrically along it), so by default libigl's SLIM then
-lowers the map's distortion with the boundary held, every step fold-free (:mod:`._slim`).
+what sticks out (a finger's area shrinks about geometrically along it), so by default the area balancing
+of the sphere's map (:mod:`._balance`) then evens the area out, the boundary vertices sliding along the
+square's straight sides with the corners held, every step fold-free; ``balance="slim"`` runs libigl's SLIM
+with the boundary held instead (:mod:`._slim`).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .._choices import DISK_BALANCES, DISK_BOUNDARIES
+from .._choices import DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._laplacian import corner_angles, mean_value_weights, solve_free
+from ._balance import balance as area_balance
 from ._slim import area_log_rms, relax
 
 __all__ = ["disk_coords", "DISK_BOUNDARIES", "DISK_BALANCES"]
@@ -126,9 +129,11 @@ def _keep_outline(mesh: Mesh, loop: np.ndarray) -> np.ndarray:
     return xy
 
 
-def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = "slim") -> tuple[np.ndarray, dict]:
+def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DISK_BALANCE) -> tuple[np.ndarray, dict]:
     """Per-vertex (u, v) of a disk-like mesh; boundary on the unit square or on its own convex outline; the
-    interior by mean-value coordinates, then (``balance="slim"``) relaxed by SLIM with the boundary held.
+    interior by mean-value coordinates, then balanced (``balance="area"``: the boundary slides along the
+    square's straight sides, a kept or bowed outline is held) or relaxed by SLIM with the boundary held
+    (``"slim"``).
 
     Returns
     -------
@@ -136,7 +141,7 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = "slim") -> 
         Unreferenced vertices get (0, 0).
     info : dict
         ``corners`` (vertex indices at the square's corners), ``boundary_vertices``, ``balance``,
-        ``slim_steps``, and the area distortion (log-RMS of each triangle's share of the parameter area
+        ``balance_steps`` (``slim_steps``: the same for SLIM, else 0), and the area distortion (log-RMS of each triangle's share of the parameter area
         over its share of the surface) of the mean-value map (``mean_value_area_log_rms``) and of the
         result (``area_log_rms``).
 
@@ -156,6 +161,7 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = "slim") -> 
     loop = boundary_loops(mesh)[0]
     tris, _ = mesh.triangulate()
     info: dict = {"boundary_vertices": int(len(loop))}
+    slide = None                 # the boundary's directions of sliding and its held vertices, loop order
     if boundary == "keep":
         pos = _keep_outline(mesh, loop)
     else:
@@ -170,6 +176,11 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = "slim") -> 
         bulge = BULGE if flat else 0.0
         pos = _square_positions(t_of, corners, total, bulge)
         info.update(corners=loop[idx].tolist(), side_bulge=bulge)
+        if not bulge:            # straight sides: their vertices may slide along them, the corners stay
+            side, at_corner = _side_of(t_of, corners)
+            along = np.where((side % 2 == 0)[:, None], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
+            along[at_corner] = 0.0
+            slide = (along, at_corner)
     coords = np.zeros((mesh.n_vertices, 2))
     coords[loop] = pos
     used = mesh.referenced_vertices()
@@ -178,11 +189,15 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = "slim") -> 
     free = np.flatnonzero(used & ~is_fixed)
     if len(free):
         coords[free] = solve_free(mean_value_weights(mesh.vertices, tris), loop, pos, free)
-    return _balanced(mesh, tris, coords, loop, balance, info)
+    return _balanced(mesh, tris, coords, loop, balance, info, slide)
 
 
-def _balanced(mesh: Mesh, tris: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str, info: dict):
-    """The mean-value map ``coords`` relaxed by SLIM (``balance="slim"``) on the referenced vertices."""
+def _balanced(mesh: Mesh, tris: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str, info: dict,
+              slide=None):
+    """The mean-value map ``coords`` relaxed on the referenced vertices: by SLIM with the boundary held
+    (``balance="slim"``), or by the area balancing the sphere's map uses (``balance="area"``), the boundary
+    sliding along the square's straight sides (``slide``: directions and held corners in loop order) or
+    held."""
     used = np.flatnonzero(mesh.referenced_vertices())
     index = np.full(mesh.n_vertices, -1, np.int64)
     index[used] = np.arange(len(used))
@@ -194,6 +209,16 @@ def _balanced(mesh: Mesh, tris: np.ndarray, coords: np.ndarray, loop: np.ndarray
         relaxed, steps = relax(v, f, coords[used], index[loop])
         coords = coords.copy()
         coords[used] = relaxed
-    info.update(balance=balance, slim_steps=steps, mean_value_area_log_rms=before,
-                area_log_rms=area_log_rms(area3, coords[used], f) if steps else before)
+    elif balance == "area":
+        held = np.zeros(len(used), bool)
+        along = np.zeros((len(used), 3))
+        held[index[loop]] = True if slide is None else slide[1]
+        if slide is not None:
+            along[index[loop]] = slide[0]
+        start = np.column_stack([coords[used], np.zeros(len(used))])
+        relaxed, steps, _ = area_balance(start, v, f, planar=True, held=held, along=along)   # 0 steps: as it was
+        coords = coords.copy()
+        coords[used] = relaxed[:, :2]
+    info.update(balance=balance, balance_steps=steps, slim_steps=steps if balance == "slim" else 0,
+                mean_value_area_log_rms=before, area_log_rms=area_log_rms(area3, coords[used], f) if steps else before)
     return coords, info

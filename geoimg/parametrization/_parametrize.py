@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial import ConvexHull
 
-from .._choices import AXES, PARAMETRIZATION_METHODS
+from .._choices import AXES, DEFAULT_DISK_BALANCE, PARAMETRIZATION_METHODS
 from ..errors import InputTypeError, ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._cut import cut_coords
@@ -134,7 +134,7 @@ def _normalize(coords: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, tuple,
 
 
 def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, boundary: str = "square",
-                balance: str = "slim", progress: Progress | None = None) -> Parametrization:
+                balance: str = DEFAULT_DISK_BALANCE, progress: Progress | None = None) -> Parametrization:
     """Parametrize a mesh over a planar rectangle or the sphere.
 
     Parameters
@@ -158,10 +158,12 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
         two are within 15 degrees (terrains are stored axis-up; ``info["snapped_to_axis"]`` says so).
     boundary : {"square", "keep"}
         For ``disk``: the boundary on the unit square, or kept as it is when it is a convex planar polygon.
-    balance : {"slim", "none"}
-        For ``disk``: after the mean-value map, lower its distortion with SLIM (the boundary held, every
-        step fold-free), which opens up what the mean-value map squeezes (fingers, ears, a snout); or keep
-        the mean-value map (``"none"``). ``info`` records both maps' area distortion.
+    balance : {"area", "slim", "none"}
+        For ``disk``: after the mean-value map, balance its area as the sphere's map is balanced, the
+        boundary vertices sliding along the square's sides and the corners held (``"area"``); or lower
+        its distortion with SLIM, the boundary held (``"slim"``). Either opens up what the mean-value map
+        squeezes (fingers, ears, a snout), every step fold-free. ``"none"`` keeps the mean-value map.
+        ``info`` records both maps' area distortion.
     progress : callable, optional
         For ``sphere``: called with a short message as the map improves.
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import geoimg
-from geoimg.parametrization._balance import SCALE_SMOOTHING, balance, neighbour_mean, squeeze_scale
+from geoimg.parametrization._balance import SCALE_SMOOTHING, neighbour_mean, squeeze_scale
 from geoimg.parametrization._balance_kernels import balance_energy, balance_gradient
 
 import meshes
@@ -79,3 +79,46 @@ def test_the_balancing_step_slows_only_squeezed_parts_by_their_linear_scale():
     assert inside.any() and outside.any()
     assert np.allclose(sigma[inside], 1e-2 * np.sqrt(1.0 / (1 - (a[squeezed].sum() * (1 - 1e-4)))), rtol=1e-9)
     assert np.all(sigma[outside] == 1.0) and np.all(sigma <= 1.0)
+
+
+def test_area_balancing_of_a_disk_slides_its_boundary_along_the_sides_and_folds_nothing():
+    from geoimg.mesh import boundary_loops
+    m = meshes.finger()
+    plain = geoimg.parametrize(m, "disk", balance="none")
+    p = geoimg.parametrize(m, "disk", balance="area")
+    assert p.info["balance"] == "area" and p.info["balance_steps"] > 0 and p.info["slim_steps"] == 0
+    assert p.flipped_faces == 0 and p.degenerate_faces == 0
+    assert p.info["area_log_rms"] < plain.info["area_log_rms"] / 5       # 9.8 -> 0.9 when measured
+    loop = boundary_loops(m)[0]
+    corners = p.info["corners"]
+    np.testing.assert_array_equal(p.coords[corners], plain.coords[corners])   # the corners stay, exactly
+    b, b0 = p.coords[loop], plain.coords[loop]
+    on_side = np.isin(b0, [0.0, 1.0])                       # the coordinate that puts a vertex on its side
+    np.testing.assert_array_equal(b[on_side], b0[on_side])  # ... is kept exactly: it slid along the side
+    assert np.all((b >= 0) & (b <= 1))
+    assert np.abs(b - b0).max() > 1e-3                      # and the boundary did slide
+    inside = np.setdiff1d(np.arange(m.n_vertices), loop)
+    assert np.abs(p.coords[inside] - plain.coords[inside]).max() > 1e-3
+
+
+def test_area_balancing_holds_a_kept_outline():
+    from geoimg.mesh import boundary_loops
+    m = meshes.cap(90.0, rings=8, segments=16)               # a hemisphere: its rim is a flat circle
+    loop = boundary_loops(m)[0]
+    plain = geoimg.parametrize(m, "disk", boundary="keep", balance="none")
+    p = geoimg.parametrize(m, "disk", boundary="keep", balance="area")
+    assert p.flipped_faces == 0 and p.info["balance_steps"] > 0
+    np.testing.assert_array_equal(p.coords[loop], plain.coords[loop])      # the outline is held exactly
+    assert p.info["area_log_rms"] < plain.info["area_log_rms"]
+
+
+def test_the_default_disk_balance_is_the_area_balancing_everywhere():
+    import inspect
+    from geoimg.batch import ConvertOptions
+    from geoimg.cli import build_parser
+    assert inspect.signature(geoimg.parametrize).parameters["balance"].default == "area"
+    assert inspect.signature(geoimg.mesh_to_image).parameters["balance"].default == "area"
+    assert ConvertOptions().balance == "area"
+    assert build_parser().parse_args(["image", "m.obj", "-o", "m.exr"]).balance == "area"
+    p = geoimg.parametrize(meshes.finger(rows=8), "disk")
+    assert p.info["balance"] == "area" and p.info["balance_steps"] > 0
