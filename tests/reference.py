@@ -78,7 +78,7 @@ class AreaBalanceNumpy:
         opp = np.roll(p, -1, axis=1) - np.roll(p, 1, axis=1)          # edge facing corner k
         dirichlet = 0.5 * lam * (self.cot * (opp ** 2).sum(axis=2)).sum(axis=1)
         ay = lam * area
-        lr = np.log(ay / self.a)
+        lr = np.where(self.a > 0, np.log(ay / np.maximum(self.a, 1e-300)), 0.0)   # faces of no area: no term
         e = self.a @ lr ** 2 + self.beta * (self.a @ (dirichlet / ay - 2.0))
         return float(e), (p, u, ay, lam, lr, dirichlet)
 

@@ -60,8 +60,9 @@ def squeeze_scale(area: np.ndarray, mesh_area: np.ndarray, tris: np.ndarray, use
     the neighbours' (``smooth``: :func:`neighbour_mean`), and at most 1: only squeezed parts are slowed."""
     n = len(used)
     share = np.bincount(tris.ravel(), np.repeat(mesh_area, 3), minlength=n)
-    ratio = np.bincount(tris.ravel(), np.repeat(area, 3), minlength=n) / np.where(used, share, 1.0)
-    log_ratio = np.log(np.where(used, ratio, 1.0))
+    known = used & (share > 0)                  # a vertex only on faces of no area has no ratio: 1
+    ratio = np.bincount(tris.ravel(), np.repeat(area, 3), minlength=n) / np.where(known, share, 1.0)
+    log_ratio = np.log(np.where(known, ratio, 1.0))
     for _ in range(SCALE_SMOOTHING):
         log_ratio = smooth @ log_ratio
     return np.exp(0.5 * np.minimum(log_ratio, 0.0))[:, None]

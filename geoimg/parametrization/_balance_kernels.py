@@ -72,7 +72,7 @@ def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
         d = 0.5 * lam * dsum
         dirichlet[t] = d
         ay = lam * area[t]
-        lr = math.log(ay / a[t])
+        lr = math.log(ay / a[t]) if a[t] > 0.0 else 0.0     # a face of no area on the mesh: no term
         e += a[t] * lr * lr + beta * a[t] * (d / ay - 2.0)
         mean_log += a[t] * lr
     return e, mean_log
@@ -95,7 +95,7 @@ def _corner_gradients(s, tris, a, cot, area, lam, beta, dirichlet, shift, planar
     """Each triangle's gradient with respect to its three corners, (T, 3, 3), in parallel."""
     for t in prange(tris.shape[0]):
         ay = lam * area[t]
-        lr = math.log(ay / a[t])
+        lr = math.log(ay / a[t]) if a[t] > 0.0 else 0.0     # a face of no area on the mesh: no term
         f_d = beta * a[t] / ay * lam
         f_a = (2.0 * a[t] * lr / ay - beta * a[t] * dirichlet[t] / ay ** 2) * lam - shift
         i0, i1, i2 = tris[t, 0], tris[t, 1], tris[t, 2]

@@ -122,3 +122,31 @@ def test_the_default_disk_balance_is_the_area_balancing_everywhere():
     assert build_parser().parse_args(["image", "m.obj", "-o", "m.exr"]).balance == "area"
     p = geoimg.parametrize(meshes.finger(rows=8), "disk")
     assert p.info["balance"] == "area" and p.info["balance_steps"] > 0
+
+
+def _with_a_zero_area_pair(mesh):
+    """The mesh with edge (a, b) of its first face split at a copy of ``a``: two faces of exactly no area."""
+    v, f = mesh.vertices, np.asarray(mesh.faces)
+    a, b, c = f[0]
+    k = len(v)
+    other = next(i for i, t in enumerate(f) if a in t and b in t and i != 0)
+    d = next(x for x in f[other] if x not in (a, b))
+    faces = [t for i, t in enumerate(f.tolist()) if i not in (0, other)]
+    return geoimg.Mesh(np.vstack([v, v[a]]), faces + [[a, k, c], [k, b, c], [b, k, d], [k, a, d]])
+
+
+def test_faces_of_no_area_carry_no_energy_and_do_not_stop_the_balancing():
+    from geoimg.parametrization._sphere import sphere_coords
+    mesh = _with_a_zero_area_pair(meshes.icosphere(3, 0.25))
+    tris = np.asarray(mesh.faces, np.int64)
+    s, info = sphere_coords(mesh)
+    # before, a face of no area made the energy infinite everywhere: 0 steps, the conformal map kept
+    assert info["balance_steps"] > 0 and info["flipped_triangles"] == 0
+    assert info["area_log_rms"] < info["start_area_log_rms"] / 3
+    ref = AreaBalanceNumpy(mesh.vertices, tris, mesh.n_vertices, 0.3)
+    assert np.sum(ref.a == 0) == 2
+    e0, st0 = ref.energy(s)
+    e1, st1 = balance_energy(s, tris, ref.a, ref.cot, 0.3)
+    assert np.isfinite(e1) and e1 == pytest.approx(e0, rel=1e-12)
+    g0, g1 = ref.gradient(st0), balance_gradient(s, tris, ref.a, ref.cot, 0.3, st1)
+    assert np.all(np.isfinite(g1)) and np.abs(g1 - g0).max() <= 1e-12 * np.abs(g0).max()
