@@ -102,7 +102,7 @@ def main():
             t0 = time.perf_counter()
             p = geoimg.parametrize(mesh, "cut")
             times.append(time.perf_counter() - t0)
-        print(f"  {name}: {min(times):.2f} s, {p.flipped_faces} folds, SLIM steps {p.info['slim_steps']}, "
+        print(f"  {name}: {min(times):.2f} s, {p.flipped_faces} folds, balancing steps {p.info['balance_steps']}, "
               f"area log-RMS {area_log_rms(p, mesh):.2f}")
 
 

@@ -86,9 +86,9 @@ def build_parser() -> argparse.ArgumentParser:
     conversion.add_argument("--boundary", choices=DISK_BOUNDARIES, default="square",
                             help="disk meshes: boundary on the unit square (default) or kept (a convex planar outline)")
     conversion.add_argument("--balance", choices=DISK_BALANCES, default=DEFAULT_DISK_BALANCE,
-                            help="disk meshes: balance the mean-value map's area, the boundary sliding along the "
-                                 "square's sides (default area), relax it with SLIM, the boundary held (slim), or "
-                                 "keep it (none); either balancing opens up squeezed parts")
+                            help="disk and cut-open meshes: balance the mean-value map's area, a disk's boundary "
+                                 "sliding along the square's sides (default area), relax it with SLIM, the boundary "
+                                 "held (slim), or keep it (none); either balancing opens up squeezed parts")
     conversion.add_argument("--weights", choices=WEIGHTS, default="gaussian",
                             help="the weight of each face: rational Gaussian (default gaussian) or local (its n "
                                  "nearest face centres)")

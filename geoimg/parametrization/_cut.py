@@ -25,10 +25,11 @@ import igl
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._choices import DEFAULT_DISK_BALANCE, DISK_BALANCES
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
+from ._disk import relax_planar
 from ._laplacian import mean_value_weights, solve_free
-from ._slim import relax
 
 __all__ = ["cut_coords", "perimeter_point", "QUANTA_PER_SIDE"]
 
@@ -253,7 +254,7 @@ def perimeter_point(t: ArrayLike, quanta_per_side: int) -> np.ndarray:
     return np.stack([u, v], axis=1)
 
 
-def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE) -> tuple:
+def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE, balance: str = DEFAULT_DISK_BALANCE) -> tuple:
     """Cut a manifold, oriented, connected mesh into a disk and map it onto the unit square.
 
     Returns
@@ -271,7 +272,9 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE) -> tuple:
         perimeter, counter-clockwise from (0, 0); ``twin`` is the segment on the other side of the cut, -1
         for the mesh's own boundary.
     info : dict
-        ``cut_paths``, ``cut_length`` (3-D), ``chords_split``, ``segments``.
+        ``cut_paths``, ``cut_length`` (3-D), ``chords_split``, ``segments``, ``balance`` and
+        ``balance_steps``: the mean-value map inside is relaxed with the boundary held, by area balancing
+        (``balance="area"``, the default), SLIM (``"slim"``) or not (``"none"``).
 
     Examples
     --------
@@ -286,6 +289,8 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE) -> tuple:
     >>> info["cut_paths"], all(tw >= 0 for _, _, tw in layout["segments"]), float(uv.min()), float(uv.max())
     (2, True, 0.0, 1.0)
     """
+    if balance not in DISK_BALANCES:
+        raise ParametrizationError(f"balance: expected one of {DISK_BALANCES}, got {balance!r}")
     tris, _ = mesh.triangulate()
     used = np.unique(tris)
     remap = np.full(mesh.n_vertices, -1, np.int64)
@@ -321,12 +326,12 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE) -> tuple:
     free = np.setdiff1d(np.arange(len(v)), loop)
     if len(free):
         coords[free] = solve_free(mean_value_weights(v, f), loop, coords[loop], free)
-        coords, slim_steps = relax(v, f, coords, loop)
+        coords, steps = relax_planar(v, f, coords, loop, balance)     # the boundary held: twins stay twins
     else:
-        slim_steps = 0
+        steps = 0
     layout = {"quantum": int(quanta_per_side),
               "segments": [[int(a), int(b), int(c)] for a, b, c in zip(seg_start, quanta, twin)]}
     info = {"cut_paths": len(cuts), "cut_length": float(sum(lengths[twin[seg_of_edge] >= 0]) / 2),
             "chords_split": int(n_chords), "corners_split": int(n_corners), "segments": len(starts),
-            "slim_steps": slim_steps}
+            "balance": balance, "balance_steps": steps, "slim_steps": steps if balance == "slim" else 0}
     return disk, coords, (source, weight), layout, info

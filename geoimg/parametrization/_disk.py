@@ -23,7 +23,7 @@ from ._laplacian import corner_angles, mean_value_weights, solve_free
 from ._balance import balance as area_balance
 from ._slim import area_log_rms, relax
 
-__all__ = ["disk_coords", "DISK_BOUNDARIES", "DISK_BALANCES"]
+__all__ = ["disk_coords", "relax_planar", "DISK_BOUNDARIES", "DISK_BALANCES"]
 
 _CANDIDATE_STARTS = 24
 BULGE = 0.02
@@ -192,33 +192,38 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DIS
     return _balanced(mesh, tris, coords, loop, balance, info, slide)
 
 
+def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str,
+                 slide=None) -> tuple[np.ndarray, int]:
+    """A fold-free planar map ``coords`` of the triangles ``v, f`` (every vertex on one), with its boundary
+    ``loop``, relaxed as ``balance`` says: ``"area"``, the area balancing the sphere's map uses, the boundary
+    sliding as ``slide`` says (directions and held vertices in loop order) or held; ``"slim"``, libigl's SLIM
+    with the boundary held; ``"none"``, as it is. Returns the coordinates and the steps taken."""
+    if balance == "slim":
+        return relax(v, f, coords, loop)
+    if balance == "none":
+        return coords, 0
+    held = np.zeros(len(v), bool)
+    along = np.zeros((len(v), 3))
+    held[loop] = True if slide is None else slide[1]
+    if slide is not None:
+        along[loop] = slide[0]
+    out, steps, _ = area_balance(np.column_stack([coords, np.zeros(len(v))]), v, f, planar=True, held=held,
+                                 along=along)                   # 0 steps: as it was
+    return out[:, :2], steps
+
+
 def _balanced(mesh: Mesh, tris: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str, info: dict,
               slide=None):
-    """The mean-value map ``coords`` relaxed on the referenced vertices: by SLIM with the boundary held
-    (``balance="slim"``), or by the area balancing the sphere's map uses (``balance="area"``), the boundary
-    sliding along the square's straight sides (``slide``: directions and held corners in loop order) or
-    held."""
+    """The mean-value map ``coords`` relaxed on the referenced vertices (:func:`relax_planar`)."""
     used = np.flatnonzero(mesh.referenced_vertices())
     index = np.full(mesh.n_vertices, -1, np.int64)
     index[used] = np.arange(len(used))
     v, f = mesh.vertices[used], index[tris]
     area3 = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1)
     before = area_log_rms(area3, coords[used], f)
-    steps = 0
-    if balance == "slim":
-        relaxed, steps = relax(v, f, coords[used], index[loop])
-        coords = coords.copy()
-        coords[used] = relaxed
-    elif balance == "area":
-        held = np.zeros(len(used), bool)
-        along = np.zeros((len(used), 3))
-        held[index[loop]] = True if slide is None else slide[1]
-        if slide is not None:
-            along[index[loop]] = slide[0]
-        start = np.column_stack([coords[used], np.zeros(len(used))])
-        relaxed, steps, _ = area_balance(start, v, f, planar=True, held=held, along=along)   # 0 steps: as it was
-        coords = coords.copy()
-        coords[used] = relaxed[:, :2]
+    relaxed, steps = relax_planar(v, f, coords[used], index[loop], balance, slide)
+    coords = coords.copy()
+    coords[used] = relaxed
     info.update(balance=balance, balance_steps=steps, slim_steps=steps if balance == "slim" else 0,
                 mean_value_area_log_rms=before, area_log_rms=area_log_rms(area3, coords[used], f) if steps else before)
     return coords, info

@@ -150,3 +150,27 @@ def test_faces_of_no_area_carry_no_energy_and_do_not_stop_the_balancing():
     assert np.isfinite(e1) and e1 == pytest.approx(e0, rel=1e-12)
     g0, g1 = ref.gradient(st0), balance_gradient(s, tris, ref.a, ref.cot, 0.3, st1)
     assert np.all(np.isfinite(g1)) and np.abs(g1 - g0).max() <= 1e-12 * np.abs(g0).max()
+
+
+def test_the_cut_open_square_is_balanced_with_its_boundary_held():
+    from geoimg.parametrization import cut_coords
+    torus = meshes.torus_grid(24, 12, 1.0, 0.3)
+    maps = {b: cut_coords(torus, balance=b) for b in ("none", "slim", "area")}
+    disk, plain, _, layout, info = maps["none"]
+    on_rim = np.zeros(disk.n_vertices, bool)
+    on_rim[boundary_loop(disk)] = True
+    for b, (d, coords, _, lay, inf) in maps.items():
+        assert inf["balance"] == b and lay == layout and d.n_vertices == disk.n_vertices
+        np.testing.assert_array_equal(coords[on_rim], plain[on_rim])      # twins stay twins
+        e1, e2 = coords[d.faces[:, 1]] - coords[d.faces[:, 0]], coords[d.faces[:, 2]] - coords[d.faces[:, 0]]
+        assert np.all(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] > 0)       # folds nothing
+    assert maps["none"][4]["balance_steps"] == 0 and maps["area"][4]["balance_steps"] > 0
+    assert np.abs(maps["area"][1] - plain).max() > 1e-3
+    with pytest.raises(geoimg.ParametrizationError, match="balance: expected one of"):
+        cut_coords(torus, balance="stretch")
+    assert geoimg.parametrize(torus).info["balance"] == "area"
+
+
+def boundary_loop(mesh):
+    from geoimg.mesh import boundary_loops
+    return boundary_loops(mesh)[0]
