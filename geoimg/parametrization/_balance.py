@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import sparse
 
-from ._balance_kernels import balance_energy, balance_gradient
+from ._balance_kernels import balance_energy, balance_gradient, project_moves, step_to
 from ._laplacian import corner_cotangents, cotangent_weights, factor_symmetric
 
 __all__ = ["balance", "squeeze_scale", "neighbour_mean", "SCALE_SMOOTHING"]
@@ -108,7 +108,7 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
         lap = (sparse.diags(np.asarray(w.sum(axis=1)).ravel()) - w).tocsc()
     if vertex_area is None:
         vertex_area = np.bincount(tris.ravel(), np.repeat(a3 / 3.0, 3), minlength=n)
-    moves = used & (~np.asarray(held, bool) if held is not None else True)
+    moves = np.ascontiguousarray(used & (~np.asarray(held, bool) if held is not None else True))
     a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
     e, state = balance_energy(s, tris, a, cot, beta, planar)
     if not np.isfinite(e):
@@ -118,17 +118,11 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
     mass = vertex_area / vertex_area.sum()
     precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
     smooth = neighbour_mean(edges, n)
-    slides = None if along is None else np.flatnonzero(np.any(np.asarray(along) != 0, axis=1))
+    along = np.zeros((n, 3)) if along is None else np.ascontiguousarray(along, np.float64)
 
     def tangent(v):
-        if planar:
-            v[:, 2] = 0.0
-            if slides is not None:
-                t = along[slides]
-                v[slides] = np.einsum("ij,ij->i", v[slides], t)[:, None] * t
-        else:
-            v = v - np.einsum("ij,ij->i", v, s)[:, None] * s
-        v[~moves] = 0.0
+        v = np.ascontiguousarray(v)
+        project_moves(v, s, planar, moves, along)
         return v
 
     def sobolev(g, sigma):
@@ -137,9 +131,8 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
 
     def search(d, alpha):
         while alpha > 1e-10:
-            trial = s + alpha * d
-            if not planar:
-                trial /= np.linalg.norm(trial, axis=1, keepdims=True)
+            trial = np.empty_like(s)
+            step_to(s, d, alpha, planar, trial)
             e_new, st = balance_energy(trial, tris, a, cot, beta, planar)
             if e_new < e:
                 return trial, e_new, st, alpha

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["balance_energy", "balance_gradient"]
+__all__ = ["balance_energy", "balance_gradient", "project_moves", "step_to"]
 
 
 @njit(cache=True, inline="always")
@@ -141,3 +141,39 @@ def balance_gradient(s, tris, a, cot, beta, state):
     g = np.zeros_like(s)
     _scatter(tris, corner, g)
     return g
+
+
+@njit(parallel=True, cache=True)
+def project_moves(v, s, planar, moves, along):
+    """Project each row of ``v`` (n, 3), in place, onto the moves its vertex may make: the tangent plane at
+    ``s[i]`` on the sphere; on the plane, the plane itself, or the line ``along[i]`` where that row is not
+    zero; nothing where ``moves[i]`` is False."""
+    for i in prange(v.shape[0]):
+        if not moves[i]:
+            v[i, 0] = 0.0
+            v[i, 1] = 0.0
+            v[i, 2] = 0.0
+        elif planar:
+            v[i, 2] = 0.0
+            t0, t1, t2 = along[i, 0], along[i, 1], along[i, 2]
+            if t0 != 0.0 or t1 != 0.0 or t2 != 0.0:
+                p = v[i, 0] * t0 + v[i, 1] * t1
+                v[i, 0], v[i, 1], v[i, 2] = p * t0, p * t1, p * t2
+        else:
+            p = v[i, 0] * s[i, 0] + v[i, 1] * s[i, 1] + v[i, 2] * s[i, 2]
+            v[i, 0] -= p * s[i, 0]
+            v[i, 1] -= p * s[i, 1]
+            v[i, 2] -= p * s[i, 2]
+
+
+@njit(parallel=True, cache=True)
+def step_to(s, d, alpha, planar, out):
+    """``out = s + alpha d``, each row put back on the unit sphere unless ``planar``."""
+    for i in prange(s.shape[0]):
+        x = s[i, 0] + alpha * d[i, 0]
+        y = s[i, 1] + alpha * d[i, 1]
+        z = s[i, 2] + alpha * d[i, 2]
+        if not planar:
+            n = math.sqrt(x * x + y * y + z * z)
+            x, y, z = x / n, y / n, z / n
+        out[i, 0], out[i, 1], out[i, 2] = x, y, z

@@ -14,8 +14,8 @@ one onto the unit square.
 3. Edges that join two boundary vertices across the disk's interior would lie along a side of the
    square and flatten their faces: they are split at their midpoints (the new vertices are interior).
 4. The interior follows from Floater's mean-value coordinates (positive weights and a convex boundary,
-   so no triangle folds over), then from libigl's SLIM, which lowers the distortion (the symmetric
-   Dirichlet energy) and keeps every triangle the right way round, the boundary held in place.
+   so no triangle folds over), then from the area balancing of the disk and sphere maps (or libigl's
+   SLIM, ``balance="slim"``), which keeps every triangle the right way round, the boundary held in place.
 """
 from __future__ import annotations
 

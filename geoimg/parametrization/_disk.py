@@ -141,9 +141,9 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DIS
         Unreferenced vertices get (0, 0).
     info : dict
         ``corners`` (vertex indices at the square's corners), ``boundary_vertices``, ``balance``,
-        ``balance_steps`` (``slim_steps``: the same for SLIM, else 0), and the area distortion (log-RMS of each triangle's share of the parameter area
-        over its share of the surface) of the mean-value map (``mean_value_area_log_rms``) and of the
-        result (``area_log_rms``).
+        ``balance_steps`` (``slim_steps``: the same for SLIM, else 0), and the area distortion (log-RMS
+        of each triangle's share of the parameter area over its share of the surface) of the mean-value
+        map (``mean_value_area_log_rms``) and of the result (``area_log_rms``).
 
     Examples
     --------

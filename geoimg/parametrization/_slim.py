@@ -1,5 +1,6 @@
 """Lower a disk map's distortion with libigl's SLIM (symmetric Dirichlet energy, Rabinovich et al. 2017), the
-boundary held: what the disk and cut-open parametrizations run after the mean-value map. Every SLIM step keeps
+boundary held: what the disk and cut-open parametrizations run after the mean-value map with ``balance="slim"``
+(the default is the area balancing of :mod:`._balance`). Every SLIM step keeps
 every triangle the right way round, and the symmetric Dirichlet energy grows without bound as a triangle
 shrinks, so triangles that the mean-value map squeezed (what sticks out of a disk: fingers, ears, a snout)
 are opened up."""
