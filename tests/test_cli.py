@@ -82,15 +82,21 @@ def test_boundary_option_for_disk_meshes(tmp_path, capsys):
 
 def test_balance_option_for_disk_meshes(tmp_path, capsys):
     finger = write(meshes.finger(), tmp_path / "finger.obj")
-    for flag in ("slim", "none"):
+    flags = ("area", "slim", "none")
+    for flag in flags:
         assert main(["image", finger, "-o", str(tmp_path / f"{flag}.exr"), "--balance", flag, "--res", "33",
                      "-q"]) == 0
-    a, b = (geoimg.load_image(tmp_path / f"{flag}.exr") for flag in ("slim", "none"))
-    assert a.metadata["parametrization"] == b.metadata["parametrization"] == "disk"
-    assert not np.array_equal(a.pixels, b.pixels)
+    assert main(["image", finger, "-o", str(tmp_path / "default.exr"), "--res", "33", "-q"]) == 0
+    images = {flag: geoimg.load_image(tmp_path / f"{flag}.exr") for flag in flags + ("default",)}
+    assert {im.metadata["parametrization"] for im in images.values()} == {"disk"}
+    for i, f1 in enumerate(flags):
+        for f2 in flags[i + 1:]:
+            assert not np.array_equal(images[f1].pixels, images[f2].pixels), (f1, f2)
+    np.testing.assert_array_equal(images["default"].pixels, images["area"].pixels)     # area is the default
     with pytest.raises(SystemExit) as e:
         main(["image", finger, "-o", str(tmp_path / "x.exr"), "--balance", "stretch"])
-    assert e.value.code == 2 and "invalid choice: 'stretch'" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert e.value.code == 2 and "invalid choice: 'stretch'" in err and not (tmp_path / "x.exr").exists()
 
 
 def test_os_errors_are_one_line_and_a_closed_pipe_is_quiet(tmp_path, capsys, monkeypatch):
