@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._choices import DEFAULT_DISK_BALANCE, DISK_BALANCES
+from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._disk import relax_planar
@@ -254,7 +255,8 @@ def perimeter_point(t: ArrayLike, quanta_per_side: int) -> np.ndarray:
     return np.stack([u, v], axis=1)
 
 
-def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE, balance: str = DEFAULT_DISK_BALANCE) -> tuple:
+def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE, balance: str = DEFAULT_DISK_BALANCE,
+               progress: Progress | None = None) -> tuple:
     """Cut a manifold, oriented, connected mesh into a disk and map it onto the unit square.
 
     Returns
@@ -274,7 +276,8 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE, balance: s
     info : dict
         ``cut_paths``, ``cut_length`` (3-D), ``chords_split``, ``segments``, ``balance`` and
         ``balance_steps``: the mean-value map inside is relaxed with the boundary held, by area balancing
-        (``balance="area"``, the default), SLIM (``"slim"``) or not (``"none"``).
+        (``balance="area"``, the default), SLIM (``"slim"``) or not (``"none"``); ``progress`` hears from the
+        area balancing every ten steps.
 
     Examples
     --------
@@ -326,7 +329,7 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE, balance: s
     free = np.setdiff1d(np.arange(len(v)), loop)
     if len(free):
         coords[free] = solve_free(mean_value_weights(v, f), loop, coords[loop], free)
-        coords, steps = relax_planar(v, f, coords, loop, balance)     # the boundary held: twins stay twins
+        coords, steps = relax_planar(v, f, coords, loop, balance, progress=progress)   # boundary held: twins stay twins
     else:
         steps = 0
     layout = {"quantum": int(quanta_per_side),

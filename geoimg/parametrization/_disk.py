@@ -17,10 +17,11 @@ from __future__ import annotations
 import numpy as np
 
 from .._choices import DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES
+from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
-from ._laplacian import corner_angles, mean_value_weights, solve_free
 from ._balance import balance as area_balance
+from ._laplacian import corner_angles, mean_value_weights, solve_free
 from ._slim import area_log_rms, relax
 
 __all__ = ["disk_coords", "relax_planar", "DISK_BOUNDARIES", "DISK_BALANCES"]
@@ -129,7 +130,8 @@ def _keep_outline(mesh: Mesh, loop: np.ndarray) -> np.ndarray:
     return xy
 
 
-def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DISK_BALANCE) -> tuple[np.ndarray, dict]:
+def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DISK_BALANCE, *,
+                progress: Progress | None = None) -> tuple[np.ndarray, dict]:
     """Per-vertex (u, v) of a disk-like mesh; boundary on the unit square or on its own convex outline; the
     interior by mean-value coordinates, then balanced (``balance="area"``: the boundary slides along the
     square's straight sides, a kept or bowed outline is held) or relaxed by SLIM with the boundary held
@@ -189,15 +191,16 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DIS
     free = np.flatnonzero(used & ~is_fixed)
     if len(free):
         coords[free] = solve_free(mean_value_weights(mesh.vertices, tris), loop, pos, free)
-    return _balanced(mesh, tris, coords, loop, balance, info, slide)
+    return _balanced(mesh, tris, coords, loop, balance, info, slide, progress)
 
 
 def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str,
-                 slide=None) -> tuple[np.ndarray, int]:
+                 slide=None, progress: Progress | None = None) -> tuple[np.ndarray, int]:
     """A fold-free planar map ``coords`` of the triangles ``v, f`` (every vertex on one), with its boundary
     ``loop``, relaxed as ``balance`` says: ``"area"``, the area balancing the sphere's map uses, the boundary
     sliding as ``slide`` says (directions and held vertices in loop order) or held; ``"slim"``, libigl's SLIM
-    with the boundary held; ``"none"``, as it is. Returns the coordinates and the steps taken."""
+    with the boundary held; ``"none"``, as it is. ``progress`` hears from the area balancing every ten steps.
+    Returns the coordinates and the steps taken."""
     if balance == "slim":
         return relax(v, f, coords, loop)
     if balance == "none":
@@ -207,13 +210,13 @@ def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndar
     held[loop] = True if slide is None else slide[1]
     if slide is not None:
         along[loop] = slide[0]
-    out, steps, _ = area_balance(np.column_stack([coords, np.zeros(len(v))]), v, f, planar=True, held=held,
-                                 along=along)                   # 0 steps: as it was
+    out, steps, _ = area_balance(np.column_stack([coords, np.zeros(len(v))]), v, f, progress=progress,
+                                 planar=True, held=held, along=along)       # 0 steps: as it was
     return out[:, :2], steps
 
 
 def _balanced(mesh: Mesh, tris: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str, info: dict,
-              slide=None):
+              slide=None, progress: Progress | None = None):
     """The mean-value map ``coords`` relaxed on the referenced vertices (:func:`relax_planar`)."""
     used = np.flatnonzero(mesh.referenced_vertices())
     index = np.full(mesh.n_vertices, -1, np.int64)
@@ -221,7 +224,7 @@ def _balanced(mesh: Mesh, tris: np.ndarray, coords: np.ndarray, loop: np.ndarray
     v, f = mesh.vertices[used], index[tris]
     area3 = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1)
     before = area_log_rms(area3, coords[used], f)
-    relaxed, steps = relax_planar(v, f, coords[used], index[loop], balance, slide)
+    relaxed, steps = relax_planar(v, f, coords[used], index[loop], balance, slide, progress)
     coords = coords.copy()
     coords[used] = relaxed
     info.update(balance=balance, balance_steps=steps, slim_steps=steps if balance == "slim" else 0,

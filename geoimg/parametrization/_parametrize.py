@@ -165,7 +165,7 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
         squeezes (fingers, ears, a snout), every step fold-free. ``"none"`` keeps the mean-value map.
         ``info`` records both maps' area distortion.
     progress : callable, optional
-        For ``sphere``: called with a short message as the map improves.
+        For ``sphere``, ``disk`` and ``cut``: called with a short message as the map's balancing goes on.
 
     Returns
     -------
@@ -204,9 +204,9 @@ def _by_method(mesh: Mesh, method: str, axis, boundary, balance, progress, topo=
                           "sphere; the map is not one-to-one there", stacklevel=2)
         return Parametrization(coords, (1.0, 1.0), "octahedral", "sphere", info["flipped_triangles"], 0, info)
     if method == "cut":
-        return _cut(mesh, topo, balance)
+        return _cut(mesh, topo, balance, progress)
     if method == "disk":
-        raw, info = disk_coords(mesh, boundary, balance)
+        raw, info = disk_coords(mesh, boundary, balance, progress=progress)
     elif method == "uv":
         if axis is not None:
             raise ParametrizationError("axis: only used with method='heightfield'")
@@ -256,14 +256,15 @@ def _by_method(mesh: Mesh, method: str, axis, boundary, balance, progress, topo=
     return Parametrization(coords, extent, "planar", method, flipped, degenerate, info)
 
 
-def _cut(mesh: Mesh, topo=None, balance: str = DEFAULT_DISK_BALANCE) -> Parametrization:
+def _cut(mesh: Mesh, topo=None, balance: str = DEFAULT_DISK_BALANCE,
+         progress: Progress | None = None) -> Parametrization:
     topo = topology(mesh) if topo is None else topo
     if not (topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0):
         raise ParametrizationError(f"method='cut' needs one manifold piece; the mesh is a {topo.describe()}: "
                                    "geoimg.mesh.repair splits it (geoimg.mesh_to_images does so itself)")
     if topo.closed and topo.genus == 0:
         raise ParametrizationError("method='cut': a closed genus-0 mesh has nothing to cut; use method='sphere'")
-    disk, coords, (source, weight), layout, info = cut_coords(mesh, balance=balance)
+    disk, coords, (source, weight), layout, info = cut_coords(mesh, balance=balance, progress=progress)
     flipped, degenerate, majority = _orientation_report(disk, coords)
     info.update(orientation=majority, genus=topo.genus, boundary_loops=topo.boundary_loops)
     if flipped:
@@ -328,7 +329,7 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, balance: str, progress) -
         return _by_method(mesh, "sphere", None, boundary, balance, progress)
     manifold = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0
     if manifold and axis is None and topo.genus is not None:
-        return _cut(mesh, topo, balance)
+        return _cut(mesh, topo, balance, progress)
     if topo.components > 1:
         advice = (f"a parametrization is of one piece: split the {topo.components} components "
                   "(geoimg.mesh.repair; geoimg.mesh_to_images converts each)")

@@ -216,3 +216,12 @@ def test_the_step_kernels_match_numpy():
     np.testing.assert_allclose(out, (s + 0.3 * v) / np.linalg.norm(s + 0.3 * v, axis=1, keepdims=True), atol=1e-15)
     step_to(s, v, 0.3, True, out)
     np.testing.assert_array_equal(out, s + 0.3 * v)
+
+
+def test_disk_and_cut_maps_report_their_balancing_as_it_goes():
+    for mesh, method in ((meshes.finger(rows=10), "disk"), (meshes.torus_grid(24, 12, 1.0, 0.3), "cut")):
+        heard: list = []
+        p = geoimg.parametrize(mesh, method, progress=heard.append)
+        assert p.info["balance_steps"] > 0 and heard
+        assert all(m.startswith("area balancing step") for m in heard)
+        assert len(heard) == (p.info["balance_steps"] + 9) // 10
