@@ -25,16 +25,11 @@ import numpy as np
 from scipy import sparse
 
 from ._balance_kernels import balance_energy, balance_gradient, project_moves, step_to
-from ._laplacian import corner_cotangents, cotangent_weights, factor_symmetric
+from ._laplacian import corner_cotangents, cotangent_weights, factor_symmetric, laplacian, triangle_areas, vertex_areas
 
 __all__ = ["balance", "squeeze_scale", "neighbour_mean", "SCALE_SMOOTHING"]
 
 SCALE_SMOOTHING = 3      # neighbour means taken of the log area ratio behind the scaled step
-
-
-def _mesh_areas(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
-    p = x[tris]
-    return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
 
 
 def _local_sizes(s: np.ndarray, edges: np.ndarray) -> np.ndarray:
@@ -102,12 +97,9 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
     tris = np.ascontiguousarray(tris, np.int64)
     n = len(s)
     used = np.isin(np.arange(n), tris) if used is None else np.asarray(used, bool)
-    a3 = _mesh_areas(x, tris)
-    if lap is None:
-        w = cotangent_weights(x, tris)
-        lap = (sparse.diags(np.asarray(w.sum(axis=1)).ravel()) - w).tocsc()
-    if vertex_area is None:
-        vertex_area = np.bincount(tris.ravel(), np.repeat(a3 / 3.0, 3), minlength=n)
+    a3 = triangle_areas(x, tris)
+    lap = laplacian(cotangent_weights(x, tris)) if lap is None else lap
+    vertex_area = vertex_areas(x, tris) if vertex_area is None else vertex_area
     moves = np.ascontiguousarray(used & (~np.asarray(held, bool) if held is not None else True))
     a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
     e, state = balance_energy(s, tris, a, cot, beta, planar)

@@ -21,7 +21,7 @@ from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._balance import balance as area_balance
-from ._laplacian import corner_angles, mean_value_weights, solve_free
+from ._laplacian import corner_angles, mean_value_weights, solve_free, triangle_areas
 from ._slim import area_log_rms, relax
 
 __all__ = ["disk_coords", "relax_planar", "DISK_BOUNDARIES", "DISK_BALANCES"]
@@ -222,7 +222,7 @@ def _balanced(mesh: Mesh, tris: np.ndarray, coords: np.ndarray, loop: np.ndarray
     index = np.full(mesh.n_vertices, -1, np.int64)
     index[used] = np.arange(len(used))
     v, f = mesh.vertices[used], index[tris]
-    area3 = 0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1)
+    area3 = triangle_areas(v, f)
     before = area_log_rms(area3, coords[used], f)
     relaxed, steps = relax_planar(v, f, coords[used], index[loop], balance, slide, progress)
     coords = coords.copy()

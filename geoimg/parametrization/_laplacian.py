@@ -10,7 +10,7 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse import linalg as splinalg
 
-__all__ = ["factor_symmetric", "mean_value_weights", "cotangent_weights", "corner_angles", "corner_cotangents", "solve_free"]
+__all__ = ["factor_symmetric", "laplacian", "triangle_areas", "vertex_areas", "mean_value_weights", "cotangent_weights", "corner_angles", "corner_cotangents", "solve_free"]
 
 _TINY = 1e-300
 
@@ -103,6 +103,22 @@ def factor_symmetric(a: sparse.spmatrix):
                          options={"SymmetricMode": True})
 
 
+def laplacian(weights: sparse.spmatrix) -> sparse.csc_matrix:
+    """The graph Laplacian ``diag(row sums) - W`` of edge weights ``W``."""
+    return (sparse.diags(np.asarray(weights.sum(axis=1)).ravel()) - weights).tocsc()
+
+
+def triangle_areas(vertices: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """Area of each triangle (T,)."""
+    p = vertices[tris]
+    return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+
+
+def vertex_areas(vertices: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """A third of the area of each triangle around each vertex (n,)."""
+    return np.bincount(tris.ravel(), np.repeat(triangle_areas(vertices, tris) / 3.0, 3), minlength=len(vertices))
+
+
 def solve_free(weights: sparse.spmatrix, fixed: np.ndarray, fixed_pos: np.ndarray, free: np.ndarray) -> np.ndarray:
     """Positions of the ``free`` vertices such that each is the ``weights``-weighted mean of its neighbours,
     with the ``fixed`` vertices at ``fixed_pos``.
@@ -111,9 +127,7 @@ def solve_free(weights: sparse.spmatrix, fixed: np.ndarray, fixed_pos: np.ndarra
     -------
     numpy.ndarray, shape (len(free), D)
     """
-    w = weights.tocsr()
-    lap = sparse.diags(np.asarray(w.sum(axis=1)).ravel()) - w
-    lap = lap.tocsr()
+    lap = laplacian(weights.tocsr()).tocsr()
     a = lap[free][:, free].tocsc()
     rhs = -(lap[free][:, fixed] @ fixed_pos)
     return np.column_stack([np.asarray(col) for col in splinalg.splu(a).solve(np.asarray(rhs)).T])

@@ -26,7 +26,8 @@ from scipy import sparse
 from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh, topology
 from ._balance import balance
-from ._laplacian import factor_symmetric, corner_angles, cotangent_weights, mean_value_weights, solve_free
+from ._laplacian import (corner_angles, cotangent_weights, factor_symmetric, laplacian, mean_value_weights, solve_free,
+                         triangle_areas, vertex_areas)
 from ._orientation import chord_orientation, facing_out
 from ._progressive import progressive_sphere
 from .._types import Progress
@@ -44,11 +45,6 @@ def _check_sphere(mesh: Mesh):
     if not (topo.closed and topo.components == 1 and topo.genus == 0):
         raise ParametrizationError(
             f"method='sphere' needs a closed genus-0 mesh in one piece; the mesh is a {topo.describe()}")
-
-
-def _areas(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
-    p = x[tris]
-    return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
 
 
 def _inverse_stereographic(z: np.ndarray) -> np.ndarray:
@@ -91,7 +87,7 @@ def distortion(mesh_xyz: np.ndarray, s: np.ndarray, tris: np.ndarray) -> dict:
     ``area_ratio`` of a triangle is its share of the sphere's area over its share of the mesh's; 1 is
     area-preserving. Angle distortion is the mean of ``|angle on sphere - angle on mesh|`` in degrees.
     """
-    a3, a2 = _areas(mesh_xyz, tris), _areas(s, tris)
+    a3, a2 = triangle_areas(mesh_xyz, tris), triangle_areas(s, tris)
     ratio = (a2 / a2.sum()) / np.maximum(a3 / a3.sum(), 1e-300)
     w = a3 / a3.sum()
 
@@ -116,15 +112,11 @@ def _align(s: np.ndarray, x: np.ndarray, w: np.ndarray) -> np.ndarray:
 
 
 def _pick_removed_face(x: np.ndarray, tris: np.ndarray) -> int:
-    area = _areas(x, tris)
+    area = triangle_areas(x, tris)
     e = np.linalg.norm(x[np.roll(tris, -1, axis=1)] - x[tris], axis=2)
     quality = 4.0 * np.sqrt(3.0) * area / np.maximum((e ** 2).sum(axis=1), 1e-300)   # 1 = equilateral
     good = quality >= 0.8 * quality.max()
     return int(np.flatnonzero(good)[np.argmax(area[good])])
-
-
-def _laplacian(weights: sparse.spmatrix) -> sparse.csc_matrix:
-    return (sparse.diags(np.asarray(weights.sum(axis=1)).ravel()) - weights).tocsc()
 
 
 def _conformal_plane(x: np.ndarray, tris: np.ndarray, lap: sparse.csc_matrix, f0: int, keep: np.ndarray):
@@ -176,11 +168,6 @@ def _plane_to_sphere(z: np.ndarray, vertex_area: np.ndarray, used: np.ndarray, t
     return facing_out(s, tris)
 
 
-def _vertex_areas(x, tris):
-    a3 = _areas(x, tris)
-    return np.bincount(tris.ravel(), np.repeat(a3 / 3.0, 3), minlength=len(x))
-
-
 def _tutte_sphere(z: np.ndarray, used: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """A planar Tutte embedding on the sphere, its pinned triangle's corners at height 0.9: the removed
     face becomes a small cap round the north pole, so every face's chord triangle keeps the orientation
@@ -215,8 +202,8 @@ def _coarse_map(x, beta):
         remap[idx] = np.arange(len(idx))
         t, xs = remap[coarse], x[idx]
         used = np.ones(len(idx), bool)
-        va = _vertex_areas(xs, t)
-        lap = _laplacian(cotangent_weights(xs, t))
+        va = vertex_areas(xs, t)
+        lap = laplacian(cotangent_weights(xs, t))
         sc, _, _ = _direct_start(xs, t, used, va, lap)
         sc, _, _ = balance(sc, xs, t, lap, va, used, float(beta), DEFAULT_STEPS, None)
         s = np.zeros((len(x), 3))
@@ -229,8 +216,8 @@ def _coarse_map(x, beta):
 def _relax(x, beta, steps: int = 30):
     """Area-balance the map of an intermediate mesh (the vertices ``alive``, triangles ``tris``)."""
     def run(s, alive, tris):
-        lap = _laplacian(cotangent_weights(x, tris))
-        out, _, _ = balance(s, x, tris, lap, _vertex_areas(x, tris), alive, float(beta), steps, None)
+        lap = laplacian(cotangent_weights(x, tris))
+        out, _, _ = balance(s, x, tris, lap, vertex_areas(x, tris), alive, float(beta), steps, None)
         return out
     return run
 
@@ -285,8 +272,8 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
     x = mesh.vertices
     tris, _ = mesh.triangulate()
     used = mesh.referenced_vertices()
-    vertex_area = _vertex_areas(x, tris)
-    lap = _laplacian(cotangent_weights(x, tris))
+    vertex_area = vertex_areas(x, tris)
+    lap = laplacian(cotangent_weights(x, tris))
     s, start, f0 = _direct_start(x, tris, used, vertex_area, lap)
     info: dict = {}
     folds = int(np.sum(chord_orientation(s, tris) <= 0))
