@@ -25,7 +25,7 @@ from scipy import sparse
 
 from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh, topology
-from ._balance import balance
+from ._balance import DEFAULT_STEPS, balance
 from ._laplacian import (corner_angles, cotangent_weights, factor_symmetric, laplacian, mean_value_weights, solve_free,
                          triangle_areas, vertex_areas)
 from ._orientation import chord_orientation, facing_out
@@ -34,9 +34,6 @@ from .._types import Progress
 
 __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 
-DEFAULT_STEPS = 200
-SMALL_MESH_WORK = 2_000_000   # a mesh under 10,000 triangles balances on, up to this many triangle-steps ...
-MAX_STEPS = 2000              # ... and this many steps, until it has converged
 DEFAULT_BETA = 0.3
 
 
@@ -286,9 +283,7 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
             s, start = sp, "progressive"
     idx = np.flatnonzero(used)
     conformal = distortion(x, s, tris)   # of the starting map
-    if steps is None:
-        steps = int(np.clip(SMALL_MESH_WORK // max(len(tris), 1), DEFAULT_STEPS, MAX_STEPS))
-    s, done, energy = balance(s, x, tris, lap, vertex_area, used, float(beta), int(steps), progress)
+    s, done, energy = balance(s, x, tris, lap, vertex_area, used, float(beta), steps, progress)
     s[idx] = _align(s[idx], x[idx], vertex_area[idx])
     det = chord_orientation(s, tris)
     info.update({"flipped_triangles": int(np.sum(det <= 0)), "balance_steps": done, "removed_face": f0,

@@ -225,3 +225,12 @@ def test_disk_and_cut_maps_report_their_balancing_as_it_goes():
         assert p.info["balance_steps"] > 0 and heard
         assert all(m.startswith("area balancing step") for m in heard)
         assert len(heard) == (p.info["balance_steps"] + 9) // 10
+
+
+def test_one_step_rule_for_every_domain():
+    from geoimg.parametrization._balance import DEFAULT_STEPS, default_steps
+    assert default_steps(10_000) == default_steps(10**6) == DEFAULT_STEPS == 200
+    assert default_steps(4_000) == 500 and default_steps(1) == 2000
+    # a small cut-open square runs past 200 steps when it has not converged by then (389 when measured)
+    p = geoimg.parametrize(meshes.torus_grid(48, 16, 1.0, 0.25), "cut")
+    assert DEFAULT_STEPS < p.info["balance_steps"] < default_steps(p.mesh.n_faces)
