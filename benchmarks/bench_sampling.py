@@ -6,6 +6,8 @@ computes) and with exact normals. The numba compile time is measured in a fresh 
 numba cache, and the cache-load time in a second process that reuses it.
 
 Run: python benchmarks/bench_sampling.py  (about 3 minutes on 2 cores)
+     python benchmarks/bench_sampling.py --tin  (s = 2 only, the grid and a Delaunay TIN of random points over
+     the same window, about as many triangles, heights interpolated from the DEM; no compile timing)
 """
 from __future__ import annotations
 
@@ -33,6 +35,23 @@ def terrain():
     return mesh, geoimg.parametrize(mesh, "heightfield")
 
 
+def tin(seed: int = 0):
+    """A Delaunay TIN of random points over the terrain's window (as many triangles as the grid, about),
+    heights bilinear in the DEM."""
+    import geoimg
+    from scipy.interpolate import RegularGridInterpolator
+    from scipy.spatial import Delaunay
+
+    z = np.load(DEM)["elevation"][:188, :188].astype(np.float64)
+    x, y = np.arange(188) * 74.5, np.arange(188) * 92.5
+    rng = np.random.default_rng(seed)
+    corners = np.array([[0, 0], [x[-1], 0], [x[-1], y[-1]], [0, y[-1]]])
+    pts = np.vstack([corners, rng.uniform([0, 0], [x[-1], y[-1]], size=(188 * 188 - 4, 2))])
+    h = RegularGridInterpolator((y, x), z)(pts[:, ::-1])
+    mesh = geoimg.Mesh(np.column_stack([pts, h]), Delaunay(pts).simplices)
+    return mesh, geoimg.parametrize(mesh, "heightfield")
+
+
 def first_call() -> dict:
     """In a fresh process: time of the first sample (compile or cache load) and of the next one."""
     import geoimg
@@ -47,11 +66,13 @@ def first_call() -> dict:
     return {"first": first, "warm": time.perf_counter() - t}
 
 
-def main():
-    import geoimg
-    from geoimg.surface import _kernels as kernels
-    from reference import sample_grid_numpy   # the plain-numpy twin, in tests/
-
+def main(with_tin: bool = False):
+    if with_tin:
+        print("| mesh | triangles | s | numpy baseline (s) | numba, positions (s) | speed-up | numba, positions + normals (s) | max abs diff |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|")
+        for name, (mesh, param) in (("grid", terrain()), ("TIN", tin())):
+            compare(mesh, param, (2.0,), f"| {name} | {mesh.n_faces} ")
+        return
     cache = tempfile.mkdtemp(prefix="numba-cache-")
     env = dict(os.environ, NUMBA_CACHE_DIR=cache)
     runs = [json.loads(subprocess.run([sys.executable, __file__, "--first-call"], env=env, check=True,
@@ -64,7 +85,16 @@ def main():
     print(f"numba: compile {compile_s:.1f} s (fresh cache), cache load {cache_s:.2f} s (second process)")
     print("| s | numpy baseline (s) | numba, positions (s) | speed-up | numba, positions + normals (s) | max abs diff |")
     print("|---:|---:|---:|---:|---:|---:|")
-    for s in (1.0, 2.0, 4.0):
+    compare(mesh, param, (1.0, 2.0, 4.0))
+
+
+def compare(mesh, param, values, row: str = ""):
+    """Table rows: the numpy baseline against the numba kernel, for each s in ``values``."""
+    import geoimg
+    from geoimg.surface import _kernels as kernels
+    from reference import sample_grid_numpy   # the plain-numpy twin, in tests/
+
+    for s in values:
         surf = geoimg.fit_surface(mesh, param, s)
         fm = surf.faces
         u, v = surf.grid(RES)
@@ -84,11 +114,12 @@ def main():
         P_np, _ = sample_grid_numpy(*args)
         tb = time.perf_counter() - t
         diff = np.abs(P - P_np)[ok].max()
-        print(f"| {s:g} | {tb:.2f} | {np.median(tn):.3f} | {tb / np.median(tn):.0f}x | {np.median(td):.3f} | {diff:.1e} |")
+        print(f"{row}| {s:g} | {tb:.2f} | {np.median(tn):.3f} | {tb / np.median(tn):.0f}x | {np.median(td):.3f} | {diff:.1e} |",
+              flush=True)
 
 
 if __name__ == "__main__":
     if "--first-call" in sys.argv:
         print(json.dumps(first_call()))
     else:
-        main()
+        main(with_tin="--tin" in sys.argv)
