@@ -77,12 +77,18 @@ def _row_positions(f, i, u, v, uc, vc, C, A, B, c0, cptr, gu, gvv, s0, n0, n1, n
 
 
 @njit(cache=True)
-def _row_derivatives(f, i, u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, gvv, su, sv, nu, nv, na, nb):
+def _row_derivatives(f, i, u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, gvv, su, sv, nu, nv):
+    """Adds face ``f``'s terms of ``dS/du``, ``dS/dv`` (``su``, ``sv``) and of ``d(sum g p)/du`` and ``/dv``
+    (``nu``, ``nv``, (3, W): the weight's derivative times the plane, plus the weight times the plane's
+    slope) along row ``i``."""
     dv = v[i] - vc[f]
     hv = -2.0 * dv * inv2s[f]
     j0 = c0[f]
     base = cptr[f] - j0
     k = -2.0 * inv2s[f]
+    c0x, c0y, c0z = C[f, 0] + B[f, 0] * dv, C[f, 1] + B[f, 1] * dv, C[f, 2] + B[f, 2] * dv
+    ax, ay, az = A[f, 0], A[f, 1], A[f, 2]
+    bx, by, bz = B[f, 0], B[f, 1], B[f, 2]
     for j in range(j0, j0 + cptr[f + 1] - cptr[f]):
         g = gu[base + j] * gvv
         du = u[j] - uc[f]
@@ -90,12 +96,13 @@ def _row_derivatives(f, i, u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, gvv, su, 
         gv_ = g * hv
         su[j] += gu_
         sv[j] += gv_
-        for c in range(3):
-            p = C[f, c] + A[f, c] * du + B[f, c] * dv
-            nu[j, c] += gu_ * p
-            nv[j, c] += gv_ * p
-            na[j, c] += g * A[f, c]
-            nb[j, c] += g * B[f, c]
+        px, py, pz = c0x + ax * du, c0y + ay * du, c0z + az * du
+        nu[0, j] += gu_ * px + g * ax
+        nu[1, j] += gu_ * py + g * ay
+        nu[2, j] += gu_ * pz + g * az
+        nv[0, j] += gv_ * px + g * bx
+        nv[1, j] += gv_ * py + g * by
+        nv[2, j] += gv_ * pz + g * bz
 
 
 @njit(parallel=True, cache=True)
@@ -110,16 +117,14 @@ def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, rptr, gv, row_p
         m = W if derivs else 1
         su = np.zeros(m)
         sv = np.zeros(m)
-        nu = np.zeros((m, 3))
-        nv = np.zeros((m, 3))
-        na = np.zeros((m, 3))
-        nb = np.zeros((m, 3))
+        nu = np.zeros((3, m))
+        nv = np.zeros((3, m))
         for k in range(row_ptr[i], row_ptr[i + 1]):
             f = row_faces[k]
             gvv = gv[rptr[f] + i - r0[f]]
             _row_positions(f, i, u, v, uc, vc, C, A, B, c0, cptr, gu, gvv, s0, n0, n1, n2)
             if derivs:
-                _row_derivatives(f, i, u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, gvv, su, sv, nu, nv, na, nb)
+                _row_derivatives(f, i, u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, gvv, su, sv, nu, nv)
         for j in range(W):
             s = s0[j]
             if not s >= g_ref:
@@ -132,8 +137,8 @@ def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, rptr, gv, row_p
             if derivs:
                 for c in range(3):
                     p = P[i, j, c]
-                    Pu[i, j, c] = (nu[j, c] + na[j, c] - p * su[j]) / s
-                    Pv[i, j, c] = (nv[j, c] + nb[j, c] - p * sv[j]) / s
+                    Pu[i, j, c] = (nu[c, j] - p * su[j]) / s
+                    Pv[i, j, c] = (nv[c, j] - p * sv[j]) / s
 
 
 def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, log_g_ref):
