@@ -25,7 +25,8 @@ import numpy as np
 from scipy import sparse
 
 from ._balance_kernels import balance_energy, balance_gradient, project_moves, step_to
-from ._laplacian import corner_cotangents, cotangent_weights, factor_symmetric, laplacian, triangle_areas, vertex_areas
+from ._laplacian import (corner_cotangents, cotangent_weights, factor_symmetric, laplacian, triangle_areas, vertex_areas,
+                         vertex_shares)
 
 __all__ = ["balance", "default_steps", "squeeze_scale", "neighbour_mean", "SCALE_SMOOTHING", "DEFAULT_STEPS"]
 
@@ -61,15 +62,15 @@ def neighbour_mean(edges: np.ndarray, n: int) -> sparse.csr_matrix:
     return (sparse.diags(1.0 / np.asarray(adj.sum(axis=1)).ravel()) @ adj).tocsr()
 
 
-def squeeze_scale(area: np.ndarray, mesh_area: np.ndarray, tris: np.ndarray, used: np.ndarray,
+def squeeze_scale(area: np.ndarray, share: np.ndarray, tris: np.ndarray, used: np.ndarray,
                   smooth: sparse.csr_matrix) -> np.ndarray:
     """Each vertex's linear scale, (n, 1): the square root of its share of the map (``area``, per triangle,
-    summing to 1) over its share of the mesh (``mesh_area``), its log averaged ``SCALE_SMOOTHING`` times with
-    the neighbours' (``smooth``: :func:`neighbour_mean`), and at most 1: only squeezed parts are slowed."""
+    summing to 1) over its share of the mesh (``share``, per vertex: :func:`vertex_shares`), its log averaged
+    ``SCALE_SMOOTHING`` times with the neighbours' (``smooth``: :func:`neighbour_mean`), and at most 1: only
+    squeezed parts are slowed."""
     n = len(used)
-    share = np.bincount(tris.ravel(), np.repeat(mesh_area, 3), minlength=n)
     known = used & (share > 0)                  # a vertex only on faces of no area has no ratio: 1
-    ratio = np.bincount(tris.ravel(), np.repeat(area, 3), minlength=n) / np.where(known, share, 1.0)
+    ratio = vertex_shares(area, tris, n) / np.where(known, share, 1.0)
     log_ratio = np.log(np.where(known, ratio, 1.0))
     for _ in range(SCALE_SMOOTHING):
         log_ratio = smooth @ log_ratio
@@ -127,6 +128,7 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
     mass = vertex_area / vertex_area.sum()
     precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
     smooth = neighbour_mean(edges, n)
+    share = vertex_shares(a, tris, n)          # each vertex's share of the mesh, for the scaled steps
     along = np.zeros((n, 3)) if along is None else np.ascontiguousarray(along, np.float64)
 
     def tangent(v):
@@ -153,7 +155,7 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
         g = tangent(balance_gradient(s, tris, a, cot, beta, state))
         kinds = (step % 2, 1 - step % 2)        # scaled and plain steps take turns; each stands in for the other
         for kind in kinds:
-            sigma = squeeze_scale(state[0] * state[1], a, tris, used, smooth) if kind == 0 else 1.0
+            sigma = squeeze_scale(state[0] * state[1], share, tris, used, smooth) if kind == 0 else 1.0
             found = search(sobolev(g, sigma), alphas[kind])
             if found is not None:
                 alphas[kind] = min(2.0 * found[3], 1.0)

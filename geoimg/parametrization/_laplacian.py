@@ -10,7 +10,7 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse import linalg as splinalg
 
-__all__ = ["factor_symmetric", "laplacian", "triangle_areas", "vertex_areas", "mean_value_weights", "cotangent_weights", "corner_angles", "corner_cotangents", "solve_free"]
+__all__ = ["factor_symmetric", "laplacian", "triangle_areas", "vertex_areas", "vertex_shares", "mean_value_weights", "cotangent_weights", "corner_angles", "corner_cotangents", "solve_free"]
 
 _TINY = 1e-300
 
@@ -114,9 +114,14 @@ def triangle_areas(vertices: np.ndarray, tris: np.ndarray) -> np.ndarray:
     return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
 
 
+def vertex_shares(values: np.ndarray, tris: np.ndarray, n: int) -> np.ndarray:
+    """Each of ``n`` vertices' sum of ``values`` (one per triangle) over the triangles around it."""
+    return np.bincount(tris.ravel(), np.repeat(values, 3), minlength=n)
+
+
 def vertex_areas(vertices: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """A third of the area of each triangle around each vertex (n,)."""
-    return np.bincount(tris.ravel(), np.repeat(triangle_areas(vertices, tris) / 3.0, 3), minlength=len(vertices))
+    return vertex_shares(triangle_areas(vertices, tris) / 3.0, tris, len(vertices))
 
 
 def solve_free(weights: sparse.spmatrix, fixed: np.ndarray, fixed_pos: np.ndarray, free: np.ndarray) -> np.ndarray:

@@ -5,6 +5,7 @@ import pytest
 
 import geoimg
 from geoimg.parametrization._balance import SCALE_SMOOTHING, neighbour_mean, squeeze_scale
+from geoimg.parametrization._laplacian import vertex_shares
 from geoimg.parametrization._balance_kernels import balance_energy, balance_gradient
 
 import meshes
@@ -61,13 +62,14 @@ def test_the_balancing_step_slows_only_squeezed_parts_by_their_linear_scale():
     edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
     used = np.ones(mesh.n_vertices, bool)
     smooth = neighbour_mean(edges, mesh.n_vertices)
-    assert np.allclose(squeeze_scale(a, a, tris, used, smooth), 1.0)
+    share = vertex_shares(a, tris, mesh.n_vertices)
+    assert np.allclose(squeeze_scale(a, share, tris, used, smooth), 1.0)
     # a cap squeezed to 1e-4 of its share, the rest stretched: sqrt(1e-4) deep inside the cap, 1 outside
     centre = mesh.vertices[tris].mean(axis=1)
     squeezed = centre[:, 2] > 0.5
     area = a * np.where(squeezed, 1e-4, 1.0)
     area /= area.sum()
-    sigma = squeeze_scale(area, a, tris, used, smooth).ravel()
+    sigma = squeeze_scale(area, share, tris, used, smooth).ravel()
     hops = np.full(mesh.n_vertices, np.inf)          # edge hops from the cap's rim
     rim = np.unique(tris[squeezed][np.isin(tris[squeezed], tris[~squeezed])])
     hops[rim] = 0
