@@ -24,7 +24,7 @@ from .._choices import ALIGNMENTS, EASINGS
 from ..errors import InputError, InputTypeError
 from .._convert import mesh_to_image
 from ..image import GeometryImage
-from ..mesh import Mesh, suggest_landmarks
+from ..mesh import Mesh, grid_triangles, suggest_landmarks
 from ..parametrization import grid_directions, parametrize, sphere_to_square
 from ..parametrization._warp import warp_sphere
 from .._types import Progress
@@ -88,13 +88,6 @@ def _require_sphere(param, k: int) -> None:
                          "for closed genus-0 meshes (spherical parametrizations)")
 
 
-def _grid_triangles(n: int) -> np.ndarray:
-    """Two triangles per cell of an ``n x n`` pixel grid, as indices of its raveled pixels."""
-    i = np.arange(n * n).reshape(n, n)
-    a, b, c, d = i[:-1, :-1], i[:-1, 1:], i[1:, 1:], i[1:, :-1]
-    return np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
-
-
 def _landmark_warp(sources: np.ndarray, targets: np.ndarray, n: int, k: int) -> dict:
     """The warp of the sphere taking key 0's landmark directions ``sources`` onto key ``k``'s ``targets``,
     carried by the directions of an ``n x n`` octahedral image: key ``k`` resampled there lines up with key 0.
@@ -105,7 +98,7 @@ def _landmark_warp(sources: np.ndarray, targets: np.ndarray, n: int, k: int) -> 
     points = grid_directions(m).reshape(-1, 3)
     if m > n:
         points = np.vstack([points, grid_directions(n).reshape(-1, 3)])
-    moved, info = warp_sphere(points, _grid_triangles(m), sources, targets)
+    moved, info = warp_sphere(points, grid_triangles(m, m), sources, targets)   # any winding: folds are sign changes
     directions = moved[len(moved) - n * n:]
     if not info["met"]:
         warnings.warn(f"landmarks: shape {k}'s landmarks stop up to {info['residual']:.3g} rad from shape 0's: no "

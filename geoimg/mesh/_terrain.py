@@ -11,7 +11,7 @@ from .._raster import read_raster
 from ._mesh import Mesh
 from .._types import PathLike
 
-__all__ = ["grid_mesh", "load_dem"]
+__all__ = ["grid_mesh", "grid_triangles", "load_dem"]
 
 
 def grid_mesh(heights: ArrayLike, spacing: tuple[float, float] = (1.0, 1.0)) -> Mesh:
@@ -44,11 +44,23 @@ def grid_mesh(heights: ArrayLike, spacing: tuple[float, float] = (1.0, 1.0)) -> 
     H, W = h.shape
     cols, rows = np.meshgrid(np.arange(W), np.arange(H))
     vertices = np.stack([cols.ravel() * dx, -rows.ravel() * dy, h.ravel()], axis=1)
-    idx = np.arange(H * W).reshape(H, W)
+    return Mesh(vertices, grid_triangles(H, W))
+
+
+def grid_triangles(rows: int, cols: int) -> np.ndarray:
+    """Two triangles per cell of a ``rows x cols`` grid of points numbered row by row, split along the
+    diagonal from each cell's first corner: (T, 3) indices, counter-clockwise seen from +z when row ``r``,
+    column ``c`` lies at (c, -r) (the way :func:`grid_mesh` lays a DEM out).
+
+    Examples
+    --------
+    >>> grid_triangles(2, 2).tolist()
+    [[0, 2, 3], [0, 3, 1]]
+    """
+    idx = np.arange(rows * cols).reshape(rows, cols)
     a, b, c, d = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel(), idx[1:, 1:].ravel(), idx[1:, :-1].ravel()
     # (row, col) -> (x, -y): going a->d->c is counter-clockwise seen from +z
-    faces = np.concatenate([np.stack([a, d, c], 1), np.stack([a, c, b], 1)])
-    return Mesh(vertices, faces)
+    return np.concatenate([np.stack([a, d, c], 1), np.stack([a, c, b], 1)])
 
 
 def load_dem(path: PathLike) -> np.ndarray:
