@@ -12,14 +12,13 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from scipy import sparse
 from scipy.sparse.linalg import splu
 
 import geoimg
 from geoimg.mesh import surface_distance
 from geoimg.parametrization import area_ratio
 from geoimg.mesh import topology
-from geoimg.parametrization._laplacian import cotangent_weights
+from geoimg.parametrization._laplacian import cotangent_weights, laplacian
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "meshes"
 MESHES = ["closed_genus0/sphere.obj", "closed_genus0/bumpy.off", "closed_genus0/spot_low_resolution.obj",
@@ -46,8 +45,7 @@ def linear_map_time(mesh) -> float:
     (COLAMD) for a dipole at a face; what issues 14 and 18 compare the parametrization's time with."""
     t0 = time.perf_counter()
     tris, _ = mesh.triangulate()
-    W = cotangent_weights(mesh.vertices, tris).tocsr()
-    L = (sparse.diags(np.asarray(W.sum(axis=1)).ravel()) - W).tocsc()
+    L = laplacian(cotangent_weights(mesh.vertices, tris))
     keep = np.flatnonzero(mesh.referenced_vertices())[1:]
     rhs = np.zeros((len(keep), 2))
     rhs[:3] = [[1.0, 0.0], [-1.0, 1.0], [0.0, -1.0]]

@@ -213,8 +213,7 @@ def _coarse_map(x, beta):
 def _relax(x, beta, steps: int = 30):
     """Area-balance the map of an intermediate mesh (the vertices ``alive``, triangles ``tris``)."""
     def run(s, alive, tris):
-        lap = laplacian(cotangent_weights(x, tris))
-        out, _, _ = balance(s, x, tris, lap, vertex_areas(x, tris), alive, float(beta), steps, None)
+        out, _, _ = balance(s, x, tris, used=alive, beta=float(beta), steps=steps)   # its own Laplacian, areas
         return out
     return run
 
