@@ -87,11 +87,11 @@ class AreaBalanceNumpy:
         f_d = (self.beta * self.a / ay * lam)[:, None]
         shift = 2.0 * lam * float(self.a @ lr)           # through lam = 1 / sum(area)
         f_a = ((2.0 * self.a * lr / ay - self.beta * self.a * dirichlet / ay ** 2) * lam - shift)[:, None]
-        corner_sum = p.sum(axis=1)
         n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-        turn = 0.5 * (n - np.einsum("ij,ij->i", n, u)[:, None] * u) / np.linalg.norm(corner_sum, axis=1)[:, None]
-        if self.planar:
-            turn = 0.0 * turn                                   # the plane's direction +z does not turn
+        if self.planar:                                     # the plane's direction +z does not turn
+            turn = np.zeros_like(n)
+        else:
+            turn = 0.5 * (n - np.einsum("ij,ij->i", n, u)[:, None] * u) / np.linalg.norm(p.sum(axis=1), axis=1)[:, None]
         parts = []
         for k in range(3):
             k1, k2 = (k + 1) % 3, (k + 2) % 3
