@@ -67,8 +67,16 @@ EXAMPLES = {
 }
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser, its errors one line (as every error of geoimg's), not the usage and then the line;
+    the subcommands' parsers are of the same class."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="geoimg", description="Polygon meshes to geometry images and back.")
+    p: argparse.ArgumentParser = _Parser(prog="geoimg", description="Polygon meshes to geometry images and back.")
     p.add_argument("--version", action="version", version=f"geoimg {__version__}")
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")

@@ -97,6 +97,14 @@ def test_balance_option_for_disk_meshes(tmp_path, capsys):
         main(["image", finger, "-o", str(tmp_path / "x.exr"), "--balance", "stretch"])
     err = capsys.readouterr().err
     assert e.value.code == 2 and "invalid choice: 'stretch'" in err and not (tmp_path / "x.exr").exists()
+    assert len(err.strip().splitlines()) == 1                       # one line, as every geoimg error
+    for bad in ([], ["", "AREA"]):                                   # missing, empty, another case
+        for value in bad or [None]:
+            with pytest.raises(SystemExit) as e:
+                main(["image", finger, "-o", str(tmp_path / "x.exr"), "--balance"] + ([] if value is None else [value]))
+            err = capsys.readouterr().err
+            assert e.value.code == 2 and len(err.strip().splitlines()) == 1 and "--balance" in err
+            assert not (tmp_path / "x.exr").exists()
 
 
 def test_os_errors_are_one_line_and_a_closed_pipe_is_quiet(tmp_path, capsys, monkeypatch):
