@@ -41,118 +41,130 @@ def _gauss_tables(coord, lo, ptr, centre, inv2s, out):
 
 
 @njit(cache=True)
-def _row_lists(n_rows, faces, r0, r1):
-    counts = np.zeros(n_rows + 1, np.int64)
+def _band_lists(n_bands, band, faces, r0, r1):
+    """CSR lists of ``faces`` (in their order) by the bands of ``band`` rows their rows ``r0..r1-1`` reach."""
+    counts = np.zeros(n_bands + 1, np.int64)
     for k in range(faces.shape[0]):
         f = faces[k]
-        for i in range(r0[f], r1[f]):
-            counts[i + 1] += 1
+        for b in range(r0[f] // band, (r1[f] - 1) // band + 1):
+            counts[b + 1] += 1
     ptr = np.cumsum(counts)
     fill = ptr[:-1].copy()
     out = np.empty(ptr[-1], np.int64)
     for k in range(faces.shape[0]):
         f = faces[k]
-        for i in range(r0[f], r1[f]):
-            out[fill[i]] = f
-            fill[i] += 1
+        for b in range(r0[f] // band, (r1[f] - 1) // band + 1):
+            out[fill[b]] = f
+            fill[b] += 1
     return ptr, out
 
 
-@njit(cache=True, fastmath=False)
-def _row_positions(f, i, u, v, uc, vc, C, A, B, c0, cptr, gu, gvv, s0, n0, n1, n2):
-    dv = v[i] - vc[f]
-    j0 = c0[f]
-    base = cptr[f] - j0
-    cx = C[f, 0] + B[f, 0] * dv
-    cy = C[f, 1] + B[f, 1] * dv
-    cz = C[f, 2] + B[f, 2] * dv
-    ax, ay, az = A[f, 0], A[f, 1], A[f, 2]
-    for j in range(j0, j0 + cptr[f + 1] - cptr[f]):
-        g = gu[base + j] * gvv
-        du = u[j] - uc[f]
-        s0[j] += g
-        n0[j] += g * (cx + ax * du)
-        n1[j] += g * (cy + ay * du)
-        n2[j] += g * (cz + az * du)
+@njit(cache=True, inline="always")
+def _add_positions(gu, du, cx, cy, cz, ax, ay, az, gvv, s0, n0, n1, n2):
+    """Adds one face's ``S`` and ``sum g p`` terms along a stretch of one row: ``gu`` its Gaussian along u
+    there, ``du`` the columns' offsets from its centre, ``(cx, cy, cz) + (ax, ay, az) du`` its plane."""
+    for t in range(gu.shape[0]):
+        g = gu[t] * gvv
+        d = du[t]
+        s0[t] += g
+        n0[t] += g * (cx + ax * d)
+        n1[t] += g * (cy + ay * d)
+        n2[t] += g * (cz + az * d)
 
 
-@njit(cache=True)
-def _row_derivatives(f, i, u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, gvv, su, sv, nu, nv):
-    """Adds face ``f``'s terms of ``dS/du``, ``dS/dv`` (``su``, ``sv``) and of ``d(sum g p)/du`` and ``/dv``
-    (``nu``, ``nv``, (3, W): the weight's derivative times the plane, plus the weight times the plane's
-    slope) along row ``i``."""
-    dv = v[i] - vc[f]
-    hv = -2.0 * dv * inv2s[f]
-    j0 = c0[f]
-    base = cptr[f] - j0
-    k = -2.0 * inv2s[f]
-    c0x, c0y, c0z = C[f, 0] + B[f, 0] * dv, C[f, 1] + B[f, 1] * dv, C[f, 2] + B[f, 2] * dv
-    ax, ay, az = A[f, 0], A[f, 1], A[f, 2]
-    bx, by, bz = B[f, 0], B[f, 1], B[f, 2]
-    for j in range(j0, j0 + cptr[f + 1] - cptr[f]):
-        g = gu[base + j] * gvv
-        du = u[j] - uc[f]
-        gu_ = g * k * du
+@njit(cache=True, inline="always")
+def _add_derivatives(gu, du, cx, cy, cz, ax, ay, az, bx, by, bz, gvv, k, hv, su, sv, nu0, nu1, nu2, nv0, nv1, nv2):
+    """Adds, along the stretch :func:`_add_positions` covers, one face's terms of ``dS/du``, ``dS/dv``
+    (``su``, ``sv``) and of ``d(sum g p)/du`` and ``/dv`` (``nu*``, ``nv*``: the weight's derivative times
+    the plane, plus the weight times the plane's slope); ``k du`` and ``hv`` are the Gaussian's
+    log-derivatives. (A separate loop: fused with the positions', both ran slower.)"""
+    for t in range(gu.shape[0]):
+        g = gu[t] * gvv
+        d = du[t]
+        px, py, pz = cx + ax * d, cy + ay * d, cz + az * d
+        gu_ = g * k * d
         gv_ = g * hv
-        su[j] += gu_
-        sv[j] += gv_
-        px, py, pz = c0x + ax * du, c0y + ay * du, c0z + az * du
-        nu[0, j] += gu_ * px + g * ax
-        nu[1, j] += gu_ * py + g * ay
-        nu[2, j] += gu_ * pz + g * az
-        nv[0, j] += gv_ * px + g * bx
-        nv[1, j] += gv_ * py + g * by
-        nv[2, j] += gv_ * pz + g * bz
+        su[t] += gu_
+        sv[t] += gv_
+        nu0[t] += gu_ * px + g * ax
+        nu1[t] += gu_ * py + g * ay
+        nu2[t] += gu_ * pz + g * az
+        nv0[t] += gv_ * px + g * bx
+        nv1[t] += gv_ * py + g * by
+        nv2[t] += gv_ * pz + g * bz
 
 
 @njit(parallel=True, cache=True)
-def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, rptr, gv, row_ptr, row_faces,
+def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, r1, rptr, gv, band, band_ptr, band_faces,
                  derivs, g_ref, P, Pu, Pv, ok):
-    W = u.shape[0]
-    for i in prange(v.shape[0]):
-        s0 = np.zeros(W)
-        n0 = np.zeros(W)
-        n1 = np.zeros(W)
-        n2 = np.zeros(W)
-        m = W if derivs else 1
-        su = np.zeros(m)
-        sv = np.zeros(m)
-        nu = np.zeros((3, m))
-        nv = np.zeros((3, m))
-        for k in range(row_ptr[i], row_ptr[i + 1]):
-            f = row_faces[k]
-            gvv = gv[rptr[f] + i - r0[f]]
-            _row_positions(f, i, u, v, uc, vc, C, A, B, c0, cptr, gu, gvv, s0, n0, n1, n2)
-            if derivs:
-                _row_derivatives(f, i, u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, gvv, su, sv, nu, nv)
-        for j in range(W):
-            s = s0[j]
-            if not s >= g_ref:
-                ok[i, j] = False
-                continue
-            ok[i, j] = True
-            P[i, j, 0] = n0[j] / s
-            P[i, j, 1] = n1[j] / s
-            P[i, j, 2] = n2[j] / s
-            if derivs:
+    """Bands of ``band`` rows run in parallel; in each, every face it lists adds its box's rows to the
+    band's running sums (its constants loaded once a band, each row a contiguous stretch)."""
+    H, W = v.shape[0], u.shape[0]
+    for b in prange(band_ptr.shape[0] - 1):
+        i0 = b * band
+        i1 = min(H, i0 + band)
+        acc = np.zeros((4, band, W))
+        dacc = np.zeros((8, band, W) if derivs else (8, 1, 1))
+        du = np.empty(W)
+        for q in range(band_ptr[b], band_ptr[b + 1]):
+            f = band_faces[q]
+            j0 = c0[f]
+            n = cptr[f + 1] - cptr[f]
+            j1 = j0 + n
+            g_u = gu[cptr[f]:cptr[f + 1]]
+            for t in range(n):
+                du[t] = u[j0 + t] - uc[f]
+            d_u = du[:n]
+            ax, ay, az = A[f, 0], A[f, 1], A[f, 2]
+            bx, by, bz = B[f, 0], B[f, 1], B[f, 2]
+            k = -2.0 * inv2s[f]
+            for i in range(max(r0[f], i0), min(r1[f], i1)):
+                r = i - i0
+                gvv = gv[rptr[f] + i - r0[f]]
+                dv = v[i] - vc[f]
+                cx, cy, cz = C[f, 0] + bx * dv, C[f, 1] + by * dv, C[f, 2] + bz * dv
+                _add_positions(g_u, d_u, cx, cy, cz, ax, ay, az, gvv,
+                               acc[0, r, j0:j1], acc[1, r, j0:j1], acc[2, r, j0:j1], acc[3, r, j0:j1])
+                if derivs:
+                    _add_derivatives(g_u, d_u, cx, cy, cz, ax, ay, az, bx, by, bz, gvv, k, -2.0 * dv * inv2s[f],
+                                     dacc[0, r, j0:j1], dacc[1, r, j0:j1], dacc[2, r, j0:j1], dacc[3, r, j0:j1],
+                                     dacc[4, r, j0:j1], dacc[5, r, j0:j1], dacc[6, r, j0:j1], dacc[7, r, j0:j1])
+        for i in range(i0, i1):
+            r = i - i0
+            for j in range(W):
+                s = acc[0, r, j]
+                if not s >= g_ref:
+                    ok[i, j] = False
+                    continue
+                ok[i, j] = True
                 for c in range(3):
-                    p = P[i, j, c]
-                    Pu[i, j, c] = (nu[c, j] - p * su[j]) / s
-                    Pv[i, j, c] = (nv[c, j] - p * sv[j]) / s
+                    p = acc[1 + c, r, j] / s
+                    P[i, j, c] = p
+                    if derivs:
+                        Pu[i, j, c] = (dacc[2 + c, r, j] - p * dacc[0, r, j]) / s
+                        Pv[i, j, c] = (dacc[5 + c, r, j] - p * dacc[1, r, j]) / s
+
+
+def _band_rows(width: int) -> int:
+    """Rows a band of the grid kernel holds: 16 for narrow images, fewer for wide ones, so that a band's
+    running sums stay near 128 KB per coordinate."""
+    return max(1, min(16, 4096 // max(width, 1)))
 
 
 def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, log_g_ref):
     """Truncated rational-Gaussian surface on the grid ``u`` (columns) x ``v`` (rows).
 
     Uses the separability of each Gaussian: per face, one table of ``exp`` along u and one along v
-    over its box, so a pixel costs one product per face. Rows run in parallel. Sums are certified when
+    over its box, so a pixel costs one product per face. Bands of rows run in parallel. Sums are certified when
     ``S >= max(exp(log_g_ref), MIN_PLAIN_SUM)``: below that (tiny s) plain exponentials may underflow,
     and the caller recomputes those pixels in the log domain.
 
     Returns
     -------
-    P, Pu, Pv : numpy.ndarray, shape (H, W, 3) float64
-        Surface and first derivatives (zeros when ``derivatives`` is false).
+    P : numpy.ndarray, shape (H, W, 3) float64
+        Surface points.
+    Pu, Pv : numpy.ndarray, shape (H, W, 3) float64, or None
+        First derivatives (None when ``derivatives`` is false).
     ok : numpy.ndarray, shape (H, W) bool
         Pixels whose truncated sum is certified (the others need an exact evaluation).
     """
@@ -170,15 +182,17 @@ def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, 
     gv = np.empty(rptr[-1])
     _gauss_tables(u, c0, cptr, centres[:, 0].copy(), inv2s, gu)
     _gauss_tables(v, r0, rptr, centres[:, 1].copy(), inv2s, gv)
-    row_ptr, row_faces = _row_lists(v.shape[0], live.astype(np.int64), r0, np.maximum(r1, r0))
     H, W = v.shape[0], u.shape[0]
+    band = _band_rows(W)
+    band_ptr, band_faces = _band_lists(-(-H // band), band, live.astype(np.int64), r0, r1)
     P = np.zeros((H, W, 3))
-    Pu = np.zeros((H, W, 3))
-    Pv = np.zeros((H, W, 3))
+    Pu = np.zeros((H, W, 3) if derivatives else (1, 1, 3))
+    Pv = np.zeros_like(Pu)
     ok = np.zeros((H, W), np.bool_)
-    _grid_kernel(u, v, centres[:, 0].copy(), centres[:, 1].copy(), inv2s, C, A, B, c0, cptr, gu, r0, rptr,
-                 gv, row_ptr, row_faces, bool(derivatives), max(math.exp(log_g_ref), MIN_PLAIN_SUM), P, Pu, Pv, ok)
-    return P, Pu, Pv, ok
+    _grid_kernel(u, v, centres[:, 0].copy(), centres[:, 1].copy(), inv2s, C, A, B, c0, cptr, gu, r0, r1, rptr,
+                 gv, band, band_ptr, band_faces, bool(derivatives), max(math.exp(log_g_ref), MIN_PLAIN_SUM),
+                 P, Pu, Pv, ok)
+    return (P, Pu, Pv, ok) if derivatives else (P, None, None, ok)
 
 
 # --------------------------------------------------------------------------- scattered points

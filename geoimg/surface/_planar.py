@@ -148,7 +148,9 @@ class PlanarSurface(Surface):
             if not ok.all():
                 ii, jj = np.nonzero(~ok)
                 p, pu, pv, st = self._points(np.stack([u[jj], v[ii]], axis=1), True)
-                P[ii, jj], Pu[ii, jj], Pv[ii, jj], status[ii, jj] = p, pu, pv, st
+                P[ii, jj], status[ii, jj] = p, st
+                if normals:
+                    Pu[ii, jj], Pv[ii, jj] = pu, pv
                 n_exact = len(ii)
         else:
             uu, vv = np.meshgrid(u, v)
