@@ -172,7 +172,12 @@ class SphereSurface(Surface):
         """Glued boundary pixels are evaluated at bit-identical directions, so they hold identical values."""
         n = shape[0]
         q = self.domain.directions(n).reshape(-1, 3)             # type: ignore[attr-defined]   # octahedral
-        P, P1, P2, _, _, st = self.evaluate_directions(q, derivatives=normals)
+        if self.tol > 0:        # by tiles of pixels
+            t1, t2 = _tangent_frame(q) if normals else (None, None)
+            P, P1, P2, st = sphere_kernels.sample_sphere_grid(q, t1, t2, self._faces, self._cells,
+                                                              log_g_ref=self.log_g_ref, derivatives=normals)
+        else:
+            P, P1, P2, _, _, st = self.evaluate_directions(q, derivatives=normals)
         nrm = unit(np.cross(P1, P2) * self.orientation).reshape(n, n, 3) if normals else None
         return P.reshape(n, n, 3), nrm, None, int((st == sphere_kernels.EXACT).sum()), 0
 

@@ -8,9 +8,16 @@ the whole sphere as an affine function of ``q``, bounded everywhere (a central p
 for faces turned 90 degrees away, which carry weight on coarse meshes), and faces across the
 octahedron's creases need no special case. Weights are ``exp(-|q - c_i|^2 / 2 sigma_i^2)``.
 
-For each point the kernel returns P and its derivatives along two tangent directions ``t1, t2``.
-Faces are skipped outside ``|q - c_i| <= R_i`` (3-D cells); a point whose largest weight exponent is
-below ``log_g_ref`` is recomputed over all faces. Sums are shifted by the largest exponent (no underflow).
+For each point the kernels return P and its derivatives along two tangent directions ``t1, t2``.
+Faces are skipped outside ``|q - c_i| <= R_i``.
+
+- Scattered points (:func:`evaluate_sphere`): candidates from 3-D cells; sums shifted by the largest
+  exponent (no underflow); a point whose largest weight exponent is below ``log_g_ref`` is recomputed
+  over all faces.
+- Images (:func:`sample_sphere_grid`): tiles of pixels, each face adding its weights and planes to the
+  running sums of the sub-tiles it reaches, in loops over their pixels with a vectorized exponential
+  (:func:`_exp_array`); plain sums, certified when ``S >= max(g_ref, 1e-250)`` (every skipped weight
+  then below ``tol``, as on the plane), the others recomputed by the first kernel over all faces.
 """
 from __future__ import annotations
 
@@ -19,9 +26,19 @@ import math
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["build_cells_3d", "evaluate_sphere", "TRUNCATED", "EXACT"]
+__all__ = ["build_cells_3d", "evaluate_sphere", "sample_sphere_grid", "TRUNCATED", "EXACT"]
 
 TRUNCATED, EXACT = 0, 1
+MIN_PLAIN_SUM = 1e-250      # tile sums below this (or below the certificate) are recomputed in the log domain
+TILE = 16                   # pixels along a tile's side
+SUB = 8                     # pixels along a sub-tile's side (a divisor of TILE)
+
+_LOG2E = 1.4426950408889634
+_LN2_HI = 6.93147180369123816490e-01    # ln 2 split so that k * _LN2_HI is exact for |k| < 2^20
+_LN2_LO = 1.90821492927058770002e-10
+_ROUND = 6755399441055744.0             # 1.5 * 2^52: x + _ROUND - _ROUND rounds x to an integer
+_EXP_FLOOR = -708.0                     # exp of less is taken as 0 (certified sums are >= 1e-250)
+_C = tuple(1.0 / math.factorial(k) for k in range(14))
 
 
 def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96):
@@ -72,6 +89,45 @@ def _fill(c, r, lo, hi, n, h):
                         out[fill[cell]] = f
                         fill[cell] += 1
     return ptr, out
+
+
+@njit(cache=True, inline="always")
+def _exp_array(x, out, bits):
+    """``out = exp(x)`` to about 1 ulp for ``x >= -708``, 0 below (``x`` may be -inf), in loops LLVM
+    vectorizes (``math.exp`` is a scalar libm call): ``exp(r) 2^k`` with ``k`` the nearest integer to
+    ``x / ln 2``, ``|r| <= ln 2 / 2``, ``exp(r)`` its Taylor polynomial of degree 13 (remainder below
+    1e-17) and ``2^k`` built from its bits in ``bits`` (int64 scratch as long as ``x``)."""
+    scale = bits.view(np.float64)
+    for p in range(x.shape[0]):
+        y = x[p]
+        y = y if y > _EXP_FLOOR else _EXP_FLOOR
+        k = (y * _LOG2E + _ROUND) - _ROUND
+        r = (y - k * _LN2_HI) - k * _LN2_LO
+        e = _C[13]
+        e = e * r + _C[12]
+        e = e * r + _C[11]
+        e = e * r + _C[10]
+        e = e * r + _C[9]
+        e = e * r + _C[8]
+        e = e * r + _C[7]
+        e = e * r + _C[6]
+        e = e * r + _C[5]
+        e = e * r + _C[4]
+        e = e * r + _C[3]
+        e = e * r + _C[2]
+        e = e * r + 1.0
+        out[p] = e * r + 1.0
+        bits[p] = np.int64(k + 1023.0) << 52
+    for p in range(x.shape[0]):
+        out[p] = out[p] * scale[p] if x[p] >= _EXP_FLOOR else 0.0
+
+
+@njit(cache=True, fastmath={"contract"})
+def exp_array(x):
+    """:func:`_exp_array` of a whole array (for tests)."""
+    out = np.empty(x.shape[0])
+    _exp_array(x, out, np.empty(x.shape[0], np.int64))
+    return out
 
 
 @njit(cache=True)
@@ -181,4 +237,234 @@ def evaluate_sphere(q, t1, t2, faces, cells, *, log_g_ref, exact=False, derivati
     h, n, ptr, cf = cells
     _kernel(q, np.ascontiguousarray(t1, np.float64), np.ascontiguousarray(t2, np.float64), *faces,
             float(h), int(n), ptr, cf, float(log_g_ref), bool(exact), bool(derivatives), P, P1, P2, status)
+    return P, P1, P2, status
+
+
+@njit(cache=True)
+def _tile_candidates(q, idx, m, centre, radius, h, n, ptr, cells, seen, stamp):
+    """The faces, in index order, whose truncation ball can reach a pixel of the tile (``q[idx[:m]]``):
+    those listed in the pixels' cells and within ``R_f`` of the tile's bounding ball. ``seen`` (one entry
+    per face) marks the faces taken with ``stamp``, a number no other tile of its caller uses."""
+    ids = np.empty(m, np.int64)
+    cx = cy = cz = 0.0
+    for k in range(m):
+        p = idx[k]
+        ix = min(max(int(math.floor((q[p, 0] + 1.0) / h)), 0), n - 1)
+        iy = min(max(int(math.floor((q[p, 1] + 1.0) / h)), 0), n - 1)
+        iz = min(max(int(math.floor((q[p, 2] + 1.0) / h)), 0), n - 1)
+        ids[k] = (iz * n + iy) * n + ix
+        cx += q[p, 0]
+        cy += q[p, 1]
+        cz += q[p, 2]
+    cx, cy, cz = cx / m, cy / m, cz / m
+    rho = 0.0
+    for k in range(m):
+        p = idx[k]
+        rho = max(rho, math.sqrt((q[p, 0] - cx) ** 2 + (q[p, 1] - cy) ** 2 + (q[p, 2] - cz) ** 2))
+    cell_ids = np.unique(ids)
+    total = 0
+    for c in cell_ids:
+        total += ptr[c + 1] - ptr[c]
+    out = np.empty(total, np.int64)
+    kept = 0
+    for c in cell_ids:
+        for k in range(ptr[c], ptr[c + 1]):
+            f = cells[k]
+            if seen[f] == stamp:
+                continue
+            seen[f] = stamp
+            reach = radius[f] + rho
+            if (centre[f, 0] - cx) ** 2 + (centre[f, 1] - cy) ** 2 + (centre[f, 2] - cz) ** 2 <= reach * reach:
+                out[kept] = f
+                kept += 1
+    out = out[:kept]
+    out.sort()
+    return out
+
+
+@njit(parallel=True, cache=True, fastmath={"contract"})
+def _tiles_kernel(q, t1, t2, side, tile_side, sub_side, centre, inv2s, radius, origin, e1, e2, C, A, B, h, n,
+                  ptr, cells, deriv, g_thr, P, P1, P2, ok):
+    """Tiles of ``TILE x TILE`` pixels of an octahedral image (``q`` its directions, row by row) run in
+    parallel. A tile's candidate faces come from its pixels' cells; each adds its weights and planes to
+    the running sums of the sub-tiles (``SUB x SUB`` pixels, contiguous in the tile's arrays) its ball
+    reaches, in loops over their pixels. Plain exponentials, no shift: a sum below ``g_thr`` is not
+    certified."""
+    TILE, SUB = tile_side, sub_side
+    nt = -(-side // TILE)
+    ns = TILE // SUB
+    n_chunks = min(nt * nt, 64)
+    for chunk in prange(n_chunks):
+        seen = np.full(centre.shape[0], -1, np.int64)
+        for tile in range(chunk, nt * nt, n_chunks):
+            _tile(tile, nt, ns, TILE, SUB, q, t1, t2, side, centre, inv2s, radius, origin, e1, e2, C, A, B, h, n,
+                  ptr, cells, deriv, g_thr, P, P1, P2, ok, seen)
+
+
+@njit(cache=True, fastmath={"contract"})
+def _tile(tile, nt, ns, TILE, SUB, q, t1, t2, side, centre, inv2s, radius, origin, e1, e2, C, A, B, h, n, ptr,
+          cells, deriv, g_thr, P, P1, P2, ok, seen):
+    """One tile of :func:`_tiles_kernel`."""
+    i0 = (tile // nt) * TILE
+    j0 = (tile % nt) * TILE
+    idx = np.empty(TILE * TILE, np.int64)
+    start = np.zeros(ns * ns + 1, np.int64)
+    ball = np.zeros((ns * ns, 4))           # each sub-tile's bounding ball: centre, radius
+    m = 0
+    for si in range(ns):
+        for sj in range(ns):
+            sub = si * ns + sj
+            for i in range(i0 + si * SUB, min(side, i0 + (si + 1) * SUB)):
+                for j in range(j0 + sj * SUB, min(side, j0 + (sj + 1) * SUB)):
+                    idx[m] = i * side + j
+                    m += 1
+            start[sub + 1] = m
+            cnt = start[sub + 1] - start[sub]
+            if cnt == 0:
+                continue
+            for k in range(start[sub], m):
+                for c in range(3):
+                    ball[sub, c] += q[idx[k], c] / cnt
+            for k in range(start[sub], m):
+                d = math.sqrt((q[idx[k], 0] - ball[sub, 0]) ** 2 + (q[idx[k], 1] - ball[sub, 1]) ** 2
+                              + (q[idx[k], 2] - ball[sub, 2]) ** 2)
+                ball[sub, 3] = max(ball[sub, 3], d)
+    Q = np.empty((3, m))
+    T1 = np.empty((3, m if deriv else 0))
+    T2 = np.empty((3, m if deriv else 0))
+    for k in range(m):
+        for c in range(3):
+            Q[c, k] = q[idx[k], c]
+            if deriv:
+                T1[c, k] = t1[idx[k], c]
+                T2[c, k] = t2[idx[k], c]
+    acc = np.zeros((12 if deriv else 4, m))
+    x = np.empty(m)
+    w = np.empty(m)
+    bits = np.empty(m, np.int64)
+    for f in _tile_candidates(q, idx, m, centre, radius, h, n, ptr, cells, seen, tile):
+        r2 = radius[f] * radius[f]
+        a = inv2s[f]
+        fx, fy, fz = centre[f, 0], centre[f, 1], centre[f, 2]
+        for sub in range(ns * ns):
+            lo, hi = start[sub], start[sub + 1]
+            reach = radius[f] + ball[sub, 3]
+            if hi == lo or (fx - ball[sub, 0]) ** 2 + (fy - ball[sub, 1]) ** 2 + (fz - ball[sub, 2]) ** 2 > reach * reach:
+                continue
+            qx, qy, qz = Q[0, lo:hi], Q[1, lo:hi], Q[2, lo:hi]
+            wk = w[lo:hi]
+            _weights(qx, qy, qz, fx, fy, fz, a, r2, x[lo:hi], wk, bits[lo:hi])
+            _add_planes(f, qx, qy, qz, wk, origin, e1, e2, C, A, B,
+                        acc[0, lo:hi], acc[1, lo:hi], acc[2, lo:hi], acc[3, lo:hi])
+            if deriv:
+                _add_slopes(f, qx, qy, qz, T1[0, lo:hi], T1[1, lo:hi], T1[2, lo:hi], T2[0, lo:hi],
+                            T2[1, lo:hi], T2[2, lo:hi], wk, centre, a, origin, e1, e2, C, A, B,
+                            acc[4, lo:hi], acc[5, lo:hi], acc[6, lo:hi], acc[7, lo:hi], acc[8, lo:hi],
+                            acc[9, lo:hi], acc[10, lo:hi], acc[11, lo:hi])
+    for k in range(m):
+        p = idx[k]
+        s = acc[0, k]
+        ok[p] = s >= g_thr
+        if not ok[p]:
+            continue
+        for c in range(3):
+            val = acc[1 + c, k] / s
+            P[p, c] = val
+            if deriv:
+                P1[p, c] = (acc[4 + c, k] - val * acc[10, k]) / s
+                P2[p, c] = (acc[7 + c, k] - val * acc[11, k]) / s
+
+
+@njit(cache=True, inline="always")
+def _weights(qx, qy, qz, fx, fy, fz, a, r2, x, w, bits):
+    """``w = exp(-a |q - c|^2)`` where ``|q - c|^2 <= r2``, else 0, for pixels ``(qx, qy, qz)``."""
+    for k in range(qx.shape[0]):
+        d2 = (qx[k] - fx) ** 2 + (qy[k] - fy) ** 2 + (qz[k] - fz) ** 2
+        x[k] = -d2 * a if d2 <= r2 else -np.inf
+    _exp_array(x, w, bits)
+
+
+@njit(cache=True, inline="always")
+def _add_planes(f, qx, qy, qz, w, origin, e1, e2, C, A, B, s0, n0, n1, n2):
+    """Adds ``w`` and ``w P_f(q)`` to the running sums ``s0``, ``n0..n2`` of pixels ``(qx, qy, qz)``."""
+    ox, oy, oz = origin[f, 0], origin[f, 1], origin[f, 2]
+    e1x, e1y, e1z = e1[f, 0], e1[f, 1], e1[f, 2]
+    e2x, e2y, e2z = e2[f, 0], e2[f, 1], e2[f, 2]
+    cx, cy, cz = C[f, 0], C[f, 1], C[f, 2]
+    ax, ay, az = A[f, 0], A[f, 1], A[f, 2]
+    bx, by, bz = B[f, 0], B[f, 1], B[f, 2]
+    for k in range(qx.shape[0]):
+        gx, gy, gz = qx[k] - ox, qy[k] - oy, qz[k] - oz
+        pa = gx * e1x + gy * e1y + gz * e1z
+        pb = gx * e2x + gy * e2y + gz * e2z
+        wk = w[k]
+        s0[k] += wk
+        n0[k] += wk * (cx + ax * pa + bx * pb)
+        n1[k] += wk * (cy + ay * pa + by * pb)
+        n2[k] += wk * (cz + az * pa + bz * pb)
+
+
+@njit(cache=True, inline="always")
+def _add_slopes(f, qx, qy, qz, t1x_, t1y_, t1z_, t2x_, t2y_, t2z_, w, centre, a, origin, e1, e2, C, A, B,
+                u0, u1, u2, v0, v1, v2, su, sv):
+    """Adds the derivatives' sums along the pixels' tangents ``t1``, ``t2``: the weight's derivative times
+    the plane plus the weight times the plane's slope (``u*``, ``v*``), and the weight's (``su``, ``sv``)."""
+    ox, oy, oz = origin[f, 0], origin[f, 1], origin[f, 2]
+    fx, fy, fz = centre[f, 0], centre[f, 1], centre[f, 2]
+    e1x, e1y, e1z = e1[f, 0], e1[f, 1], e1[f, 2]
+    e2x, e2y, e2z = e2[f, 0], e2[f, 1], e2[f, 2]
+    cx, cy, cz = C[f, 0], C[f, 1], C[f, 2]
+    ax, ay, az = A[f, 0], A[f, 1], A[f, 2]
+    bx, by, bz = B[f, 0], B[f, 1], B[f, 2]
+    k2 = -2.0 * a
+    for k in range(qx.shape[0]):
+        gx, gy, gz = qx[k] - ox, qy[k] - oy, qz[k] - oz
+        pa = gx * e1x + gy * e1y + gz * e1z
+        pb = gx * e2x + gy * e2y + gz * e2z
+        px, py, pz = cx + ax * pa + bx * pb, cy + ay * pa + by * pb, cz + az * pa + bz * pb
+        dx, dy, dz = qx[k] - fx, qy[k] - fy, qz[k] - fz
+        t1x, t1y, t1z = t1x_[k], t1y_[k], t1z_[k]
+        t2x, t2y, t2z = t2x_[k], t2y_[k], t2z_[k]
+        wk = w[k]
+        w1 = k2 * (dx * t1x + dy * t1y + dz * t1z) * wk
+        w2 = k2 * (dx * t2x + dy * t2y + dz * t2z) * wk
+        a1 = t1x * e1x + t1y * e1y + t1z * e1z
+        b1 = t1x * e2x + t1y * e2y + t1z * e2z
+        a2 = t2x * e1x + t2y * e1y + t2z * e1z
+        b2 = t2x * e2x + t2y * e2y + t2z * e2z
+        u0[k] += w1 * px + wk * (ax * a1 + bx * b1)
+        u1[k] += w1 * py + wk * (ay * a1 + by * b1)
+        u2[k] += w1 * pz + wk * (az * a1 + bz * b1)
+        v0[k] += w2 * px + wk * (ax * a2 + bx * b2)
+        v1[k] += w2 * py + wk * (ay * a2 + by * b2)
+        v2[k] += w2 * pz + wk * (az * a2 + bz * b2)
+        su[k] += w1
+        sv[k] += w2
+
+
+def sample_sphere_grid(q, t1, t2, faces, cells, *, log_g_ref, derivatives=True, tile=None):
+    """The surface over a square octahedral image whose pixels have directions ``q`` (side * side, 3),
+    row by row, with tangent frames ``t1``, ``t2`` (used only with ``derivatives``); by tiles of
+    ``tile = (TILE, SUB)`` pixels (see :func:`_tiles_kernel`). Pixels whose truncated sum is not certified
+    are recomputed over all faces in the log domain (:func:`evaluate_sphere`). Returns ``P, P_t1, P_t2``
+    (k, 3) and a status per pixel, as :func:`evaluate_sphere` does."""
+    q = np.ascontiguousarray(q, np.float64)
+    k = len(q)
+    if not derivatives:
+        t1 = t2 = np.zeros((k, 3))
+    t1 = np.ascontiguousarray(t1, np.float64)
+    t2 = np.ascontiguousarray(t2, np.float64)
+    side = int(round(math.sqrt(k)))
+    P, P1, P2 = np.zeros((k, 3)), np.zeros((k, 3)), np.zeros((k, 3))
+    ok = np.zeros(k, np.bool_)
+    h, n, ptr, cf = cells
+    tile_side, sub_side = (TILE, SUB) if tile is None else tile
+    _tiles_kernel(q, t1, t2, side, tile_side, sub_side, *faces, float(h), int(n), ptr, cf, bool(derivatives),
+                  max(math.exp(log_g_ref), MIN_PLAIN_SUM), P, P1, P2, ok)
+    status = np.full(k, TRUNCATED, np.int8)
+    if not ok.all():
+        redo = np.flatnonzero(~ok)
+        P[redo], P1[redo], P2[redo], _ = evaluate_sphere(q[redo], t1[redo], t2[redo], faces, cells,
+                                                        log_g_ref=log_g_ref, exact=True, derivatives=derivatives)
+        status[redo] = EXACT
     return P, P1, P2, status

@@ -200,3 +200,59 @@ def test_cell_lists_hold_every_face_within_reach_of_their_points():
                     - np.clip(np.floor((centres - radius[:, None] + 1) / h), 0, n - 1) + 1, axis=1).sum()
     assert len(faces) < boxes
 
+
+
+def test_vectorized_exp_matches_libm_to_a_few_ulps():
+    import math
+    from geoimg.surface._sphere_kernels import exp_array
+    x = np.concatenate([-np.random.default_rng(2).uniform(0, 708, 20000), [0.0, -1e-300, -708.0, -0.5 * math.log(2)]])
+    ref = np.array([math.exp(v) for v in x])
+    assert (np.abs(exp_array(x) - ref) <= 4 * np.spacing(ref)).all()
+    assert exp_array(np.array([0.0]))[0] == 1.0
+    assert (exp_array(np.array([-708.01, -745.0, -1e6, -np.inf])) == 0.0).all()      # below -708: 0
+
+
+@pytest.mark.parametrize("side, tile", [(37, (16, 8)), (33, (8, 8)), (65, (16, 4)), (33, (32, 16))])
+def test_tiled_sampling_equals_point_evaluation(spot_small, side, tile):
+    """The image sampler (tiles of pixels, plain vectorized exponentials) gives the point evaluator's
+    surface and derivatives, whatever the tiling; its candidate lists miss no face within reach."""
+    from geoimg.surface import _sphere_kernels as sk
+    from geoimg.surface._sphere import _tangent_frame
+    mesh, p = spot_small
+    surf = geoimg.fit_surface(mesh, p, s=1)
+    q = surf.domain.directions(side).reshape(-1, 3)
+    t1, t2 = _tangent_frame(q)
+    P, P1, P2, st = sk.sample_sphere_grid(q, t1, t2, surf._faces, surf._cells, log_g_ref=surf.log_g_ref, tile=tile)
+    R, R1, R2, _, _, _ = surf.evaluate_directions(q)
+    scale = mesh.bounding_box_diagonal()
+    assert (st == sk.TRUNCATED).all()
+    assert np.abs(P - R).max() < 1e-12 * scale
+    assert np.abs(P1 - R1).max() < 1e-9 * np.abs(R1).max() and np.abs(P2 - R2).max() < 1e-9 * np.abs(R2).max()
+    alone = sk.sample_sphere_grid(q, None, None, surf._faces, surf._cells, log_g_ref=surf.log_g_ref, tile=tile,
+                                  derivatives=False)
+    np.testing.assert_array_equal(alone[0], P)
+    centre, _, radius = surf._faces[:3]
+    h, n, ptr, cells = surf._cells
+    seen = np.full(len(centre), -1, np.int64)
+    for k, first in enumerate((0, side * (side // 2) + side // 2, side * side - 1)):
+        idx = np.unique(np.clip(first + np.add.outer(np.arange(3) * side, np.arange(3)).ravel(), 0, side * side - 1))
+        cand = sk._tile_candidates(q, idx, len(idx), centre, radius, h, n, ptr, cells, seen, k)
+        near = np.linalg.norm(q[idx][:, None] - centre[None], axis=2) <= radius[None]
+        assert set(np.flatnonzero(near.any(axis=0))) <= set(cand.tolist())
+        assert np.all(np.diff(cand) > 0)                          # in index order, once each
+
+
+def test_tiled_sampling_recomputes_what_plain_exponentials_cannot_certify(spot_small):
+    """At s = 0.005 a pixel between face centres gets weights below exp(-708) from every face: its plain
+    sum underflows, and such pixels are recomputed over all faces in the log domain (and say so)."""
+    from geoimg.surface import _sphere_kernels as sk
+    mesh, p = spot_small
+    surf = geoimg.fit_surface(mesh, p, s=0.005)
+    img = surf.sample(33, normals=False)
+    assert img.metadata["exact_pixels"] > 0 and np.isfinite(img.pixels).all()
+    q = surf.domain.directions(33).reshape(-1, 3)
+    exact = surf.evaluate_directions(q, exact=True, derivatives=False)[0]
+    assert np.abs(img.pixels.reshape(-1, 3) - exact).max() < 1e-5 * mesh.bounding_box_diagonal()
+    q_all = sk.sample_sphere_grid(q, None, None, surf._faces, surf._cells, log_g_ref=surf.log_g_ref,
+                                  derivatives=False)
+    assert (q_all[3] == sk.EXACT).sum() == img.metadata["exact_pixels"] < 33 * 33
