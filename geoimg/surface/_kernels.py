@@ -17,6 +17,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ._fastexp import exp_inplace
+
 __all__ = ["sample_grid_gaussian", "evaluate_points", "build_cells", "face_coverage", "GAUSSIAN", "LOCAL",
            "TRUNCATED", "EXACT", "HOLE"]
 
@@ -33,11 +35,18 @@ def _ranges(coord: np.ndarray, centre: np.ndarray, radius: np.ndarray):
 
 
 @njit(parallel=True, cache=True)
-def _gauss_tables(coord, lo, ptr, centre, inv2s, out):
+def _gauss_exponents(coord, lo, ptr, centre, inv2s, out):
     for f in prange(lo.shape[0]):
         for t in range(ptr[f + 1] - ptr[f]):
             d = coord[lo[f] + t] - centre[f]
-            out[ptr[f] + t] = math.exp(-d * d * inv2s[f])
+            out[ptr[f] + t] = -d * d * inv2s[f]
+
+
+def _gauss_tables(coord, lo, ptr, centre, inv2s, out):
+    """``out[ptr[f] + t] = exp(-(coord[lo[f] + t] - centre[f])^2 inv2s[f])``: each face's Gaussian along
+    one axis of the grid, over its box."""
+    _gauss_exponents(coord, lo, ptr, centre, inv2s, out)
+    exp_inplace(out)
 
 
 @njit(cache=True)

@@ -16,8 +16,9 @@ Faces are skipped outside ``|q - c_i| <= R_i``.
   over all faces.
 - Images (:func:`sample_sphere_grid`): tiles of pixels, each face adding its weights and planes to the
   running sums of the sub-tiles it reaches, in loops over their pixels with a vectorized exponential
-  (:func:`_exp_array`); plain sums, certified when ``S >= max(g_ref, 1e-250)`` (every skipped weight
-  then below ``tol``, as on the plane), the others recomputed by the first kernel over all faces.
+  (:mod:`geoimg.surface._fastexp`); plain sums, certified when ``S >= max(g_ref, 1e-250)`` (every
+  skipped weight then below ``tol``, as on the plane), the others recomputed by the first kernel over
+  all faces.
 """
 from __future__ import annotations
 
@@ -26,6 +27,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from ._fastexp import exp_into
+
 __all__ = ["build_cells_3d", "evaluate_sphere", "sample_sphere_grid", "TRUNCATED", "EXACT"]
 
 TRUNCATED, EXACT = 0, 1
@@ -33,12 +36,6 @@ MIN_PLAIN_SUM = 1e-250      # tile sums below this (or below the certificate) ar
 TILE = 16                   # pixels along a tile's side
 SUB = 8                     # pixels along a sub-tile's side (a divisor of TILE)
 
-_LOG2E = 1.4426950408889634
-_LN2_HI = 6.93147180369123816490e-01    # ln 2 split so that k * _LN2_HI is exact for |k| < 2^20
-_LN2_LO = 1.90821492927058770002e-10
-_ROUND = 6755399441055744.0             # 1.5 * 2^52: x + _ROUND - _ROUND rounds x to an integer
-_EXP_FLOOR = -708.0                     # exp of less is taken as 0 (certified sums are >= 1e-250)
-_C = tuple(1.0 / math.factorial(k) for k in range(14))
 
 
 def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96):
@@ -89,45 +86,6 @@ def _fill(c, r, lo, hi, n, h):
                         out[fill[cell]] = f
                         fill[cell] += 1
     return ptr, out
-
-
-@njit(cache=True, inline="always")
-def _exp_array(x, out, bits):
-    """``out = exp(x)`` to about 1 ulp for ``x >= -708``, 0 below (``x`` may be -inf), in loops LLVM
-    vectorizes (``math.exp`` is a scalar libm call): ``exp(r) 2^k`` with ``k`` the nearest integer to
-    ``x / ln 2``, ``|r| <= ln 2 / 2``, ``exp(r)`` its Taylor polynomial of degree 13 (remainder below
-    1e-17) and ``2^k`` built from its bits in ``bits`` (int64 scratch as long as ``x``)."""
-    scale = bits.view(np.float64)
-    for p in range(x.shape[0]):
-        y = x[p]
-        y = y if y > _EXP_FLOOR else _EXP_FLOOR
-        k = (y * _LOG2E + _ROUND) - _ROUND
-        r = (y - k * _LN2_HI) - k * _LN2_LO
-        e = _C[13]
-        e = e * r + _C[12]
-        e = e * r + _C[11]
-        e = e * r + _C[10]
-        e = e * r + _C[9]
-        e = e * r + _C[8]
-        e = e * r + _C[7]
-        e = e * r + _C[6]
-        e = e * r + _C[5]
-        e = e * r + _C[4]
-        e = e * r + _C[3]
-        e = e * r + _C[2]
-        e = e * r + 1.0
-        out[p] = e * r + 1.0
-        bits[p] = np.int64(k + 1023.0) << 52
-    for p in range(x.shape[0]):
-        out[p] = out[p] * scale[p] if x[p] >= _EXP_FLOOR else 0.0
-
-
-@njit(cache=True, fastmath={"contract"})
-def exp_array(x):
-    """:func:`_exp_array` of a whole array (for tests)."""
-    out = np.empty(x.shape[0])
-    _exp_array(x, out, np.empty(x.shape[0], np.int64))
-    return out
 
 
 @njit(cache=True)
@@ -381,7 +339,7 @@ def _weights(qx, qy, qz, fx, fy, fz, a, r2, x, w, bits):
     for k in range(qx.shape[0]):
         d2 = (qx[k] - fx) ** 2 + (qy[k] - fy) ** 2 + (qz[k] - fz) ** 2
         x[k] = -d2 * a if d2 <= r2 else -np.inf
-    _exp_array(x, w, bits)
+    exp_into(x, w, bits)
 
 
 @njit(cache=True, inline="always")
