@@ -247,3 +247,14 @@ def test_unreferenced_vertices_and_repeated_indices_are_cleaned_up_and_reported(
     pts = np.random.default_rng(5).uniform(0, 1, (50, 2)) * p.extent
     clean = fit_surface(Mesh(mesh.vertices, mesh.face_list()), parametrize(mesh, "heightfield", axis="z"), 1.0)
     assert np.allclose(surf.evaluate(pts), clean.evaluate(pts), atol=1e-9)
+
+
+def test_box_ranges_are_searchsorted_on_any_increasing_grid():
+    from geoimg.surface._kernels import _ranges
+    rng = np.random.default_rng(0)
+    for coord in (np.linspace(0, 1, 256), np.sort(rng.random(100)), np.array([0.5]), np.array([0., 0., 1., 1., 2.])):
+        c = np.concatenate([rng.uniform(-0.5, 2.5, 3000), coord, coord + 1e-17])     # ends exactly on grid points
+        r = np.concatenate([rng.uniform(0, 0.3, 3000), np.zeros(2 * len(coord))])
+        lo, hi = _ranges(coord, c, r)
+        np.testing.assert_array_equal(lo, np.searchsorted(coord, c - r, "left"))
+        np.testing.assert_array_equal(hi, np.searchsorted(coord, c + r, "right"))
