@@ -343,14 +343,16 @@ def _weights(qx, qy, qz, fx, fy, fz, a, r2, x, w, bits):
 
 
 @njit(cache=True, inline="always")
+def _face(f, origin, e1, e2, C, A, B):
+    """Face ``f``'s frame ``(o, e1, e2)`` and map ``(C, A, B)`` as 18 numbers, for the loops below."""
+    return (origin[f, 0], origin[f, 1], origin[f, 2], e1[f, 0], e1[f, 1], e1[f, 2], e2[f, 0], e2[f, 1], e2[f, 2],
+            C[f, 0], C[f, 1], C[f, 2], A[f, 0], A[f, 1], A[f, 2], B[f, 0], B[f, 1], B[f, 2])
+
+
+@njit(cache=True, inline="always")
 def _add_planes(f, qx, qy, qz, w, origin, e1, e2, C, A, B, s0, n0, n1, n2):
     """Adds ``w`` and ``w P_f(q)`` to the running sums ``s0``, ``n0..n2`` of pixels ``(qx, qy, qz)``."""
-    ox, oy, oz = origin[f, 0], origin[f, 1], origin[f, 2]
-    e1x, e1y, e1z = e1[f, 0], e1[f, 1], e1[f, 2]
-    e2x, e2y, e2z = e2[f, 0], e2[f, 1], e2[f, 2]
-    cx, cy, cz = C[f, 0], C[f, 1], C[f, 2]
-    ax, ay, az = A[f, 0], A[f, 1], A[f, 2]
-    bx, by, bz = B[f, 0], B[f, 1], B[f, 2]
+    ox, oy, oz, e1x, e1y, e1z, e2x, e2y, e2z, cx, cy, cz, ax, ay, az, bx, by, bz = _face(f, origin, e1, e2, C, A, B)
     for k in range(qx.shape[0]):
         gx, gy, gz = qx[k] - ox, qy[k] - oy, qz[k] - oz
         pa = gx * e1x + gy * e1y + gz * e1z
@@ -367,13 +369,8 @@ def _add_slopes(f, qx, qy, qz, t1x_, t1y_, t1z_, t2x_, t2y_, t2z_, w, centre, a,
                 u0, u1, u2, v0, v1, v2, su, sv):
     """Adds the derivatives' sums along the pixels' tangents ``t1``, ``t2``: the weight's derivative times
     the plane plus the weight times the plane's slope (``u*``, ``v*``), and the weight's (``su``, ``sv``)."""
-    ox, oy, oz = origin[f, 0], origin[f, 1], origin[f, 2]
+    ox, oy, oz, e1x, e1y, e1z, e2x, e2y, e2z, cx, cy, cz, ax, ay, az, bx, by, bz = _face(f, origin, e1, e2, C, A, B)
     fx, fy, fz = centre[f, 0], centre[f, 1], centre[f, 2]
-    e1x, e1y, e1z = e1[f, 0], e1[f, 1], e1[f, 2]
-    e2x, e2y, e2z = e2[f, 0], e2[f, 1], e2[f, 2]
-    cx, cy, cz = C[f, 0], C[f, 1], C[f, 2]
-    ax, ay, az = A[f, 0], A[f, 1], A[f, 2]
-    bx, by, bz = B[f, 0], B[f, 1], B[f, 2]
     k2 = -2.0 * a
     for k in range(qx.shape[0]):
         gx, gy, gz = qx[k] - ox, qy[k] - oy, qz[k] - oz
