@@ -307,7 +307,8 @@ def _tile(tile, nt, ns, TILE, SUB, q, t1, t2, side, centre, inv2s, radius, origi
         for sub in range(ns * ns):
             lo, hi = start[sub], start[sub + 1]
             reach = radius[f] + ball[sub, 3]
-            if hi == lo or (fx - ball[sub, 0]) ** 2 + (fy - ball[sub, 1]) ** 2 + (fz - ball[sub, 2]) ** 2 > reach * reach:
+            gap2 = (fx - ball[sub, 0]) ** 2 + (fy - ball[sub, 1]) ** 2 + (fz - ball[sub, 2]) ** 2
+            if hi == lo or gap2 > reach * reach:
                 continue
             qx, qy, qz = Q[0, lo:hi], Q[1, lo:hi], Q[2, lo:hi]
             wk = w[lo:hi]
