@@ -37,10 +37,11 @@ def test_auto_picks_sphere_for_closed_genus_0(spot_small):
 
 def test_octahedral_image_welds_into_a_closed_genus_0_quad_mesh(spot_small):
     mesh, p = spot_small
-    img = geoimg.fit_surface(mesh, p, s=0.5).sample(65)
-    w = weld_index(65)
-    flat = img.pixels.reshape(-1, 3)
-    assert np.array_equal(flat, flat[w.ravel()])       # glued pixels are bit-identical
+    for side, s in ((129, 1.0), (65, 0.5)):         # glued pixels are bit-identical, normals too (nothing averaged)
+        img = geoimg.fit_surface(mesh, p, s=s).sample(side)
+        w = weld_index(side).ravel()
+        flat, nrm = img.pixels.reshape(-1, 3), img.normals.reshape(-1, 3)
+        assert np.array_equal(flat, flat[w]) and np.array_equal(nrm, nrm[w]) and "glue_spread" not in img.metadata
     quads = img.to_mesh()
     topo = topology(quads)
     assert topo.closed and topo.genus == 0 and topo.components == 1
