@@ -22,7 +22,7 @@ import trimesh
 
 import geoimg
 from geoimg.mesh import repair, surface_distance, topology
-from geoimg.parametrization._slim import area_log_rms
+from geoimg.parametrization._slim import area_log_rms as planar_area_log_rms
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
@@ -36,7 +36,7 @@ def area_log_rms(param, mesh) -> float:
     tris, _ = mesh.triangulate()
     v = mesh.vertices
     a3 = 0.5 * np.linalg.norm(np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]]), axis=1)
-    return area_log_rms(a3, param.coords, tris)
+    return planar_area_log_rms(a3, param.coords, tris)
 
 
 def row(name: str, piece: geoimg.Mesh, n_samples: int) -> str:
