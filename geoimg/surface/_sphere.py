@@ -36,13 +36,6 @@ def _project(points: np.ndarray, normal: np.ndarray, height: np.ndarray) -> np.n
     return points - (np.einsum("fkc,fc->fk", points, normal) - height[:, None])[..., None] * normal[:, None]
 
 
-def _tangent_frame(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    helper = np.eye(3)[np.argmin(np.abs(q), axis=1)]
-    t1 = np.cross(helper, q)
-    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
-    return t1, np.cross(q, t1)
-
-
 def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str) -> SphereFaceMaps:
     f, k = mesh.faces, mesh.face_sizes
     valid = f >= 0
@@ -125,7 +118,7 @@ class SphereSurface(Surface):
         if d.ndim != 2 or d.shape[1] != 3 or not np.isfinite(d).all():
             raise InputError(f"q: expected finite directions of shape (k, 3), got {d.shape}")
         d = d / np.linalg.norm(d, axis=1, keepdims=True)
-        t1, t2 = _tangent_frame(d)
+        t1, t2 = sphere_kernels.tangent_frames(d)
         P, P1, P2, st = sphere_kernels.evaluate_sphere(d, t1, t2, self._faces, self._cells, log_g_ref=self.log_g_ref,
                                                        exact=exact or self.tol == 0, derivatives=derivatives)
         return P, P1, P2, t1, t2, st
@@ -178,7 +171,7 @@ class SphereSurface(Surface):
         n = shape[0]
         q = self.domain.directions(n).reshape(-1, 3)             # type: ignore[attr-defined]   # octahedral
         if self.tol > 0:        # by tiles of pixels
-            t1, t2 = _tangent_frame(q) if normals else (None, None)
+            t1, t2 = sphere_kernels.tangent_frames(q) if normals else (None, None)
             P, P1, P2, st = sphere_kernels.sample_sphere_grid(q, t1, t2, self._faces, self._cells,
                                                               log_g_ref=self.log_g_ref, derivatives=normals)
         else:

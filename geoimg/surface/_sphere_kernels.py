@@ -29,13 +29,34 @@ from numba import njit, prange
 
 from ._fastexp import exp_into
 
-__all__ = ["build_cells_3d", "evaluate_sphere", "sample_sphere_grid", "TRUNCATED", "EXACT"]
+__all__ = ["build_cells_3d", "evaluate_sphere", "sample_sphere_grid", "tangent_frames", "TRUNCATED", "EXACT"]
 
 TRUNCATED, EXACT = 0, 1
 MIN_PLAIN_SUM = 1e-250      # tile sums below this (or below the certificate) are recomputed in the log domain
 TILE = 16                   # pixels along a tile's side
 SUB = 8                     # pixels along a sub-tile's side (a divisor of TILE)
 
+
+
+@njit(parallel=True, cache=True)
+def tangent_frames(q):
+    """Unit tangents ``t1, t2`` (k, 3) at unit directions ``q`` with ``t1 x t2 = q``: ``t1`` along
+    ``e x q`` for ``e`` the axis of ``q``'s smallest component (the first on ties), ``t2 = q x t1``."""
+    n = q.shape[0]
+    t1 = np.empty((n, 3))
+    t2 = np.empty((n, 3))
+    for p in prange(n):
+        x, y, z = q[p, 0], q[p, 1], q[p, 2]
+        k = 1 if abs(y) < abs(x) else 0
+        if abs(z) < (abs(y) if k == 1 else abs(x)):
+            k = 2
+        hx, hy, hz = (1.0 if k == 0 else 0.0), (1.0 if k == 1 else 0.0), (1.0 if k == 2 else 0.0)
+        cx, cy, cz = hy * z - hz * y, hz * x - hx * z, hx * y - hy * x
+        length = math.sqrt(cx * cx + cy * cy + cz * cz)
+        cx, cy, cz = cx / length, cy / length, cz / length
+        t1[p, 0], t1[p, 1], t1[p, 2] = cx, cy, cz
+        t2[p, 0], t2[p, 1], t2[p, 2] = y * cz - z * cy, z * cx - x * cz, x * cy - y * cx
+    return t1, t2
 
 
 def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96):

@@ -221,11 +221,10 @@ def test_tiled_sampling_equals_point_evaluation(spot_small, side, tile):
     """The image sampler (tiles of pixels, plain vectorized exponentials) gives the point evaluator's
     surface and derivatives, whatever the tiling; its candidate lists miss no face within reach."""
     from geoimg.surface import _sphere_kernels as sk
-    from geoimg.surface._sphere import _tangent_frame
     mesh, p = spot_small
     surf = geoimg.fit_surface(mesh, p, s=1)
     q = surf.domain.directions(side).reshape(-1, 3)
-    t1, t2 = _tangent_frame(q)
+    t1, t2 = sk.tangent_frames(q)
     P, P1, P2, st = sk.sample_sphere_grid(q, t1, t2, surf._faces, surf._cells, log_g_ref=surf.log_g_ref, tile=tile)
     R, R1, R2, _, _, _ = surf.evaluate_directions(q)
     scale = mesh.bounding_box_diagonal()
@@ -260,3 +259,18 @@ def test_tiled_sampling_recomputes_what_plain_exponentials_cannot_certify(spot_s
     q_all = sk.sample_sphere_grid(q, None, None, surf._faces, surf._cells, log_g_ref=surf.log_g_ref,
                                   derivatives=False)
     assert (q_all[3] == sk.EXACT).sum() == img.metadata["exact_pixels"] < 33 * 33
+
+
+def test_tangent_frames_are_the_cross_products_bit_for_bit():
+    """The numba frames equal numpy's cross products of the axis of the smallest component (first on ties)."""
+    from geoimg.surface._sphere_kernels import tangent_frames
+    rng = np.random.default_rng(4)
+    q = rng.normal(size=(20000, 3))
+    q = np.vstack([q, np.eye(3), -np.eye(3), [[0.6, 0.8, 0.0], [0.0, 0.6, 0.8], [1.0, 1.0, 1.0], [0.5, 0.5, -0.7]]])
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    helper = np.eye(3)[np.argmin(np.abs(q), axis=1)]
+    t1 = np.cross(helper, q)
+    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
+    a, b = tangent_frames(q)
+    np.testing.assert_array_equal(a, t1)
+    np.testing.assert_array_equal(b, np.cross(q, t1))
