@@ -13,7 +13,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["exp_into", "exp_inplace"]
+__all__ = ["exp_into", "exp_inplace", "plain_sum_floor", "MIN_PLAIN_SUM"]
+
+MIN_PLAIN_SUM = 1e-250    # a plain sum of exponentials below this may have lost terms to underflow
 
 _LOG2E = 1.4426950408889634
 _LN2_HI = 6.93147180369123816490e-01    # ln 2 split so that k * _LN2_HI is exact for |k| < 2^20
@@ -61,3 +63,10 @@ def exp_inplace(x):
         a, b = c * chunk, min(n, (c + 1) * chunk)
         exp_into(x[a:b].copy(), x[a:b], np.empty(b - a, np.int64))
     return x
+
+
+def plain_sum_floor(log_g_ref: float) -> float:
+    """The least plain (unshifted) Gaussian sum an image sampler trusts: ``g_ref`` (every skipped weight is
+    then below ``tol``), and at least ``MIN_PLAIN_SUM`` (below it, terms may have underflowed); pixels under
+    it are recomputed in the log domain."""
+    return max(math.exp(log_g_ref), MIN_PLAIN_SUM)

@@ -17,14 +17,13 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ._fastexp import exp_inplace
+from ._fastexp import exp_inplace, plain_sum_floor
 
 __all__ = ["sample_grid_gaussian", "evaluate_points", "build_cells", "face_coverage", "GAUSSIAN", "LOCAL",
            "TRUNCATED", "EXACT", "HOLE"]
 
 GAUSSIAN, LOCAL = 0, 1
 TRUNCATED, EXACT, HOLE = 0, 1, 2   # per-point status codes
-MIN_PLAIN_SUM = 1e-250            # grid sums below this are recomputed in the log domain
 
 
 # --------------------------------------------------------------------------- regular grids
@@ -177,8 +176,8 @@ def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, r1, rptr, gv, b
 
 
 def _band_rows(width: int) -> int:
-    """Rows a band of the grid kernel holds: 16 for narrow images, fewer for wide ones, so that a band's
-    running sums stay near 128 KB per coordinate."""
+    """Rows a band of the grid kernel holds: 16 for narrow images, fewer for wide ones, so that each of a
+    band's running sums stays within 32 KB (4096 float64)."""
     return max(1, min(16, 4096 // max(width, 1)))
 
 
@@ -187,7 +186,7 @@ def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, 
 
     Uses the separability of each Gaussian: per face, one table of ``exp`` along u and one along v
     over its box, so a pixel costs one product per face. Bands of rows run in parallel. Sums are certified when
-    ``S >= max(exp(log_g_ref), MIN_PLAIN_SUM)``: below that (tiny s) plain exponentials may underflow,
+    ``S >= plain_sum_floor(log_g_ref)``: below that (tiny s) plain exponentials may underflow,
     and the caller recomputes those pixels in the log domain.
 
     Returns
@@ -221,7 +220,7 @@ def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, 
     Pv = np.zeros_like(Pu)
     ok = np.zeros((H, W), np.bool_)
     _grid_kernel(u, v, centres[:, 0].copy(), centres[:, 1].copy(), inv2s, C, A, B, c0, cptr, gu, r0, r1, rptr,
-                 gv, band, band_ptr, band_faces, bool(derivatives), max(math.exp(log_g_ref), MIN_PLAIN_SUM),
+                 gv, band, band_ptr, band_faces, bool(derivatives), plain_sum_floor(log_g_ref),
                  P, Pu, Pv, ok)
     return (P, Pu, Pv, ok) if derivatives else (P, None, None, ok)
 

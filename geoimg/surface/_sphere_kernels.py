@@ -17,8 +17,8 @@ Faces are skipped outside ``|q - c_i| <= R_i``.
 - Images (:func:`sample_sphere_grid`): tiles of pixels, each face adding its weights and planes to the
   running sums of the sub-tiles it reaches, in loops over their pixels with a vectorized exponential
   (:mod:`geoimg.surface._fastexp`); plain sums, certified when ``S >= max(g_ref, 1e-250)`` (every
-  skipped weight then below ``tol``, as on the plane), the others recomputed by the first kernel over
-  all faces.
+  skipped weight then below ``tol``, as on the plane: ``_fastexp.plain_sum_floor``), the others
+  recomputed by the first kernel over all faces.
 """
 from __future__ import annotations
 
@@ -27,12 +27,11 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ._fastexp import exp_into
+from ._fastexp import exp_into, plain_sum_floor
 
 __all__ = ["build_cells_3d", "evaluate_sphere", "sample_sphere_grid", "tangent_frames", "TRUNCATED", "EXACT"]
 
 TRUNCATED, EXACT = 0, 1
-MIN_PLAIN_SUM = 1e-250      # tile sums below this (or below the certificate) are recomputed in the log domain
 TILE = 16                   # pixels along a tile's side
 SUB = 8                     # pixels along a sub-tile's side (a divisor of TILE)
 
@@ -109,6 +108,15 @@ def _fill(c, r, lo, hi, n, h):
     return ptr, out
 
 
+@njit(cache=True, inline="always")
+def _cell_of(x, y, z, h, n):
+    """The index of the cube of :func:`build_cells_3d` (side ``h``, ``n`` a side) holding point (x, y, z)."""
+    ix = min(max(int(math.floor((x + 1.0) / h)), 0), n - 1)
+    iy = min(max(int(math.floor((y + 1.0) / h)), 0), n - 1)
+    iz = min(max(int(math.floor((z + 1.0) / h)), 0), n - 1)
+    return (iz * n + iy) * n + ix
+
+
 @njit(cache=True)
 def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, origin, e1, e2, C, A, B, deriv, acc):
     """Accumulate over candidate faces (the derivatives' sums only with ``deriv``); returns the largest
@@ -182,10 +190,7 @@ def _kernel(q, t1, t2, centre, inv2s, radius, origin, e1, e2, C, A, B, h, n, ptr
         acc = np.zeros(16)
         certified = False
         if not force_exact:
-            ix = min(max(int(math.floor((q[p, 0] + 1.0) / h)), 0), n - 1)
-            iy = min(max(int(math.floor((q[p, 1] + 1.0) / h)), 0), n - 1)
-            iz = min(max(int(math.floor((q[p, 2] + 1.0) / h)), 0), n - 1)
-            c = (iz * n + iy) * n + ix
+            c = _cell_of(q[p, 0], q[p, 1], q[p, 2], h, n)
             cand = cells[ptr[c]:ptr[c + 1]]
             m = _sum(q[p], t1[p], t2[p], cand, cand.shape[0], False, centre, inv2s, radius, origin, e1, e2,
                      C, A, B, deriv, acc)
@@ -219,27 +224,32 @@ def evaluate_sphere(q, t1, t2, faces, cells, *, log_g_ref, exact=False, derivati
     return P, P1, P2, status
 
 
+@njit(cache=True, inline="always")
+def _bounding_ball(q, idx, lo, hi):
+    """A ball holding the points ``q[idx[lo:hi]]``: their mean and its largest distance to them."""
+    cx = cy = cz = 0.0
+    for k in range(lo, hi):
+        cx += q[idx[k], 0]
+        cy += q[idx[k], 1]
+        cz += q[idx[k], 2]
+    m = hi - lo
+    cx, cy, cz = cx / m, cy / m, cz / m
+    rho = 0.0
+    for k in range(lo, hi):
+        p = idx[k]
+        rho = max(rho, math.sqrt((q[p, 0] - cx) ** 2 + (q[p, 1] - cy) ** 2 + (q[p, 2] - cz) ** 2))
+    return cx, cy, cz, rho
+
+
 @njit(cache=True)
 def _tile_candidates(q, idx, m, centre, radius, h, n, ptr, cells, seen, stamp):
     """The faces, in index order, whose truncation ball can reach a pixel of the tile (``q[idx[:m]]``):
     those listed in the pixels' cells and within ``R_f`` of the tile's bounding ball. ``seen`` (one entry
     per face) marks the faces taken with ``stamp``, a number no other tile of its caller uses."""
     ids = np.empty(m, np.int64)
-    cx = cy = cz = 0.0
     for k in range(m):
-        p = idx[k]
-        ix = min(max(int(math.floor((q[p, 0] + 1.0) / h)), 0), n - 1)
-        iy = min(max(int(math.floor((q[p, 1] + 1.0) / h)), 0), n - 1)
-        iz = min(max(int(math.floor((q[p, 2] + 1.0) / h)), 0), n - 1)
-        ids[k] = (iz * n + iy) * n + ix
-        cx += q[p, 0]
-        cy += q[p, 1]
-        cz += q[p, 2]
-    cx, cy, cz = cx / m, cy / m, cz / m
-    rho = 0.0
-    for k in range(m):
-        p = idx[k]
-        rho = max(rho, math.sqrt((q[p, 0] - cx) ** 2 + (q[p, 1] - cy) ** 2 + (q[p, 2] - cz) ** 2))
+        ids[k] = _cell_of(q[idx[k], 0], q[idx[k], 1], q[idx[k], 2], h, n)
+    cx, cy, cz, rho = _bounding_ball(q, idx, 0, m)
     cell_ids = np.unique(ids)
     total = 0
     for c in cell_ids:
@@ -298,16 +308,8 @@ def _tile(tile, nt, ns, TILE, SUB, q, t1, t2, side, centre, inv2s, radius, origi
                     idx[m] = i * side + j
                     m += 1
             start[sub + 1] = m
-            cnt = start[sub + 1] - start[sub]
-            if cnt == 0:
-                continue
-            for k in range(start[sub], m):
-                for c in range(3):
-                    ball[sub, c] += q[idx[k], c] / cnt
-            for k in range(start[sub], m):
-                d = math.sqrt((q[idx[k], 0] - ball[sub, 0]) ** 2 + (q[idx[k], 1] - ball[sub, 1]) ** 2
-                              + (q[idx[k], 2] - ball[sub, 2]) ** 2)
-                ball[sub, 3] = max(ball[sub, 3], d)
+            if m > start[sub]:
+                ball[sub, 0], ball[sub, 1], ball[sub, 2], ball[sub, 3] = _bounding_ball(q, idx, start[sub], m)
     Q = np.empty((3, m))
     T1 = np.empty((3, m if deriv else 0))
     T2 = np.empty((3, m if deriv else 0))
@@ -437,7 +439,7 @@ def sample_sphere_grid(q, t1, t2, faces, cells, *, log_g_ref, derivatives=True, 
     h, n, ptr, cf = cells
     tile_side, sub_side = (TILE, SUB) if tile is None else tile
     _tiles_kernel(q, t1, t2, side, tile_side, sub_side, *faces, float(h), int(n), ptr, cf, bool(derivatives),
-                  max(math.exp(log_g_ref), MIN_PLAIN_SUM), P, P1, P2, ok)
+                  plain_sum_floor(log_g_ref), P, P1, P2, ok)
     status = np.full(k, TRUNCATED, np.int8)
     if not ok.all():
         redo = np.flatnonzero(~ok)
