@@ -7,7 +7,8 @@ import numpy as np
 
 __all__ = ["MESH_FORMATS", "COMPONENT_CHOICES", "ASSUMABLE_DOMAINS", "IMAGE_FORMATS", "EXR_LAYOUTS",
            "PARAMETRIZATION_METHODS", "AXES", "DISK_BOUNDARIES", "DISK_BALANCES", "DEFAULT_DISK_BALANCE", "EASINGS", "ALIGNMENTS",
-           "FRAME_FORMATS", "UP_AXES", "QUAD_FORMATS", "WEIGHTS", "SLIVER_RULES", "FILTER_STEPS"]
+           "FRAME_FORMATS", "UP_AXES", "QUAD_FORMATS", "WEIGHTS", "SLIVER_RULES", "FILTER_STEPS",
+           "BACKENDS"]
 
 MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")
 QUAD_FORMATS = tuple(f.lstrip(".") for f in MESH_FORMATS if f in (".obj", ".ply", ".off"))    # formats that keep quads
@@ -22,6 +23,7 @@ DISK_BALANCES = ("area", "slim", "none")
 DEFAULT_DISK_BALANCE = "area"
 WEIGHTS = ("gaussian", "local")
 SLIVER_RULES = ("robust", "paper")
+BACKENDS = ("cpu", "cuda")            # where a planar surface's Gaussian sums are sampled
 EASINGS = {
     "linear": lambda t: t,
     "smoothstep": lambda t: t * t * (3.0 - 2.0 * t),

@@ -107,7 +107,8 @@ def cmd_image(args) -> int:
     component = _component(args.component or "all")
     images = mesh_to_images(args.mesh, args.res, args.s, args.method, component=component, axis=args.axis,
                             boundary=args.boundary, balance=args.balance, weights=args.weights, n=args.n,
-                            tol=args.tol, sliver_rule=args.sliver_rule, colors=not args.no_colors, progress=progress)
+                            tol=args.tol, sliver_rule=args.sliver_rule, colors=not args.no_colors, backend=args.backend,
+                            progress=progress)
     many = len(images) > 1
     outputs = [(img, _numbered(args.output, img.metadata.get("component", 0), many),
                 _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]

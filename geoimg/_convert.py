@@ -15,6 +15,7 @@ from .mesh import Mesh, load_mesh, repair
 from .parametrization import Parametrization, parametrize
 from .surface import fit_surface
 from .surface._attributes import sample_colors
+from .surface._base import check_backend
 from ._types import Progress
 
 __all__ = ["mesh_to_image", "mesh_to_images", "COMPONENT_CHOICES"]
@@ -60,6 +61,7 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.
     >>> [img.metadata["component"] for img in images], images[1].pixels[0, 0, 0].item()
     ([0, 1], 3.0)
     """
+    check_backend(options.get("backend", "cpu"))    # before the work: a GPU asked for and missing is said at once
     say = progress or (lambda message: None)
     with _timed(timings, "load"):
         mesh, source = _load(mesh_or_path, say)
@@ -90,8 +92,8 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
                   axis: str | None = None, boundary: str = "square", balance: str = DEFAULT_DISK_BALANCE,
                   weights: str = "gaussian", n: int = 10,
                   tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True, colors: bool = True,
-                  parametrization: Parametrization | None = None, progress: Progress | None = None,
-                  timings: dict | None = None) -> GeometryImage:
+                  backend: str = "cpu", parametrization: Parametrization | None = None,
+                  progress: Progress | None = None, timings: dict | None = None) -> GeometryImage:
     """The geometry image of a mesh: :func:`~geoimg.parametrize`, :func:`~geoimg.fit_surface` and
     :meth:`~geoimg.Surface.sample` in one call. A mesh of several pieces, or one that needs repairs
     before it can be parametrized, goes through :func:`mesh_to_images`.
@@ -116,6 +118,8 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
         Also store the mesh's colours, when it has a texture (OBJ with an MTL ``map_Kd``) or vertex colours
         (PLY, OBJ ``v x y z r g b``): each pixel's colour interpolated in the face that holds it (see
         :mod:`geoimg.surface._attributes`).
+    backend : {"cpu", "cuda"}, default "cpu"
+        Where the sampling's Gaussian sums run (see :meth:`~geoimg.Surface.sample`).
     parametrization : Parametrization, optional
         Use this one (for example shared by meshes with the same faces) instead of making one.
     progress : callable, optional
@@ -137,6 +141,7 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
     >>> img.shape, img.metadata["parametrization"]
     ((9, 9), 'heightfield')
     """
+    check_backend(backend)
     say = progress or (lambda message: None)
     with _timed(timings, "load"):
         mesh, source = _load(mesh_or_path, say)
@@ -151,7 +156,7 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
     res = surface.auto_resolution() if resolution is None else resolution
     say(f"sampling {res} pixels along the longer side")
     with _timed(timings, "sample"):
-        image = surface.sample(res, normals=normals)
+        image = surface.sample(res, normals=normals, backend=backend)
     if colors and (mesh.colors is not None or mesh.texture is not None):
         say("sampling the colours")
         with _timed(timings, "colors"):

@@ -13,7 +13,7 @@ import warnings
 from filters.padding import PAD_MODES
 
 from . import __version__
-from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
+from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, BACKENDS, DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
                        FILTER_STEPS, FRAME_FORMATS, MESH_FORMATS, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
                        UP_AXES, WEIGHTS)
 from .errors import GeoimgError
@@ -139,6 +139,9 @@ def build_parser() -> argparse.ArgumentParser:
     im.add_argument("-o", "--output", required=True, help="output .exr (or .npz: NumPy arrays)")
     im.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")
     im.add_argument("--force", action="store_true", help="overwrite existing files")
+    im.add_argument("--backend", choices=BACKENDS, default="cpu",
+                    help="where planar images' Gaussian sums run: the CPU's cores (default) or a CUDA GPU "
+                         "through numba.cuda (cuda)")
 
     me = sub.add_parser("mesh", help="geometry image -> quad mesh", parents=[common, reading])
     me.add_argument("image", help="input geometry image (.exr, .npz)")

@@ -12,7 +12,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 OPTIONAL = {"moderngl", "imageio", "imageio.v3", "pygltflib", "imageio_ffmpeg", "dask", "dask.utils", "distributed",
             "zarr", "pandas", "psutil"}
-DEFERRED = {("geoimg.cli", "geoimg._commands")}     # the parser runs without the commands' heavy imports
+DEFERRED = {("geoimg.cli", "geoimg._commands"),     # the parser runs without the commands' heavy imports
+            ("geoimg.surface._base", "geoimg.surface._cuda_kernels"),      # numba.cuda: for backend="cuda" alone
+            ("geoimg.surface._planar", "geoimg.surface._cuda_kernels")}
 HEAVY = ("numba", "trimesh", "scipy", "cv2", "OpenImageIO", "skimage", "igl", "PIL")
 
 

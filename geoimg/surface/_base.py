@@ -17,23 +17,37 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .._budget import check_memory
-from ..errors import ImageError
+from .._choices import BACKENDS
+from ..errors import ImageError, InputError
 from ..image import Domain, GeometryImage
 
-__all__ = ["Surface", "reference_log_weight", "truncation_radius", "unit", "TRUNCATION_RHO"]
+__all__ = ["Surface", "check_backend", "reference_log_weight", "truncation_radius", "unit", "TRUNCATION_RHO"]
 
 TRUNCATION_RHO = 4.0 / 3.0
 SAMPLE_BYTES_PER_PIXEL = 200      # positions, two derivatives, sums and the mask while sampling, in float64
 
 
 def _check_float32(P: np.ndarray) -> None:
-    """Refuse surface points that a float32 image cannot hold (they would become 0 or infinite)."""
-    P32 = P.astype(np.float32)
-    lost = ~np.isfinite(P32) | ((P32 == 0) & (P != 0) & (np.abs(P) < 1e-30))
-    if lost.any():
-        size = float(np.abs(P[np.isfinite(P)]).max()) if np.isfinite(P).any() else float("inf")
+    """Refuse surface points that a float32 image cannot hold: infinite in float32, or a surface so small
+    that float32's subnormal range (below about 1e-31) leaves fewer than its 7 digits. Single coordinates
+    near 0 that float32 rounds to 0 lose nothing next to the surface's size and pass."""
+    finite = np.isfinite(P)
+    size = float(np.abs(P[finite]).max()) if finite.any() else float("inf")
+    f32 = np.finfo(np.float32)
+    if not finite.all() or size > float(f32.max) or 0 < size < float(f32.tiny / f32.eps):
         raise ImageError(f"the surface's coordinates (up to {size:.3g}) cannot be held in a float32 image "
-                         "(about 1e-38 to 3e38, 7 digits); scale the mesh first")
+                         "(about 1e-31 to 3e38 for its 7 digits); scale the mesh first")
+
+
+def check_backend(backend: str) -> None:
+    """Refuse a sampling backend that is not one of :data:`BACKENDS`, or ``"cuda"`` where no CUDA GPU is usable."""
+    if not isinstance(backend, str) or backend not in BACKENDS:
+        raise InputError(f"backend: expected one of {BACKENDS}, got {backend!r}")
+    if backend == "cuda":
+        from ._cuda_kernels import cuda_unavailable
+        why = cuda_unavailable()
+        if why is not None:
+            raise InputError(f"backend 'cuda': {why}; use the 'cpu' backend")
 
 
 def reference_log_weight(s: float) -> float:
@@ -114,10 +128,11 @@ class Surface(ABC):
         """Pixels along the longer side for a sample spacing of ``s * mean(d_i)`` (the paper's section 4.4)."""
 
     @abstractmethod
-    def _sample_grid(self, shape, normals: bool):
+    def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
         """``(P, N, mask, exact_pixels, hole_pixels)`` on the domain's grid of ``shape``: positions
         (H, W, 3), unit normals or None, the validity mask or None, and how many pixels were summed
-        exactly or left uncovered."""
+        exactly or left uncovered; ``backend`` one of :data:`BACKENDS` (an unsupported one raises
+        :class:`~geoimg.errors.InputError`)."""
 
     def _s_max(self) -> float | None:
         """The largest s when it varies over the surface."""
@@ -129,7 +144,7 @@ class Surface(ABC):
         res = self.auto_resolution() if resolution is None else resolution
         return self.domain.pixel_uv(self.domain.grid_shape(res))
 
-    def sample(self, resolution: int | None = None, *, normals: bool = True) -> GeometryImage:
+    def sample(self, resolution: int | None = None, *, normals: bool = True, backend: str = "cpu") -> GeometryImage:
         """Resample the surface on a regular grid into a :class:`~geoimg.GeometryImage`.
 
         Parameters
@@ -138,6 +153,10 @@ class Surface(ABC):
             Pixels along the longer side; default :meth:`auto_resolution`.
         normals : bool, default True
             Also compute exact normals from the analytic derivatives.
+        backend : {"cpu", "cuda"}, default "cpu"
+            Where the truncated Gaussian sums run: numba on the CPU's cores, or numba.cuda on a CUDA GPU
+            (planar domains with Gaussian weights, ``tol > 0`` and one s; the pixels agree with the CPU's to
+            rounding). ``"cuda"`` without a usable GPU raises :class:`~geoimg.errors.InputError`.
 
         Returns
         -------
@@ -155,9 +174,10 @@ class Surface(ABC):
         >>> img.pixels.shape, bool(img.mask.all()), img.metadata["s"]
         ((5, 5, 3), True, 2.0)
         """
+        check_backend(backend)
         shape = self.domain.grid_shape(self.auto_resolution() if resolution is None else resolution)
         check_memory(shape[0] * shape[1] * SAMPLE_BYTES_PER_PIXEL, f"a {shape[1]} x {shape[0]} geometry image")
-        P, nrm, mask, n_exact, n_holes = self._sample_grid(shape, normals)
+        P, nrm, mask, n_exact, n_holes = self._sample_grid(shape, normals, backend)
         _check_float32(P)
         P, nrm, spread = self._glue(P, nrm)
         meta = {"s": float(self.s), "weights": self.weights, "n": int(self.n), "tol": float(self.tol),

@@ -19,8 +19,8 @@ from numba import njit, prange
 
 from ._fastexp import exp_inplace, plain_sum_floor
 
-__all__ = ["sample_grid_gaussian", "evaluate_points", "build_cells", "face_coverage", "GAUSSIAN", "LOCAL",
-           "TRUNCATED", "EXACT", "HOLE"]
+__all__ = ["sample_grid_gaussian", "evaluate_points", "build_cells", "face_coverage", "unit_normals", "GAUSSIAN",
+           "LOCAL", "TRUNCATED", "EXACT", "HOLE"]
 
 GAUSSIAN, LOCAL = 0, 1
 TRUNCATED, EXACT, HOLE = 0, 1, 2   # per-point status codes
@@ -163,8 +163,13 @@ def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, r1, rptr, gv, b
             r = i - i0
             for j in range(W):
                 s = acc[0, r, j]
-                if not s >= g_ref:
+                if not s >= g_ref:        # left to the exact sum, zeros until then
                     ok[i, j] = False
+                    for c in range(3):
+                        P[i, j, c] = 0.0
+                        if derivs:
+                            Pu[i, j, c] = 0.0
+                            Pv[i, j, c] = 0.0
                     continue
                 ok[i, j] = True
                 for c in range(3):
@@ -215,10 +220,10 @@ def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, 
     H, W = v.shape[0], u.shape[0]
     band = _band_rows(W)
     band_ptr, band_faces = _band_lists(-(-H // band), band, live.astype(np.int64), r0, r1)
-    P = np.zeros((H, W, 3))
-    Pu = np.zeros((H, W, 3) if derivatives else (1, 1, 3))
-    Pv = np.zeros_like(Pu)
-    ok = np.zeros((H, W), np.bool_)
+    P = np.empty((H, W, 3))
+    Pu = np.empty((H, W, 3) if derivatives else (1, 1, 3))
+    Pv = np.empty_like(Pu)
+    ok = np.empty((H, W), np.bool_)
     _grid_kernel(u, v, centres[:, 0].copy(), centres[:, 1].copy(), inv2s, C, A, B, c0, cptr, gu, r0, r1, rptr,
                  gv, band, band_ptr, band_faces, bool(derivatives), plain_sum_floor(log_g_ref),
                  P, Pu, Pv, ok)
@@ -428,55 +433,99 @@ def evaluate_points(kind, pts, centres, param, radius, C, A, B, cells, *, log_g_
 
 
 # --------------------------------------------------------------------------- coverage mask
-@njit(cache=True)
-def _coverage_kernel(u, v, poly, sizes, eps, mask):
-    for f in range(poly.shape[0]):
-        k = sizes[f]
+@njit(parallel=True, cache=True)
+def _polygon_boxes(u, v, poly, sizes, eps):
+    """Each polygon's grid index box ``[r0, r1) x [c0, c1)``, grown by ``eps``."""
+    F = poly.shape[0]
+    c0, c1 = np.empty(F, np.int64), np.empty(F, np.int64)
+    r0, r1 = np.empty(F, np.int64), np.empty(F, np.int64)
+    for f in prange(F):
         umin, umax, vmin, vmax = np.inf, -np.inf, np.inf, -np.inf
-        for a in range(k):
+        for a in range(sizes[f]):
             umin = min(umin, poly[f, a, 0])
             umax = max(umax, poly[f, a, 0])
             vmin = min(vmin, poly[f, a, 1])
             vmax = max(vmax, poly[f, a, 1])
-        j0 = np.searchsorted(u, umin - eps)
-        j1 = np.searchsorted(u, umax + eps, side="right")
-        i0 = np.searchsorted(v, vmin - eps)
-        i1 = np.searchsorted(v, vmax + eps, side="right")
-        for i in range(i0, i1):
-            py = v[i]
-            for j in range(j0, j1):
-                if mask[i, j]:
-                    continue
-                px = u[j]
-                inside = False
-                near = False
-                for a in range(k):
-                    b = (a + 1) % k
-                    ax, ay = poly[f, a, 0], poly[f, a, 1]
-                    bx, by = poly[f, b, 0], poly[f, b, 1]
-                    if (ay > py) != (by > py):
-                        xc = ax + (py - ay) * (bx - ax) / (by - ay)
-                        if px < xc:
-                            inside = not inside
-                    # distance from the pixel to the edge, for pixels on the boundary
-                    ex, ey = bx - ax, by - ay
-                    l2 = ex * ex + ey * ey
-                    t = 0.0 if l2 == 0.0 else min(1.0, max(0.0, ((px - ax) * ex + (py - ay) * ey) / l2))
-                    dx, dy = px - ax - t * ex, py - ay - t * ey
-                    if dx * dx + dy * dy <= eps * eps:
-                        near = True
-                if inside or near:
-                    mask[i, j] = True
+        c0[f] = np.searchsorted(u, umin - eps)
+        c1[f] = np.searchsorted(u, umax + eps, side="right")
+        r0[f] = np.searchsorted(v, vmin - eps)
+        r1[f] = np.searchsorted(v, vmax + eps, side="right")
+    return c0, c1, r0, r1
+
+
+@njit(parallel=True, cache=True)
+def _coverage_kernel(u, v, poly, sizes, eps, c0, c1, r0, r1, band, band_ptr, band_faces, mask):
+    """Bands of ``band`` rows in parallel; each marks the pixels of its rows that its faces hold."""
+    for b in prange(band_ptr.shape[0] - 1):
+        for q in range(band_ptr[b], band_ptr[b + 1]):
+            f = band_faces[q]
+            k = sizes[f]
+            for i in range(max(r0[f], b * band), min(r1[f], (b + 1) * band)):
+                py = v[i]
+                for j in range(c0[f], c1[f]):
+                    if mask[i, j]:
+                        continue
+                    px = u[j]
+                    inside = False
+                    near = False
+                    for a in range(k):
+                        n = (a + 1) % k
+                        ax, ay = poly[f, a, 0], poly[f, a, 1]
+                        bx, by = poly[f, n, 0], poly[f, n, 1]
+                        if (ay > py) != (by > py):
+                            xc = ax + (py - ay) * (bx - ax) / (by - ay)
+                            if px < xc:
+                                inside = not inside
+                        # distance from the pixel to the edge, for pixels on the boundary
+                        ex, ey = bx - ax, by - ay
+                        l2 = ex * ex + ey * ey
+                        t = 0.0 if l2 == 0.0 else min(1.0, max(0.0, ((px - ax) * ex + (py - ay) * ey) / l2))
+                        dx, dy = px - ax - t * ex, py - ay - t * ey
+                        if dx * dx + dy * dy <= eps * eps:
+                            near = True
+                    if inside or near:
+                        mask[i, j] = True
 
 
 def face_coverage(u, v, polygons, sizes, eps):
     """Boolean (len(v), len(u)) mask of the grid points inside or within ``eps`` of any polygon.
 
     ``polygons`` is (F, K, 2) with ``sizes[f]`` real corners per face (even-odd rule, so non-convex
-    faces are handled).
+    faces are handled). Bands of rows run in parallel.
     """
+    u = np.ascontiguousarray(u, np.float64)
+    v = np.ascontiguousarray(v, np.float64)
+    poly = np.ascontiguousarray(polygons, np.float64)
+    sizes = np.ascontiguousarray(sizes, np.int64)
+    c0, c1, r0, r1 = _polygon_boxes(u, v, poly, sizes, float(eps))
+    live = np.flatnonzero((c1 > c0) & (r1 > r0))
+    band = _band_rows(len(u))
+    band_ptr, band_faces = _band_lists(-(-len(v) // band), band, live, r0, r1)
     mask = np.zeros((len(v), len(u)), np.bool_)
-    _coverage_kernel(np.ascontiguousarray(u, np.float64), np.ascontiguousarray(v, np.float64),
-                     np.ascontiguousarray(polygons, np.float64), np.ascontiguousarray(sizes, np.int64),
-                     float(eps), mask)
+    _coverage_kernel(u, v, poly, sizes, float(eps), c0, c1, r0, r1, band, band_ptr, band_faces, mask)
     return mask
+
+
+# --------------------------------------------------------------------------- normals
+@njit(parallel=True, cache=True)
+def _unit_cross(a, b, sign, out):
+    for p in prange(a.shape[0]):
+        x = (a[p, 1] * b[p, 2] - a[p, 2] * b[p, 1]) * sign
+        y = (a[p, 2] * b[p, 0] - a[p, 0] * b[p, 2]) * sign
+        z = (a[p, 0] * b[p, 1] - a[p, 1] * b[p, 0]) * sign
+        n = math.sqrt(x * x + y * y + z * z)
+        if n > 0:
+            out[p, 0], out[p, 1], out[p, 2] = x / n, y / n, z / n
+        else:
+            out[p, 0] = out[p, 1] = out[p, 2] = 0.0
+
+
+def unit_normals(a: np.ndarray, b: np.ndarray, sign: int) -> np.ndarray:
+    """``unit(np.cross(a, b) * sign)`` for arrays of 3-vectors (same shape), bit for bit, in one parallel pass
+    (zero crosses stay zero)."""
+    shape = np.shape(a)
+    a2 = np.ascontiguousarray(a, np.float64).reshape(-1, 3)
+    b2 = np.ascontiguousarray(b, np.float64).reshape(-1, 3)
+    out = np.empty_like(a2)
+    _unit_cross(a2, b2, float(sign), out)
+    return out.reshape(shape)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -133,16 +133,26 @@ class PlanarSurface(Surface):
             return float(self.s_face.max())
         return None if self.s_map is None else float(self.s_map.max)
 
-    def _sample_grid(self, shape, normals: bool):
-        """The grid kernel for truncated Gaussians, else the point kernel; ``mask`` marks pixels inside
-        the parametrized faces, or within half a pixel spacing of one, so a terrain whose border is not
-        perfectly straight keeps its outer ring (and, for locally supported weights, not in a hole)."""
+    def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
+        """The grid kernel for truncated Gaussians (on the CPU or a CUDA GPU), else the point kernel;
+        ``mask`` marks pixels inside the parametrized faces, or within half a pixel spacing of one, so a
+        terrain whose border is not perfectly straight keeps its outer ring (and, for locally supported
+        weights, not in a hole)."""
         u, v = self.domain.pixel_uv(shape)
         H, W = shape
         fm = self.faces
         n_exact = 0
-        if self.weights == "gaussian" and self.tol > 0 and self.s_map is None:
-            P, Pu, Pv, ok = kernels.sample_grid_gaussian(
+        grid_kernel = self.weights == "gaussian" and self.tol > 0 and self.s_map is None
+        if backend == "cuda" and not grid_kernel:
+            raise InputError("backend 'cuda': samples Gaussian weights with truncation (tol > 0) and one s or "
+                             "per-face s; use backend='cpu' for local weights, tol=0 or a smoothness map")
+        if grid_kernel:
+            sample_grid: Callable[..., tuple]
+            if backend == "cuda":
+                from ._cuda_kernels import sample_grid_gaussian_cuda as sample_grid
+            else:
+                sample_grid = kernels.sample_grid_gaussian
+            P, Pu, Pv, ok = sample_grid(
                 u, v, fm.centres, self.sigma, self._radius, fm.C, fm.A, fm.B, derivatives=normals, log_g_ref=self.log_g_ref)
             status = np.zeros((H, W), np.int8)
             if not ok.all():
@@ -161,7 +171,7 @@ class PlanarSurface(Surface):
         holes = status == kernels.HOLE
         eps = 0.5 * max(u[1] - u[0], v[1] - v[0])  # conservative: within half a pixel of a face
         mask = kernels.face_coverage(u, v, self.polygons, self.sizes, eps) & ~holes
-        nrm = unit(np.cross(Pu, Pv) * self.orientation) if normals else None
+        nrm = kernels.unit_normals(Pu, Pv, self.orientation) if normals else None
         return P, nrm, mask, n_exact, int(holes.sum())
 
 

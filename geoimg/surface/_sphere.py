@@ -25,6 +25,7 @@ from . import _sphere_kernels as sphere_kernels
 from ._base import Surface, truncation_radius, unit
 from ._curvature import sphere_curvature
 from ._face_maps import SphereFaceMaps, enclosing_circle_radius, fit_planes, robust_sliver_planes
+from ._kernels import unit_normals
 
 __all__ = ["SphereSurface", "fit_sphere_surface", "MAX_AUTO_RESOLUTION"]
 
@@ -166,8 +167,10 @@ class SphereSurface(Surface):
         same faces summed in the same order, so they already hold identical values (tested)."""
         return P, nrm, 0.0
 
-    def _sample_grid(self, shape, normals: bool):
+    def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
         """Glued boundary pixels are evaluated at bit-identical directions, so they hold identical values."""
+        if backend != "cpu":
+            raise InputError(f"backend {backend!r}: octahedral (spherical) images are sampled on the CPU only")
         n = shape[0]
         q = self.domain.directions(n).reshape(-1, 3)             # type: ignore[attr-defined]   # octahedral
         if self.tol > 0:        # by tiles of pixels
@@ -176,7 +179,7 @@ class SphereSurface(Surface):
                                                               log_g_ref=self.log_g_ref, derivatives=normals)
         else:
             P, P1, P2, _, _, st = self.evaluate_directions(q, derivatives=normals)
-        nrm = unit(np.cross(P1, P2) * self.orientation).reshape(n, n, 3) if normals else None
+        nrm = unit_normals(P1, P2, self.orientation).reshape(n, n, 3) if normals else None
         return P.reshape(n, n, 3), nrm, None, int((st == sphere_kernels.EXACT).sum()), 0
 
 
