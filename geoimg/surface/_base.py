@@ -31,10 +31,9 @@ def _check_float32(P: np.ndarray) -> None:
     """Refuse surface points that a float32 image cannot hold: infinite in float32, or a surface so small
     that float32's subnormal range (below about 1e-31) leaves fewer than its 7 digits. Single coordinates
     near 0 that float32 rounds to 0 lose nothing next to the surface's size and pass."""
-    finite = np.isfinite(P)
-    size = float(np.abs(P[finite]).max()) if finite.any() else float("inf")
+    size = max(float(P.max()), -float(P.min())) if P.size else 0.0      # NaN when any is NaN
     f32 = np.finfo(np.float32)
-    if not finite.all() or size > float(f32.max) or 0 < size < float(f32.tiny / f32.eps):
+    if not size <= float(f32.max) or 0 < size < float(f32.tiny / f32.eps):
         raise ImageError(f"the surface's coordinates (up to {size:.3g}) cannot be held in a float32 image "
                          "(about 1e-31 to 3e38 for its 7 digits); scale the mesh first")
 

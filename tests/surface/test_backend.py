@@ -205,3 +205,17 @@ def test_float32_check_passes_coordinates_near_zero_and_refuses_tiny_or_huge_sur
         scaled = Mesh(mesh.vertices * scale, mesh.faces)
         with pytest.raises(ImageError, match="cannot be held in a float32 image"):
             fit_surface(scaled, param, 1.0).sample(9)
+
+
+@pytest.mark.parametrize("values, held", [([1.0, 2.0], True), ([1e-40, 1.0], True), ([0.0, 0.0], True),
+                                          ([-3e38, 1.0], True), ([np.nan, 1.0], False), ([np.inf, 1.0], False),
+                                          ([-np.inf, 0.0], False), ([1e39, 0.0], False), ([-1e39, 0.0], False),
+                                          ([1e-33, 0.0], False), ([-1e-35, 0.0], False)])
+def test_float32_check_by_value(values, held):
+    from geoimg.surface._base import _check_float32
+    P = np.array(values)
+    if held:
+        _check_float32(P)
+    else:
+        with pytest.raises(ImageError, match="cannot be held"):
+            _check_float32(P)
