@@ -154,8 +154,9 @@ class Surface(ABC):
             Also compute exact normals from the analytic derivatives.
         backend : {"cpu", "cuda"}, default "cpu"
             Where the truncated Gaussian sums run: numba on the CPU's cores, or numba.cuda on a CUDA GPU
-            (planar domains with Gaussian weights, ``tol > 0`` and one s; the pixels agree with the CPU's to
-            rounding). ``"cuda"`` without a usable GPU raises :class:`~geoimg.errors.InputError`.
+            (planar domains with Gaussian weights, ``tol > 0`` and one s or per-face s, not a smoothness
+            map; the pixels agree with the CPU's to rounding). ``"cuda"`` without a usable GPU, or where it
+            does not apply, raises :class:`~geoimg.errors.InputError`.
 
         Returns
         -------

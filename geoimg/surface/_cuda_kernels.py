@@ -22,7 +22,7 @@ __all__ = ["sample_grid_gaussian_cuda", "cuda_unavailable", "TILE"]
 
 TILE = 16                       # pixels along a tile's side: a block of 256 threads
 BYTES_PER_PIXEL = 8 * 9 + 1     # positions and two derivatives in float64, and the certificate
-PINNED = False                  # download into page-locked host memory
+PINNED = False                  # download into page-locked host memory (slower end to end: its allocation)
 
 
 def cuda_unavailable() -> str | None:
