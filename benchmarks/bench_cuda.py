@@ -156,6 +156,9 @@ def main() -> None:
     from numba import cuda
 
     from geoimg.surface import _cuda_kernels as cu
+    why = cu.cuda_unavailable()
+    if why is not None:
+        raise SystemExit(f"bench_cuda: {why}; it needs a CUDA GPU (or NUMBA_ENABLE_CUDASIM=1 with --tiny)")
     global PINNED_DEFAULT
     PINNED_DEFAULT = cu.PINNED
     gpu = "simulator" if numba.config.ENABLE_CUDASIM else cuda.get_current_device().name
