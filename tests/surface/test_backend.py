@@ -66,7 +66,8 @@ SIMULATED = textwrap.dedent('''
 
 
 def test_cuda_kernel_matches_the_cpu_kernel_in_the_simulator():
-    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", PYTHONPATH=os.pathsep.join([str(ROOT), str(ROOT / "tests")]))
+    path = [str(ROOT), str(ROOT / "tests")] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", PYTHONPATH=os.pathsep.join(path))
     res = subprocess.run([sys.executable, "-c", SIMULATED, str(Path(__file__).parent)], env=env, capture_output=True,
                          text=True, timeout=600)
     assert res.returncode == 0, res.stderr[-3000:]
@@ -219,3 +220,24 @@ def test_float32_check_by_value(values, held):
     else:
         with pytest.raises(ImageError, match="cannot be held"):
             _check_float32(P)
+
+
+def test_cuda_backend_on_a_real_gpu_matches_the_cpu():
+    """Where a CUDA GPU is usable (never in CI), the real kernel against the CPU kernel on fresh random TINs."""
+    if not _cuda_usable():
+        pytest.skip("no CUDA GPU here (the simulator test covers the kernel)")
+    from geoimg.surface import _cuda_kernels as cu
+    for seed, (s, res) in enumerate([(0.15, 97), (1.0, 130), (2.5, 77)]):
+        mesh, param = partial_tin(seed + 10, n=400)
+        surf = fit_surface(mesh, param, s)
+        u, v = surf.domain.pixel_uv(surf.domain.grid_shape(res))
+        fm = surf.faces
+        args = (u, v, fm.centres, surf.sigma, surf._radius, fm.C, fm.A, fm.B)
+        a = kernels.sample_grid_gaussian(*args, derivatives=True, log_g_ref=surf.log_g_ref)
+        b = cu.sample_grid_gaussian_cuda(*args, derivatives=True, log_g_ref=surf.log_g_ref)
+        ok = a[3]
+        assert np.array_equal(a[3], b[3])
+        assert np.abs(a[0] - b[0])[ok].max() < 1e-14
+        assert np.abs(a[1] - b[1])[ok].max() < 1e-11 * np.abs(a[1][ok]).max()
+        img_a, img_b = surf.sample(res), surf.sample(res, backend="cuda")
+        assert np.abs(img_a.pixels - img_b.pixels).max() < 1e-6 and np.array_equal(img_a.mask, img_b.mask)
