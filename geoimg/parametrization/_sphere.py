@@ -14,6 +14,9 @@
    preconditioner: limbs move as a whole); every other step is also scaled by each squeezed vertex's
    linear scale, so a squeezed part grows by a fraction of its own size. Every step that would turn a
    triangle over is halved until none does, so the map stays one-to-one.
+   A mesh of 20,000 triangles or more starts instead from the balanced map of a decimated copy of itself
+   (:mod:`._multilevel`), which needs only a few fine steps: the slow part of the balancing, opening the
+   squeezed ears and limbs, happens on the coarse copy.
 4. A rotation lines the sphere up with the mesh (vertex directions from the mesh's centre), so the
    octahedral image shows the shape the way it stands.
 """
@@ -28,6 +31,7 @@ from ..mesh import Mesh, topology
 from ._balance import DEFAULT_STEPS, balance
 from ._laplacian import (corner_angles, cotangent_weights, factor_symmetric, laplacian, mean_value_weights, solve_free,
                          triangle_areas, vertex_areas)
+from ._multilevel import multilevel_start
 from ._orientation import chord_orientation, facing_out
 from ._progressive import progressive_sphere
 from .._types import Progress
@@ -35,6 +39,8 @@ from .._types import Progress
 __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 
 DEFAULT_BETA = 0.3
+MULTILEVEL_TRIANGLES = 20_000     # from this size on, a decimated copy is mapped first ...
+MULTILEVEL_STEPS = 20             # ... and the fine map balanced from it for at most this many steps
 
 
 def _check_sphere(mesh: Mesh):
@@ -191,22 +197,38 @@ def _direct_start(x, tris, used, vertex_area, lap):
     return s, "conformal", f0
 
 
+def _direct_balanced(xs, t, beta, steps):
+    """A small mesh (every vertex on a triangle) mapped directly, then balanced; and whether the direct
+    map folded."""
+    used = np.ones(len(xs), bool)
+    va = vertex_areas(xs, t)
+    lap = laplacian(cotangent_weights(xs, t))
+    sc, _, _ = _direct_start(xs, t, used, va, lap)
+    folds = bool(np.any(chord_orientation(sc, t) <= 0))
+    sc, _, _ = balance(sc, xs, t, lap, va, used, float(beta), steps, None)
+    return sc, folds
+
+
 def _coarse_map(x, beta):
     """Map a coarse mesh (vertices ``alive`` of ``x``, triangles ``coarse``) directly, then balance it."""
     def run(alive, coarse):
         idx = np.flatnonzero(alive)
         remap = np.full(len(x), -1)
         remap[idx] = np.arange(len(idx))
-        t, xs = remap[coarse], x[idx]
-        used = np.ones(len(idx), bool)
-        va = vertex_areas(xs, t)
-        lap = laplacian(cotangent_weights(xs, t))
-        sc, _, _ = _direct_start(xs, t, used, va, lap)
-        sc, _, _ = balance(sc, xs, t, lap, va, used, float(beta), DEFAULT_STEPS, None)
+        sc, _ = _direct_balanced(x[idx], remap[coarse], beta, DEFAULT_STEPS)
         s = np.zeros((len(x), 3))
         s[:, 2] = 1.0
         s[idx] = sc
         return s
+    return run
+
+
+def _decimated_map(beta):
+    """The map of a decimated copy (:func:`multilevel_start`): direct and balanced until it has converged,
+    or None where the direct map folds."""
+    def run(U, G):
+        sc, folds = _direct_balanced(U, G, beta, None)
+        return None if folds else sc
     return run
 
 
@@ -230,7 +252,10 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
         Area-balancing steps at most (0: the centred, nearly conformal map); the balancing stops sooner
         when it has converged. Default: 200, or on a mesh of T < 10,000 triangles as many as 2,000,000 / T
         (at most 2,000), which costs no more than 200 steps on 10,000 triangles and lets small meshes
-        converge.
+        converge. By default a mesh of at least 20,000 triangles (``MULTILEVEL_TRIANGLES``) is first
+        mapped through a decimated copy (:mod:`._multilevel`), balanced there until it has converged, and
+        the fine map then takes at most 20 steps (``MULTILEVEL_STEPS``) from it; where that gives no
+        one-to-one start, the direct maps below are used. Given ``steps``, the direct maps always are.
     beta : float, default 0.3
         Weight of angle (conformal) distortion against area distortion while balancing.
     progress : callable, optional
@@ -241,7 +266,9 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
     coords : (N, 3) float64
         Unreferenced vertices get (0, 0, 1).
     info : dict
-        ``flipped_triangles``, ``balance_steps`` and the distortion figures of :func:`distortion`.
+        ``flipped_triangles``, ``balance_steps``, ``start`` (``"multilevel"``, ``"conformal"``,
+        ``"mean-value"`` or ``"progressive"``), ``start_area_log_rms`` and the distortion figures of
+        :func:`distortion`; ``multilevel`` says whether the coarse copy was used, or why not.
 
     Raises
     ------
@@ -270,24 +297,33 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
     used = mesh.referenced_vertices()
     vertex_area = vertex_areas(x, tris)
     lap = laplacian(cotangent_weights(x, tris))
-    s, start, f0 = _direct_start(x, tris, used, vertex_area, lap)
     info: dict = {}
-    folds = int(np.sum(chord_orientation(s, tris) <= 0))
-    if folds:
+    s = None
+    if steps is None and len(tris) >= MULTILEVEL_TRIANGLES and used.all():
         if progress is not None:
-            progress(f"the direct maps fold {folds} triangles: mapping coarse to fine")
-        sp, extra = progressive_sphere(x, tris, used, _coarse_map(x, beta), _relax(x, beta), progress=progress)
-        info.update(extra, direct_folds=folds)
-        if np.sum(chord_orientation(sp, tris) <= 0) < folds:      # keep whichever folds fewer triangles
-            s, start = sp, "progressive"
+            progress(f"{len(tris)} triangles: mapping a coarse copy first")
+        s, extra = multilevel_start(x, tris, _decimated_map(beta))
+        info.update(extra)
+        if s is not None:
+            start, f0, steps = "multilevel", None, MULTILEVEL_STEPS
+    if s is None:
+        s, start, f0 = _direct_start(x, tris, used, vertex_area, lap)
+        folds = int(np.sum(chord_orientation(s, tris) <= 0))
+        if folds:
+            if progress is not None:
+                progress(f"the direct maps fold {folds} triangles: mapping coarse to fine")
+            sp, extra = progressive_sphere(x, tris, used, _coarse_map(x, beta), _relax(x, beta), progress=progress)
+            info.update(extra, direct_folds=folds)
+            if np.sum(chord_orientation(sp, tris) <= 0) < folds:      # keep whichever folds fewer triangles
+                s, start = sp, "progressive"
     idx = np.flatnonzero(used)
-    conformal = distortion(x, s, tris)   # of the starting map
+    first = distortion(x, s, tris)   # of the starting map
+    if start in ("conformal", "mean-value"):
+        info.update(conformal_area_ratio_min=first["area_ratio_min"], conformal_area_ratio_max=first["area_ratio_max"])
     s, done, energy = balance(s, x, tris, lap, vertex_area, used, float(beta), steps, progress)
     s[idx] = _align(s[idx], x[idx], vertex_area[idx])
     det = chord_orientation(s, tris)
     info.update({"flipped_triangles": int(np.sum(det <= 0)), "balance_steps": done, "removed_face": f0,
-                 "start": start, "conformal_area_ratio_min": conformal["area_ratio_min"],
-                 "start_area_log_rms": conformal["area_log_rms"], "balance_energy": energy,
-                 "conformal_area_ratio_max": conformal["area_ratio_max"]})
+                 "start": start, "start_area_log_rms": first["area_log_rms"], "balance_energy": energy})
     info.update(distortion(x, s, tris))
     return s, info
