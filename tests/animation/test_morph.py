@@ -399,3 +399,31 @@ def test_landmarks_with_three_keys_a_timing_mask_and_the_files_downstream(tmp_pa
     assert len(g.meshes[0].primitives[0].targets) >= 2 and len(g.animations) == 1
     files = save_frames(m, tmp_path / "frames", "ply")
     assert len(files) == 5 and all(f.is_file() for f in files)
+
+
+def test_gif_frames_share_one_palette_and_read_back_close(tmp_path):
+    """Smooth shading and a flat background through 256 shared colours: every frame within a few levels on
+    average, the background exact, the timing and the loop kept; bad inputs refused, nothing written."""
+    import imageio.v3 as iio
+    from PIL import Image
+    from geoimg.animation import save_animation
+    yy, xx = np.mgrid[0:60, 0:80]
+    frames = []
+    for k in range(6):
+        f = np.full((60, 80, 3), 255, np.uint8)
+        disk = (xx - 20 - 6 * k) ** 2 + (yy - 30) ** 2 < 300
+        shade = (80 + 2 * xx + yy + 10 * k) % 256
+        f[disk] = np.stack([shade, 0.9 * shade, 0.8 * shade], -1)[disk].astype(np.uint8)
+        frames.append(f)
+    path = save_animation(frames, tmp_path / "a.gif", fps=20)
+    back = iio.imread(path)[..., :3].astype(float)
+    assert back.shape == (6, 60, 80, 3)
+    assert np.abs(back - np.array(frames, float)).mean(axis=(1, 2, 3)).max() < 3.0
+    assert (back[:, 0, 0] == 255).all()                                   # the background
+    with Image.open(path) as im:
+        assert im.n_frames == 6 and im.info["duration"] == 50 and im.info["loop"] == 0
+    for bad, message in ((dict(frames=[], path=tmp_path / "b.gif"), "nothing to write"),
+                         (dict(frames=frames, path=tmp_path / "b.gif", fps=0), "fps")):
+        with pytest.raises(geoimg.InputError, match=message):
+            save_animation(**bad)
+    assert not (tmp_path / "b.gif").exists()
