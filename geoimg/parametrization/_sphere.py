@@ -252,10 +252,10 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
         Area-balancing steps at most (0: the centred, nearly conformal map); the balancing stops sooner
         when it has converged. Default: 200, or on a mesh of T < 10,000 triangles as many as 2,000,000 / T
         (at most 2,000), which costs no more than 200 steps on 10,000 triangles and lets small meshes
-        converge. By default a mesh of at least 20,000 triangles (``MULTILEVEL_TRIANGLES``) is first
-        mapped through a decimated copy (:mod:`._multilevel`), balanced there until it has converged, and
-        the fine map then takes at most 20 steps (``MULTILEVEL_STEPS``) from it; where that gives no
-        one-to-one start, the direct maps below are used. Given ``steps``, the direct maps always are.
+        converge. By default a mesh of at least 20,000 triangles (``MULTILEVEL_TRIANGLES``), every vertex on
+        one, is first mapped through a decimated copy (:mod:`._multilevel`), balanced there until it has
+        converged, and the fine map then takes at most 20 steps (``MULTILEVEL_STEPS``) from it; where that
+        gives no one-to-one start, the direct maps below are used. Given ``steps``, the direct maps always are.
     beta : float, default 0.3
         Weight of angle (conformal) distortion against area distortion while balancing.
     progress : callable, optional
