@@ -87,7 +87,8 @@ def untangle(s: np.ndarray, tris: np.ndarray, *, rings: int = UNTANGLE_RINGS[0],
              target: float = UNTANGLE_TARGET):
     """Open the folded triangles of a map onto the sphere: the vertices within ``rings`` of them descend on
     ``sum max(0, eps - det)^2`` over the triangles around them (each moving at most a fifth of its
-    shortest edge a step), the rest stay, until every triangle's ``det`` is above ``OPEN_SHARE * eps``. Returns ``(s, steps taken, whether no triangle is folded)``."""
+    shortest edge a step), the rest stay, until every triangle's ``det`` is above ``OPEN_SHARE * eps``.
+    Returns ``(s, steps taken, whether no triangle is folded)``."""
     det = chord_orientation(s, tris)
     positive = det[det > 0]
     eps = target * float(np.median(positive)) if len(positive) else 1e-6
