@@ -39,9 +39,7 @@ def tin(n_faces: int, seed: int):
 
 
 def kernel_args(surf, res):
-    u, v = surf.domain.pixel_uv(surf.domain.grid_shape(res))
-    fm = surf.faces
-    return (u, v, fm.centres, surf.sigma, surf._radius, fm.C, fm.A, fm.B), dict(log_g_ref=surf.log_g_ref)
+    return surf._grid_arguments(*surf.grid(res)), dict(log_g_ref=surf.log_g_ref)
 
 
 CHECKS = [(400, 129, 0.2), (2000, 257, 1.0), (2000, 200, 2.0), (6000, 257, 3.0)]

@@ -96,9 +96,7 @@ def compare(mesh, param, values, row: str = ""):
 
     for s in values:
         surf = geoimg.fit_surface(mesh, param, s)
-        fm = surf.faces
-        u, v = surf.grid(RES)
-        args = (u, v, fm.centres, surf.sigma, surf._radius, fm.C, fm.A, fm.B)
+        args = surf._grid_arguments(*surf.grid(RES))
         kernels.sample_grid_gaussian(*args, derivatives=True, log_g_ref=surf.log_g_ref)   # warm-up
         tn = []
         for _ in range(5):

@@ -99,20 +99,20 @@ def untangle(s: np.ndarray, tris: np.ndarray, *, rings: int = UNTANGLE_RINGS[0],
     moving = _rings(tris, np.unique(tris[~(det > floor)]), len(s), rings)
     near = tris[moving[tris].any(axis=1)]              # the triangles that moving vertices change
     verts = np.unique(near)                            # ... and their vertices: the descent works on them alone
-    local, moved = _local_descent(s[verts], np.searchsorted(verts, near), moving[verts], eps, floor, steps)
+    local, taken, opened = _local_descent(s[verts], np.searchsorted(verts, near), moving[verts], eps, floor, steps)
     s[verts] = local
-    return s, moved[0], moved[1]
+    return s, taken, opened
 
 
 def _local_descent(s, near, moving, eps, floor, steps):
     """:func:`untangle`'s descent on the vertices ``s`` of the triangles ``near`` (renumbered), in place;
-    returns ``(s, (steps taken, whether opened))``."""
+    returns ``(s, steps taken, whether opened)``."""
     edges = np.concatenate([near[:, [0, 1]], near[:, [1, 2]], near[:, [2, 0]]])
     for step in range(steps):
         a, b, c = s[near[:, 0]], s[near[:, 1]], s[near[:, 2]]
         d = np.einsum("ij,ij->i", a, np.cross(b, c))
         if (d > floor).all():
-            return s, (step, True)
+            return s, step, True
         low = d < eps
         r = (eps - d[low])[:, None]
         t, a, b, c = near[low], a[low], b[low], c[low]
@@ -131,7 +131,7 @@ def _local_descent(s, near, moving, eps, floor, steps):
         go = (size > 0) & np.isfinite(h)
         s[go] -= g[go] * (0.2 * h[go] / size[go])[:, None]
         s[go] /= np.linalg.norm(s[go], axis=1, keepdims=True)
-    return s, (steps, bool((chord_orientation(s, near) > floor).all()))
+    return s, steps, bool((chord_orientation(s, near) > floor).all())
 
 
 def multilevel_start(x: np.ndarray, tris: np.ndarray, coarse_map: Callable, *,

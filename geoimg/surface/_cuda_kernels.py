@@ -16,7 +16,7 @@ from numba import cuda, njit, prange
 
 from ..errors import InputError
 from ._fastexp import plain_sum_floor
-from ._kernels import _band_lists, _ranges
+from ._kernels import _band_lists, truncation_boxes
 
 __all__ = ["sample_grid_gaussian_cuda", "cuda_unavailable", "TILE"]
 
@@ -150,9 +150,7 @@ def sample_grid_gaussian_cuda(u, v, centres, sigma, radius, C, A, B, *, derivati
     H, W = v.shape[0], u.shape[0]
     uc = np.ascontiguousarray(centres[:, 0], np.float64)
     vc = np.ascontiguousarray(centres[:, 1], np.float64)
-    c0, c1 = _ranges(u, uc, radius)
-    r0, r1 = _ranges(v, vc, radius)
-    live = np.flatnonzero((c1 > c0) & (r1 > r0)).astype(np.int64)
+    c0, c1, r0, r1, live = truncation_boxes(u, v, centres, radius)
     ptr, faces, n_tx, n_ty = tile_lists((H, W), live, c0, c1, r0, r1)
     clock("host_s", tile_entries=int(faces.shape[0]))
     face_arrays = [uc, vc, 0.5 / np.asarray(sigma, np.float64) ** 2, np.ascontiguousarray(C, np.float64),

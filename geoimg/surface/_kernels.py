@@ -19,8 +19,8 @@ from numba import njit, prange
 
 from ._fastexp import exp_inplace, plain_sum_floor
 
-__all__ = ["sample_grid_gaussian", "evaluate_points", "build_cells", "face_coverage", "unit_normals", "GAUSSIAN",
-           "LOCAL", "TRUNCATED", "EXACT", "HOLE"]
+__all__ = ["sample_grid_gaussian", "truncation_boxes", "evaluate_points", "build_cells", "face_coverage", "unit_normals",
+           "GAUSSIAN", "LOCAL", "TRUNCATED", "EXACT", "HOLE"]
 
 GAUSSIAN, LOCAL = 0, 1
 TRUNCATED, EXACT, HOLE = 0, 1, 2   # per-point status codes
@@ -61,6 +61,15 @@ def _gauss_exponents(coord, lo, ptr, centre, inv2s, out):
         for t in range(ptr[f + 1] - ptr[f]):
             d = coord[lo[f] + t] - centre[f]
             out[ptr[f] + t] = -d * d * inv2s[f]
+
+
+def truncation_boxes(u, v, centres, radius):
+    """Each face's truncation box as index ranges of the grid, ``[c0, c1)`` of the columns ``u`` and
+    ``[r0, r1)`` of the rows ``v``, and the faces whose box holds a pixel (``live``)."""
+    c0, c1 = _ranges(u, np.ascontiguousarray(centres[:, 0]), radius)
+    r0, r1 = _ranges(v, np.ascontiguousarray(centres[:, 1]), radius)
+    live = np.flatnonzero((c1 > c0) & (r1 > r0)).astype(np.int64)
+    return c0, c1, r0, r1, live
 
 
 def _gauss_tables(coord, lo, ptr, centre, inv2s, out):
@@ -206,9 +215,7 @@ def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, 
     u = np.ascontiguousarray(u, np.float64)
     v = np.ascontiguousarray(v, np.float64)
     inv2s = 0.5 / sigma ** 2
-    c0, c1 = _ranges(u, np.ascontiguousarray(centres[:, 0]), radius)
-    r0, r1 = _ranges(v, np.ascontiguousarray(centres[:, 1]), radius)
-    live = np.flatnonzero((c1 > c0) & (r1 > r0))
+    c0, c1, r0, r1, live = truncation_boxes(u, v, centres, radius)
     cn = np.where(c1 > c0, c1 - c0, 0)
     rn = np.where(r1 > r0, r1 - r0, 0)
     cptr = np.concatenate([[0], np.cumsum(cn)]).astype(np.int64)
@@ -219,7 +226,7 @@ def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, 
     _gauss_tables(v, r0, rptr, centres[:, 1].copy(), inv2s, gv)
     H, W = v.shape[0], u.shape[0]
     band = _band_rows(W)
-    band_ptr, band_faces = _band_lists(-(-H // band), band, live.astype(np.int64), r0, r1)
+    band_ptr, band_faces = _band_lists(-(-H // band), band, live, r0, r1)
     P = np.empty((H, W, 3))
     Pu = np.empty((H, W, 3) if derivatives else (1, 1, 3))
     Pv = np.empty_like(Pu)

@@ -133,6 +133,12 @@ class PlanarSurface(Surface):
             return float(self.s_face.max())
         return None if self.s_map is None else float(self.s_map.max)
 
+    def _grid_arguments(self, u: np.ndarray, v: np.ndarray) -> tuple:
+        """The grid kernels' positional arguments for the columns ``u`` and rows ``v`` (see
+        :func:`~geoimg.surface._kernels.sample_grid_gaussian`)."""
+        fm = self.faces
+        return u, v, fm.centres, self.sigma, self._radius, fm.C, fm.A, fm.B
+
     def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
         """The grid kernel for truncated Gaussians (on the CPU or a CUDA GPU), else the point kernel;
         ``mask`` marks pixels inside the parametrized faces, or within half a pixel spacing of one, so a
@@ -140,7 +146,6 @@ class PlanarSurface(Surface):
         weights, not in a hole)."""
         u, v = self.domain.pixel_uv(shape)
         H, W = shape
-        fm = self.faces
         n_exact = 0
         grid_kernel = self.weights == "gaussian" and self.tol > 0 and self.s_map is None
         if backend == "cuda" and not grid_kernel:
@@ -152,8 +157,7 @@ class PlanarSurface(Surface):
                 from ._cuda_kernels import sample_grid_gaussian_cuda as sample_grid
             else:
                 sample_grid = kernels.sample_grid_gaussian
-            P, Pu, Pv, ok = sample_grid(
-                u, v, fm.centres, self.sigma, self._radius, fm.C, fm.A, fm.B, derivatives=normals, log_g_ref=self.log_g_ref)
+            P, Pu, Pv, ok = sample_grid(*self._grid_arguments(u, v), derivatives=normals, log_g_ref=self.log_g_ref)
             status = np.zeros((H, W), np.int8)
             if not ok.all():
                 ii, jj = np.nonzero(~ok)

@@ -42,9 +42,7 @@ SIMULATED = textwrap.dedent('''
     out = []
     for s, res in ((0.15, 19), (1.0, 21), (2.5, 18)):
         surf = fit_surface(mesh, param, s)
-        u, v = surf.domain.pixel_uv(surf.domain.grid_shape(res))
-        fm = surf.faces
-        args = (u, v, fm.centres, surf.sigma, surf._radius, fm.C, fm.A, fm.B)
+        args = surf._grid_arguments(*surf.grid(res))
         a = kernels.sample_grid_gaussian(*args, derivatives=True, log_g_ref=surf.log_g_ref)
         b = cu.sample_grid_gaussian_cuda(*args, derivatives=True, log_g_ref=surf.log_g_ref)
         c = cu.sample_grid_gaussian_cuda(*args, derivatives=False, log_g_ref=surf.log_g_ref)
@@ -230,9 +228,7 @@ def test_cuda_backend_on_a_real_gpu_matches_the_cpu():
     for seed, (s, res) in enumerate([(0.15, 97), (1.0, 130), (2.5, 77)]):
         mesh, param = partial_tin(seed + 10, n=400)
         surf = fit_surface(mesh, param, s)
-        u, v = surf.domain.pixel_uv(surf.domain.grid_shape(res))
-        fm = surf.faces
-        args = (u, v, fm.centres, surf.sigma, surf._radius, fm.C, fm.A, fm.B)
+        args = surf._grid_arguments(*surf.grid(res))
         a = kernels.sample_grid_gaussian(*args, derivatives=True, log_g_ref=surf.log_g_ref)
         b = cu.sample_grid_gaussian_cuda(*args, derivatives=True, log_g_ref=surf.log_g_ref)
         ok = a[3]
