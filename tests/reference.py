@@ -4,12 +4,14 @@ Slow but simple; they compute exactly the sums the numba kernels compute.
 """
 from __future__ import annotations
 
+from fractions import Fraction
+
 import numpy as np
 from scipy import sparse
 
 from geoimg.parametrization._laplacian import corner_cotangents
 
-__all__ = ["sample_grid_numpy", "evaluate_exact_numpy", "AreaBalanceNumpy", "point_triangle_distance"]
+__all__ = ["sample_grid_numpy", "evaluate_exact_numpy", "AreaBalanceNumpy", "point_triangle_distance", "place_numpy"]
 
 
 def sample_grid_numpy(u, v, centres, sigma, radius, C, A, B):
@@ -142,3 +144,48 @@ def segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(dd > 0, np.clip((q * d).sum(-1) / dd, 0.0, 1.0), 0.0)
     return np.linalg.norm(q - t[..., None] * d, axis=-1)
+
+
+def _fused_dot(a, b) -> float:
+    """``a . b`` of 3-vectors with each product-and-add rounded once (exact fractions, rounded to float)."""
+    acc = float(Fraction(a[0]) * Fraction(b[0]))
+    for k in (1, 2):
+        acc = float(Fraction(a[k]) * Fraction(b[k]) + Fraction(acc))
+    return acc
+
+
+def place_numpy(s, v, u, faces, n_changed):
+    """The coarse-to-fine map's placement of a returning vertex (``_progressive._place``), in numpy: the
+    same candidates (neighbours' mean, changed faces' centroids, the wedge, 48 directions, 40 halvings),
+    the one whose smallest chord-triangle orientation is largest (the first of equals) wins. Returns
+    whether it is positive; ``s[v]`` is set (to ``s[u]`` when not)."""
+    ring = np.unique(faces)
+    su = s[u].copy()
+    others = s[ring[(ring != v) & (ring != u)]]
+    targets = [others.mean(axis=0)]
+    for f in faces[len(faces) - n_changed:]:
+        targets.append(s[np.where(f == v, u, f)].mean(axis=0))
+    reach = float(np.linalg.norm(others - su, axis=1).mean())
+    t1 = np.cross(su, [1.0, 0.0, 0.0] if abs(su[0]) < 0.9 else [0.0, 1.0, 0.0])
+    t1 /= np.sqrt(_fused_dot(t1, t1))
+    t2 = np.cross(su, t1)
+    ang = np.linspace(0.0, 2 * np.pi, 48, endpoint=False)
+    wedge = np.zeros(3)
+    for f in faces:
+        if u in f:
+            j = int(np.flatnonzero(f == v)[0])
+            g = np.cross(s[f[(j + 1) % 3]], s[f[(j + 2) % 3]])
+            g -= _fused_dot(g, su) * su
+            wedge += g / max(np.sqrt(_fused_dot(g, g)), 1e-300)
+    ends = np.vstack([targets, su + reach * wedge / max(np.sqrt(_fused_dot(wedge, wedge)), 1e-300),
+                      su + reach * (np.cos(ang)[:, None] * t1 + np.sin(ang)[:, None] * t2)])
+    cand = (su + (ends - su)[:, None, :] * (0.5 ** np.arange(40))[None, :, None]).reshape(-1, 3)
+    cand /= np.linalg.norm(cand, axis=1, keepdims=True)
+    p = np.where((faces == v)[None, :, :, None], cand[:, None, None, :], s[faces][None])     # (cand, face, 3, 3)
+    det = (p[..., 0, 0] * (p[..., 1, 1] * p[..., 2, 2] - p[..., 1, 2] * p[..., 2, 1])
+           - p[..., 0, 1] * (p[..., 1, 0] * p[..., 2, 2] - p[..., 1, 2] * p[..., 2, 0])
+           + p[..., 0, 2] * (p[..., 1, 0] * p[..., 2, 1] - p[..., 1, 1] * p[..., 2, 0]))
+    score = det.min(axis=1)
+    best = int(np.argmax(score))
+    s[v] = cand[best] if score[best] > 0 else su
+    return bool(score[best] > 0)
