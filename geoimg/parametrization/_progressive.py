@@ -10,6 +10,7 @@ each of them unchanged.
 from __future__ import annotations
 
 import heapq
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit, types
@@ -20,78 +21,165 @@ from ._orientation import facing_out
 __all__ = ["simplify", "progressive_sphere"]
 
 
-def _link_ok(u, v, nbrs, faces_of, tris) -> tuple[bool, list]:
-    """The link condition for collapsing edge (u, v) of a closed manifold: the two faces on the edge,
-    and no other common neighbour."""
-    shared = sorted(f for f in faces_of[v] if u in tris[f])
-    if len(shared) != 2:
-        return False, shared
-    opposite = {int(w) for f in shared for w in tris[f] if w != u and w != v}
-    return (nbrs[u] & nbrs[v]) == opposite and len(opposite) == 2, shared
+class Collapses(NamedTuple):
+    """Half-edge collapses ``v -> u`` in the order they were made: the two faces each removed (``removed``,
+    their rows as they were in ``rows``) and the faces that changed ``v`` to ``u`` (``changed[changed_ptr[k]:
+    changed_ptr[k + 1]]``, ascending)."""
+    v: np.ndarray
+    u: np.ndarray
+    removed: np.ndarray          # (k, 2)
+    rows: np.ndarray             # (k, 2, 3)
+    changed_ptr: np.ndarray      # (k + 1,)
+    changed: np.ndarray
 
 
 def simplify(x: np.ndarray, tris: np.ndarray, target: int, max_valence: int = 12):
-    """Half-edge collapses, shortest edge first, until ``target`` vertices remain (or no edge may go).
+    """Half-edge collapses, shortest edge first (ties by vertex numbers), until ``target`` vertices remain or
+    no edge may go: an edge goes when the two faces on it are its endpoints' only shared neighbours (the
+    link condition, so the surface stays a closed manifold) and the vertex it keeps has at most
+    ``max_valence`` neighbours; the endpoint of lower valence is removed.
 
-    Returns ``(alive, tris, records)``: the vertices left (bool mask), the coarse triangles (as an array
-    whose removed rows are -1) and, in order, each collapse as ``(v, u, removed_faces, changed_faces)``
-    with the removed faces' rows as they were.
+    Returns ``(alive, tris, collapses)``: the vertices left (bool mask), the coarse triangles (as an array
+    whose removed rows are -1) and the :class:`Collapses`.
     """
     tris = np.array(tris, dtype=np.int64)
+    valence = np.bincount(tris.ravel(), minlength=len(x))
+    alive, out = _collapse(np.ascontiguousarray(x, np.float64), tris, int(target),
+                           int(max_valence), max(int(valence.max()), int(max_valence)) + 1)
+    return alive, tris, Collapses(*out)
+
+
+@njit(cache=True)
+def _remove(table, count, i, item):
+    for k in range(count[i]):
+        if table[i, k] == item:
+            count[i] -= 1
+            table[i, k] = table[i, count[i]]
+            return
+
+
+@njit(cache=True)
+def _add(table, count, i, item):
+    for k in range(count[i]):
+        if table[i, k] == item:
+            return
+    table[i, count[i]] = item
+    count[i] += 1
+
+
+@njit(cache=True)
+def _has(table, count, i, item):
+    for k in range(count[i]):
+        if table[i, k] == item:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _length(x, a, b):
+    d = x[a] - x[b]
+    return np.sqrt(_dot(d, d))
+
+
+@njit(cache=True)
+def _collapse(x, tris, target, max_valence, cap):
+    """:func:`simplify`'s collapses, in place on ``tris``; neighbours and faces of each vertex in rows of
+    ``cap`` (no vertex gains any: the kept one has at most ``max_valence``)."""
     n = len(x)
-    faces_of: list[set[int]] = [set() for _ in range(n)]
-    for f, t in enumerate(tris):
-        for w in t:
-            faces_of[w].add(f)
-    nbrs: list[set[int]] = [set() for _ in range(n)]
-    for t in tris:
+    nbrs = np.empty((n, cap), np.int64)
+    n_nbrs = np.zeros(n, np.int64)
+    faces = np.empty((n, cap), np.int64)
+    n_faces = np.zeros(n, np.int64)
+    alive = np.zeros(n, np.bool_)
+    for f in range(len(tris)):
         for i in range(3):
-            nbrs[t[i]].update((t[(i + 1) % 3], t[(i + 2) % 3]))
-    alive = np.zeros(n, bool)
-    alive[np.unique(tris)] = True
-    count = int(alive.sum())
-    heap = []
-    for t in tris:
+            w = tris[f, i]
+            alive[w] = True
+            _add(faces, n_faces, w, f)
+            _add(nbrs, n_nbrs, w, tris[f, (i + 1) % 3])
+            _add(nbrs, n_nbrs, w, tris[f, (i + 2) % 3])
+    heap = [(0.0, 0, 0)]
+    heap.pop()
+    for f in range(len(tris)):
         for i in range(3):
-            a, b = int(t[i]), int(t[(i + 1) % 3])
+            a, b = tris[f, i], tris[f, (i + 1) % 3]
             if a < b:
-                heap.append((float(np.linalg.norm(x[a] - x[b])), a, b))
+                heap.append((_length(x, a, b), a, b))
     heapq.heapify(heap)
-    records = []
-    while count > target and heap:
+    count = int(alive.sum())
+    rec_v = np.empty(n, np.int64)
+    rec_u = np.empty(n, np.int64)
+    rec_removed = np.empty((n, 2), np.int64)
+    rec_rows = np.empty((n, 2, 3), np.int64)
+    changed_ptr = np.zeros(n + 1, np.int64)
+    changed = np.empty(n * cap, np.int64)
+    k = 0
+    shared = np.empty(cap, np.int64)
+    while count > target and len(heap) > 0:
         _, a, b = heapq.heappop(heap)
-        if not (alive[a] and alive[b] and b in nbrs[a]):
+        if not (alive[a] and alive[b] and _has(nbrs, n_nbrs, a, b)):
             continue
-        # remove the endpoint of lower valence (keeps the coarse mesh's valences even)
-        v, u = (a, b) if len(nbrs[a]) <= len(nbrs[b]) else (b, a)
-        if len(nbrs[u]) + len(nbrs[v]) - 4 > max_valence:
+        v, u = (a, b) if n_nbrs[a] <= n_nbrs[b] else (b, a)
+        if n_nbrs[u] + n_nbrs[v] - 4 > max_valence:
             continue
-        ok, shared = _link_ok(u, v, nbrs, faces_of, tris)
-        if not ok:
+        # the link condition: two faces on the edge, their third corners distinct and the only common neighbours
+        m = 0
+        for j in range(n_faces[v]):
+            f = faces[v, j]
+            if tris[f, 0] == u or tris[f, 1] == u or tris[f, 2] == u:
+                shared[m] = f
+                m += 1
+        if m != 2:
             continue
-        removed = [(f, tris[f].copy()) for f in shared]
-        changed = sorted(f for f in faces_of[v] if f not in shared)
-        for f, _ in removed:
-            for w in tris[f]:
-                faces_of[w].discard(f)
+        if shared[0] > shared[1]:
+            shared[0], shared[1] = shared[1], shared[0]
+        o0 = tris[shared[0], 0] + tris[shared[0], 1] + tris[shared[0], 2] - u - v
+        o1 = tris[shared[1], 0] + tris[shared[1], 1] + tris[shared[1], 2] - u - v
+        common = 0
+        for j in range(n_nbrs[u]):
+            if _has(nbrs, n_nbrs, v, nbrs[u, j]):
+                common += 1
+        if o0 == o1 or common != 2:
+            continue
+        base = changed_ptr[k]
+        c = 0
+        for j in range(n_faces[v]):
+            f = faces[v, j]
+            if f != shared[0] and f != shared[1]:
+                changed[base + c] = f
+                c += 1
+        changed[base:base + c].sort()
+        changed_ptr[k + 1] = base + c
+        for r in range(2):
+            f = shared[r]
+            rec_removed[k, r] = f
+            rec_rows[k, r] = tris[f]
+            for i in range(3):
+                _remove(faces, n_faces, tris[f, i], f)
             tris[f] = -1
-        for f in changed:
-            tris[f][tris[f] == v] = u
-            faces_of[u].add(f)
-        faces_of[v] = set()
-        for w in nbrs[v]:
-            nbrs[w].discard(v)
+        for j in range(base, base + c):
+            f = changed[j]
+            for i in range(3):
+                if tris[f, i] == v:
+                    tris[f, i] = u
+            _add(faces, n_faces, u, f)
+        n_faces[v] = 0
+        for j in range(n_nbrs[v]):
+            w = nbrs[v, j]
+            _remove(nbrs, n_nbrs, w, v)
             if w != u:
-                nbrs[w].add(u)
-                nbrs[u].add(w)
-        nbrs[u].discard(v)
-        nbrs[v] = set()
+                _add(nbrs, n_nbrs, w, u)
+                _add(nbrs, n_nbrs, u, w)
+        n_nbrs[v] = 0
         alive[v] = False
         count -= 1
-        records.append((v, u, removed, changed))
-        for w in nbrs[u]:
-            heapq.heappush(heap, (float(np.linalg.norm(x[u] - x[w])), min(u, w), max(u, w)))
-    return alive, tris, records
+        rec_v[k], rec_u[k] = v, u
+        k += 1
+        for j in range(n_nbrs[u]):
+            w = nbrs[u, j]
+            heapq.heappush(heap, (_length(x, u, w), min(u, w), max(u, w)))
+    return alive, (rec_v[:k].copy(), rec_u[:k].copy(), rec_removed[:k].copy(), rec_rows[:k].copy(),
+                   changed_ptr[:k + 1].copy(), changed[:changed_ptr[k]].copy())
 
 
 @njit(cache=True)
@@ -238,44 +326,31 @@ def _pairwise_sum(a):
 
 
 @njit(cache=True)
-def _grow(s, cur, alive, undo, start, stop, cosines, sines, halves):
-    """Undo the collapses ``start .. stop - 1`` of ``undo`` (:func:`_undo_arrays`), placing each returning
-    vertex with :func:`_place`; ``cur`` and ``alive`` follow. Returns how many found no fold-free place."""
-    rec_v, rec_u, rem_ptr, rem_f, rem_rows, chg_ptr, chg_f = undo
+def _grow(s, cur, alive, collapses, start, stop, cosines, sines, halves):
+    """Undo the ``start``-th to the ``stop - 1``-th last of the :class:`Collapses`, the last made first,
+    placing each returning vertex with :func:`_place`; ``cur`` and ``alive`` follow. Returns how many
+    found no fold-free place."""
+    rec_v, rec_u, removed, rows, changed_ptr, changed = collapses
     misplaced = 0
-    for k in range(start, stop):
+    for i in range(start, stop):
+        k = len(rec_v) - 1 - i
         v, u = rec_v[k], rec_u[k]
-        for j in range(chg_ptr[k], chg_ptr[k + 1]):
-            f = chg_f[j]
+        for j in range(changed_ptr[k], changed_ptr[k + 1]):
             for c in range(3):
-                if cur[f, c] == u:
-                    cur[f, c] = v
-        for j in range(rem_ptr[k], rem_ptr[k + 1]):
-            cur[rem_f[j]] = rem_rows[j]
+                if cur[changed[j], c] == u:
+                    cur[changed[j], c] = v
+        for r in range(2):
+            cur[removed[k, r]] = rows[k, r]
         alive[v] = True
-        n_rem, n_chg = rem_ptr[k + 1] - rem_ptr[k], chg_ptr[k + 1] - chg_ptr[k]
-        faces = np.empty((n_rem + n_chg, 3), np.int64)
-        for j in range(n_rem):
-            faces[j] = cur[rem_f[rem_ptr[k] + j]]
+        n_chg = changed_ptr[k + 1] - changed_ptr[k]
+        faces = np.empty((2 + n_chg, 3), np.int64)
+        for r in range(2):
+            faces[r] = cur[removed[k, r]]
         for j in range(n_chg):
-            faces[n_rem + j] = cur[chg_f[chg_ptr[k] + j]]
+            faces[2 + j] = cur[changed[changed_ptr[k] + j]]
         if not _place(s, v, u, faces, n_chg, cosines, sines, halves):
             misplaced += 1
     return misplaced
-
-
-def _undo_arrays(records):
-    """The collapses in the order they are undone, as flat arrays for :func:`_grow`."""
-    rec = records[::-1]
-    rem = [r[2] for r in rec]
-    chg = [r[3] for r in rec]
-    rem_ptr = np.concatenate([[0], np.cumsum([len(r) for r in rem])]).astype(np.int64)
-    chg_ptr = np.concatenate([[0], np.cumsum([len(c) for c in chg])]).astype(np.int64)
-    rem_f = np.array([f for r in rem for f, _ in r], np.int64)
-    rem_rows = np.array([row for r in rem for _, row in r], np.int64).reshape(-1, 3)
-    chg_f = np.array([f for c in chg for f in c], np.int64)
-    return (np.array([r[0] for r in rec], np.int64), np.array([r[1] for r in rec], np.int64),
-            rem_ptr, rem_f, rem_rows, chg_ptr, chg_f)
 
 
 _DIRECTIONS = np.linspace(0.0, 2 * np.pi, 48, endpoint=False)
@@ -300,25 +375,24 @@ def progressive_sphere(x, tris, used, coarse_map, relax, *, target: int = 4, gro
     ``relax(s, alive, tris)`` improves a fold-free map of an intermediate mesh (area balancing). Returns
     ``(s, info)``; ``info`` counts the vertices that found no fold-free place (then left on their partner).
     """
-    alive, coarse, records = simplify(x, tris, max(target, 4))
+    alive, coarse, collapses = simplify(x, tris, max(target, 4))
     live = coarse[coarse[:, 0] >= 0]
     count = int(alive.sum())
     s = _tetrahedron(len(x), alive, live) if count == 4 else coarse_map(alive, live)
     if progress is not None:
-        progress(f"coarse mesh of {count} vertices mapped; {len(records)} vertices to put back")
+        progress(f"coarse mesh of {count} vertices mapped; {len(collapses.v)} vertices to put back")
     cur = coarse.copy()
-    undo = _undo_arrays(records)
     cosines, sines = np.cos(_DIRECTIONS), np.sin(_DIRECTIONS)
     misplaced = 0
-    start, total = 0, len(records)
+    start, total = 0, len(collapses.v)
     while start < total:
         next_relax = int(count * growth)
         stop = min(total, start + max(1, next_relax - count))
-        misplaced += _grow(s, cur, alive, undo, start, stop, cosines, sines, _HALVES)
+        misplaced += _grow(s, cur, alive, collapses, start, stop, cosines, sines, _HALVES)
         count += stop - start
         start = stop
         s = relax(s, alive, cur[cur[:, 0] >= 0])
         if progress is not None:
             progress(f"{count} vertices on the sphere")
     s[~used] = [0.0, 0.0, 1.0]
-    return s, {"coarse_vertices": int(len(x) - len(records)), "misplaced": misplaced}
+    return s, {"coarse_vertices": int(len(x) - total), "misplaced": misplaced}

@@ -146,16 +146,46 @@ def test_simplification_undoes_exactly():
     from geoimg.parametrization._progressive import simplify
     mesh = load_data("spot_low_resolution.obj")
     tris, _ = mesh.triangulate()
-    alive, coarse, records = simplify(mesh.vertices, tris, 4)
+    alive, coarse, c = simplify(mesh.vertices, tris, 4)
     live = coarse[coarse[:, 0] >= 0]
-    assert alive.sum() == 4 and len(live) == 4 and len(records) == mesh.n_vertices - 4
+    assert alive.sum() == 4 and len(live) == 4 and len(c.v) == mesh.n_vertices - 4
+    assert set(c.v) == set(np.flatnonzero(~alive)) and len(set(c.v)) == len(c.v)
     cur = coarse.copy()
-    for v, u, removed, changed in reversed(records):
+    for k in reversed(range(len(c.v))):
+        v, u = c.v[k], c.u[k]
+        changed = c.changed[c.changed_ptr[k]:c.changed_ptr[k + 1]]
+        assert (cur[changed] == u).any(axis=1).all() and (cur[c.removed[k]] == -1).all()
         for f in changed:
             cur[f][cur[f] == u] = v
-        for f, row in removed:
-            cur[f] = row
+        cur[c.removed[k]] = c.rows[k]
+        assert ((cur[c.removed[k]] == u).any(axis=1) & (cur[c.removed[k]] == v).any(axis=1)).all()
     assert np.array_equal(cur, tris)
+
+
+def test_simplification_keeps_a_closed_manifold_and_collapses_shortest_edges_first():
+    """Every intermediate mesh is closed with Euler characteristic 2 and no vertex above the valence cap
+    (but those that started above it); the edges go shortest first, but where a collapse was refused."""
+    from geoimg.parametrization._progressive import simplify
+    mesh = load_data("spot_low_resolution.obj")
+    tris, _ = mesh.triangulate()
+    x = mesh.vertices
+    alive, coarse, c = simplify(x, tris, 50, max_valence=9)
+    assert alive.sum() == 50
+    start_degree = np.bincount(tris.ravel(), minlength=len(x))          # a closed mesh: faces = neighbours
+    cur = coarse.copy()
+    for k in reversed(range(len(c.v))):
+        live = cur[cur[:, 0] >= 0]
+        edges = np.unique(np.sort(np.concatenate([live[:, [0, 1]], live[:, [1, 2]], live[:, [2, 0]]]), axis=1),
+                          axis=0)
+        verts = np.unique(live)
+        assert len(verts) - len(edges) + len(live) == 2
+        degree = np.bincount(edges.ravel(), minlength=len(x))
+        assert (degree <= np.maximum(9, start_degree)).all()
+        for f in c.changed[c.changed_ptr[k]:c.changed_ptr[k + 1]]:
+            cur[f][cur[f] == c.u[k]] = c.v[k]
+        cur[c.removed[k]] = c.rows[k]
+    lengths = np.linalg.norm(x[c.v] - x[c.u], axis=1)
+    assert np.median(np.diff(lengths) >= 0) == 1       # mostly in order (refusals and new edges aside)
 
 
 def test_coarse_to_fine_placement_matches_the_numpy_reference():
@@ -166,23 +196,22 @@ def test_coarse_to_fine_placement_matches_the_numpy_reference():
     from reference import place_numpy
     mesh = load_data("spot_low_resolution.obj")
     tris, _ = mesh.triangulate()
-    alive, coarse, records = P.simplify(mesh.vertices, tris, 4)
-    undo = P._undo_arrays(records)
+    alive, coarse, c = P.simplify(mesh.vertices, tris, 4)
     cos, sin = np.cos(P._DIRECTIONS), np.sin(P._DIRECTIONS)
     relaxed = parametrize(mesh, "sphere").coords                   # a good map: candidates compete closely
     for start in (P._tetrahedron(mesh.n_vertices, alive, coarse[coarse[:, 0] >= 0]), relaxed):
         s, cur, live = start.copy(), coarse.copy(), alive.copy()
         placed = 0
-        for k in range(len(records)):
-            v, u = undo[0][k], undo[1][k]
+        for i in range(len(c.v)):
+            k = len(c.v) - 1 - i                                    # the last collapse is undone first
             before = s.copy()
-            ok = P._grow(s, cur, live, undo, k, k + 1, cos, sin, P._HALVES) == 0
-            faces = cur[np.concatenate([undo[3][undo[2][k]:undo[2][k + 1]], undo[6][undo[5][k]:undo[5][k + 1]]])]
+            ok = P._grow(s, cur, live, c, i, i + 1, cos, sin, P._HALVES) == 0
+            changed = c.changed[c.changed_ptr[k]:c.changed_ptr[k + 1]]
             ref = before.copy()
-            assert place_numpy(ref, v, u, faces, undo[5][k + 1] - undo[5][k]) == ok
+            assert place_numpy(ref, c.v[k], c.u[k], cur[np.concatenate([c.removed[k], changed])], len(changed)) == ok
             assert np.array_equal(ref, s), k
             placed += ok
-        assert placed > 0.9 * len(records)
+        assert placed > 0.9 * len(c.v)
 
 
 def test_balance_gradient_matches_finite_differences(spot_small):
