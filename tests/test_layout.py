@@ -14,7 +14,8 @@ OPTIONAL = {"moderngl", "imageio", "imageio.v3", "pygltflib", "imageio_ffmpeg", 
             "zarr", "pandas", "psutil"}
 DEFERRED = {("geoimg.cli", "geoimg._commands"),     # the parser runs without the commands' heavy imports
             ("geoimg.surface._base", "geoimg.surface._cuda_kernels"),      # numba.cuda: for backend="cuda" alone
-            ("geoimg.surface._planar", "geoimg.surface._cuda_kernels")}
+            ("geoimg.surface._planar", "geoimg.surface._cuda_kernels"),
+            ("geoimg.mesh._io", "trimesh")}                  # STL and GLB alone: OBJ, OFF and PLY load without it
 HEAVY = ("numba", "trimesh", "scipy", "cv2", "OpenImageIO", "skimage", "igl", "PIL")
 
 
@@ -94,6 +95,15 @@ def test_the_packages_and_the_parser_import_nothing_heavy(statement):
     code = f"{statement}; import sys; print(sorted({{m.split('.')[0] for m in sys.modules}} & set({HEAVY!r})))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
     assert out.stdout.strip() == "[]"
+
+
+def test_obj_off_and_ply_load_without_trimesh(tmp_path):
+    """trimesh (half a second to import) is for STL and GLB alone."""
+    code = ("import sys, geoimg; from geoimg.mesh import Mesh; m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]); "
+            f"[geoimg.load_mesh(geoimg.save_mesh(m, {str(tmp_path)!r} + '/t' + e)) for e in ('.obj', '.off', '.ply')]; "
+            "print('trimesh' in sys.modules); geoimg.save_mesh(m, " + repr(str(tmp_path / 't.stl')) + "); print('trimesh' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
+    assert out.stdout.split() == ["False", "True"]
 
 
 def test_names_imported_when_first_used_are_the_real_ones():

@@ -12,7 +12,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import trimesh
 from PIL import Image               # comes with scikit-image
 
 from .._choices import MESH_FORMATS
@@ -265,8 +264,11 @@ def _read_off(path: Path) -> Mesh:
     if len(lines) < i + nv + nf:
         raise MeshFileError(f"header says {nv} vertices and {nf} faces but the file ends early")
     vertices = np.array([ln.split()[:3] for ln in lines[i:i + nv]], dtype=np.float64)
-    faces: list[list[int]] = []
     j = i + nv
+    quick = _same_size_faces([ln.split() for ln in lines[j:j + nf]])
+    if quick is not None and len(quick) == nf:
+        return Mesh(vertices, quick)
+    faces: list[list[int]] = []
     for _ in range(nf):
         if j >= len(lines):
             raise MeshFileError(f"header says {nf} faces but the file ends after {len(faces)}")
@@ -280,6 +282,18 @@ def _read_off(path: Path) -> Mesh:
             raise MeshFileError(f"a face of {k} vertices has only {len(p) - 1} indices")
         faces.append([int(x) for x in p[1:k + 1]])   # extra values on the line (colours) are ignored
     return Mesh(vertices, faces)
+
+
+def _same_size_faces(rows: list[list[str]]) -> np.ndarray | None:
+    """The faces of an OFF file whose face lines all hold ``k`` and ``k`` indices (no colours, none run on),
+    as one array; None otherwise (the face-by-face reader then says what is wrong)."""
+    if not rows or not all(len(r) == len(rows[0]) and r[0] == rows[0][0] for r in rows):
+        return None
+    try:
+        faces = np.array(rows, dtype=np.int64)
+    except (ValueError, OverflowError):
+        return None
+    return faces[:, 1:] if faces[0, 0] == faces.shape[1] - 1 else None
 
 
 def _read_off_binary(data: bytes) -> Mesh:
@@ -511,6 +525,7 @@ def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
 
 # ------------------------------------------------------------------------------ STL, GLB (trimesh)
 def _read_trimesh(path: Path) -> Mesh:
+    import trimesh          # STL and GLB alone: its import costs half a second that OBJ, OFF and PLY never need
     try:
         loaded: Any = trimesh.load(str(path), process=False, force="mesh")
     except Exception as e:   # noqa: BLE001 - trimesh raises many kinds (even ImportError) on a bad file
@@ -553,6 +568,7 @@ def _trimesh_look(loaded, n: int, faces: np.ndarray) -> dict:
 def _write_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:
     """STL (triangles only) and GLB (triangles with colours, or texture coordinates and the texture,
     vertices split at UV seams)."""
+    import trimesh
     visual: Any = None
     if ext == ".glb" and mesh.texture is not None:
         source, uv, faces = split_corners(mesh)

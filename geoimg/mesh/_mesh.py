@@ -53,10 +53,15 @@ def pad_faces(faces: Any) -> np.ndarray:
             arr = np.asarray(faces)
         else:
             arr = np.full((len(faces), max(lengths)), -1, np.int64)
-            for i, f in enumerate(faces):
-                arr[i, : len(f)] = f
+            try:
+                for i, f in enumerate(faces):
+                    arr[i, : len(f)] = f
+            except OverflowError:
+                raise MeshError("faces: a vertex index is beyond 64-bit integers") from None
     if arr.ndim != 2:
         raise MeshError(f"faces: expected a 2-D (F, K) index array, got shape {arr.shape}")
+    if arr.size and arr.dtype.kind not in "biuf":          # e.g. integers beyond 64 bits come as objects
+        raise MeshError(f"faces: expected integer vertex indices, got {arr.dtype} values")
     if arr.size and not np.issubdtype(arr.dtype, np.integer):
         if not np.all(np.isfinite(arr)) or np.any(arr != np.round(arr)):
             raise MeshError(f"faces: expected integer vertex indices, got dtype {arr.dtype} with non-integers")

@@ -149,3 +149,22 @@ def test_written_files_get_a_normal_mode(tmp_path, mixed):
         assert p.stat().st_mode & 0o777 == 0o600
     finally:
         os.umask(mask)
+
+
+@pytest.mark.parametrize("faces, expect", [
+    ("3 0 1 2\n3 0 2 3\n", [[0, 1, 2], [0, 2, 3]]),                       # all one size: read in one go
+    ("3 0 1 2 255 0 0\n3 0 2 3 0 255 0\n", [[0, 1, 2], [0, 2, 3]]),       # colours after the indices
+    ("4 0 1 2 3\n3 0 2 3\n", [[0, 1, 2, 3], [0, 2, 3, -1]]),              # mixed sizes
+    ("3 0 1\n2\n3 0 2 3\n", [[0, 1, 2], [0, 2, 3]]),                       # a face running on over two lines
+    ("3 0 1 2\n4 0 2 3 1\n", [[0, 1, 2, -1], [0, 2, 3, 1]]),
+])
+def test_ascii_off_faces_whatever_their_layout(tmp_path, faces, expect):
+    (tmp_path / "f.off").write_text("OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n" + faces)
+    assert load_mesh(tmp_path / "f.off").faces.tolist() == expect
+
+
+def test_ascii_off_with_bad_indices_is_refused_either_way(tmp_path):
+    for faces in ("3 0 1 x\n3 0 2 3\n", "3 0 1 2.5\n3 0 2 3\n", "3 0 1 99999999999999999999\n3 0 2 3\n"):
+        (tmp_path / "f.off").write_text("OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n" + faces)
+        with pytest.raises(MeshFileError):
+            load_mesh(tmp_path / "f.off")

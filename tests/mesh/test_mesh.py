@@ -61,6 +61,13 @@ def test_pad_faces_accepts_lists_of_mixed_length():
     assert pad_faces([[1, 2, 3], [4, 5, 6, 7]]).tolist() == [[1, 2, 3, -1], [4, 5, 6, 7]]
 
 
+@pytest.mark.parametrize("faces", [[[0, 1, 10 ** 20]], [[0, 1, 10 ** 20], [0, 1, 2, 3]], [["0", "1", "2"]],
+                                   np.array([[0, 1, None]], dtype=object)])
+def test_pad_faces_refuses_indices_that_are_not_64_bit_integers(faces):
+    with pytest.raises(MeshError, match="faces: .*(beyond 64-bit|expected integer)"):
+        pad_faces(faces)
+
+
 def test_referenced_vertices_and_bbox():
     m = Mesh([[0, 0, 0], [3, 0, 0], [0, 4, 0], [100, 100, 100]], [[0, 1, 2]])
     assert m.referenced_vertices().tolist() == [True, True, True, False]
