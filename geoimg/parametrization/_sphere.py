@@ -40,7 +40,7 @@ __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 
 DEFAULT_BETA = 0.3
 MULTILEVEL_TRIANGLES = 20_000     # from this size on, a decimated copy is mapped first ...
-MULTILEVEL_STEPS = 20             # ... and the fine map balanced from it for at most this many steps
+MULTILEVEL_STEPS = 10             # ... and the fine map balanced from it for at most this many steps
 
 
 def _check_sphere(mesh: Mesh):
@@ -256,7 +256,7 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
         (at most 2,000), which costs no more than 200 steps on 10,000 triangles and lets small meshes
         converge. By default a mesh of at least 20,000 triangles (``MULTILEVEL_TRIANGLES``), every vertex on
         one, is first mapped through a decimated copy (:mod:`._multilevel`), balanced there until it has
-        converged, and the fine map then takes at most 20 steps (``MULTILEVEL_STEPS``) from it; where that
+        converged, and the fine map then takes at most 10 steps (``MULTILEVEL_STEPS``) from it; where that
         gives no one-to-one start, the direct maps below are used. Given ``steps``, the direct maps always are.
     beta : float, default 0.3
         Weight of angle (conformal) distortion against area distortion while balancing.
