@@ -63,6 +63,8 @@ def _add(table, count, i, item):
     for k in range(count[i]):
         if table[i, k] == item:
             return
+    if count[i] == table.shape[1]:      # cannot happen on a closed manifold; never write past the row
+        raise ValueError("simplify: a vertex has more neighbours or faces than a closed manifold allows")
     table[i, count[i]] = item
     count[i] += 1
 

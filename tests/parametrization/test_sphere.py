@@ -330,3 +330,12 @@ def test_tangent_frames_are_the_cross_products_bit_for_bit():
     a, b = tangent_frames(q)
     np.testing.assert_array_equal(a, t1)
     np.testing.assert_array_equal(b, np.cross(q, t1))
+
+
+def test_simplification_refuses_a_vertex_beyond_its_row():
+    """The collapses keep each vertex's neighbours in a fixed row sized for a closed manifold; a mesh that is
+    not one (a vertex in more neighbours than faces) is refused instead of written past it."""
+    from geoimg.parametrization._progressive import simplify
+    tris = np.array([[0, 1, 2], [0, 3, 4], [0, 5, 6]])           # three separate triangles at vertex 0
+    with pytest.raises(ValueError, match="more neighbours or faces than a closed manifold"):
+        simplify(np.random.default_rng(0).normal(size=(7, 3)), tris, 4, max_valence=2)
