@@ -48,7 +48,7 @@ def test_a_large_scan_is_mapped_through_a_coarse_copy():
     s, info = sphere_coords(mesh)
     tris, _ = mesh.triangulate()
     assert info["start"] == "multilevel" and info["flipped_triangles"] == 0 and (chord_orientation(s, tris) > 0).all()
-    assert info["area_log_rms"] < 0.5       # measured 0.31; the direct map's 200 steps gave 1.35
+    assert info["area_log_rms"] < 0.5       # measured 0.32; the direct map's 200 steps gave 1.35
 
 
 def test_a_shape_whose_direct_maps_fold_is_mapped_coarse_to_fine():

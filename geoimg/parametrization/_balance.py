@@ -28,7 +28,7 @@ from ._balance_kernels import balance_energy, balance_gradient, project_moves, s
 from ._laplacian import (corner_cotangents, cotangent_weights, factor_symmetric, laplacian, triangle_areas, vertex_areas,
                          vertex_shares)
 
-__all__ = ["balance", "default_steps", "squeeze_scale", "neighbour_mean", "SCALE_SMOOTHING", "DEFAULT_STEPS"]
+__all__ = ["balance", "default_steps", "squeeze_scale", "neighbour_mean", "local_sizes", "SCALE_SMOOTHING", "DEFAULT_STEPS"]
 
 SCALE_SMOOTHING = 3      # neighbour means taken of the log area ratio behind the scaled step
 DEFAULT_STEPS = 200
@@ -46,9 +46,12 @@ def default_steps(triangles: int) -> int:
     return int(np.clip(SMALL_MESH_WORK // max(triangles, 1), DEFAULT_STEPS, MAX_STEPS))
 
 
-def _local_sizes(s: np.ndarray, edges: np.ndarray) -> np.ndarray:
-    """Each vertex's shortest edge in the map (inf for vertices on no edge)."""
+def local_sizes(s: np.ndarray, edges: np.ndarray, *, ignore_below: float | None = None) -> np.ndarray:
+    """Each vertex's shortest edge in the map (inf for vertices on no edge); with ``ignore_below``, edges no
+    longer than that share of the longest are left out (vertices on one point get their other edges)."""
     length = np.linalg.norm(s[edges[:, 0]] - s[edges[:, 1]], axis=1)
+    if ignore_below is not None:
+        length[length <= ignore_below * length.max()] = np.inf
     h = np.full(len(s), np.inf)
     np.minimum.at(h, edges[:, 0], length)
     np.minimum.at(h, edges[:, 1], length)
@@ -163,7 +166,7 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
             alphas[kind] = 1.0
         local = found is None
         if local:
-            h = _local_sizes(s, edges)
+            h = local_sizes(s, edges)
             on_edge = np.isfinite(h)
             d = -g * np.where(on_edge, h, 0.0)[:, None] ** 2
             reach = np.linalg.norm(d, axis=1) / np.where(on_edge, h, 1.0)

@@ -31,6 +31,8 @@ from typing import Callable
 import igl
 import numpy as np
 
+from ..mesh import Mesh, topology
+from ._balance import local_sizes
 from ._orientation import chord_orientation
 
 __all__ = ["multilevel_start", "decimate", "transfer", "untangle", "COARSE_TRIANGLES"]
@@ -44,20 +46,16 @@ OPEN_SHARE = 1e-3              # ... and count as opened above this share of tha
 
 def decimate(x: np.ndarray, tris: np.ndarray, triangles: int):
     """Edge collapses (libigl) down to at most ``triangles``; ``(U, G)`` or None when libigl fails or the
-    result is not a closed surface of Euler characteristic 2."""
+    result is not a closed genus-0 surface in one piece."""
     try:
         U, G, _, _ = igl.decimate(np.asfortranarray(x, np.float64), np.asfortranarray(tris, np.int32), int(triangles))
     except Exception:       # pragma: no cover - libigl refuses a mesh it cannot collapse
         return None
     U, G = np.ascontiguousarray(U, np.float64), np.ascontiguousarray(G, np.int64)
-    if len(G) < 4 or len(U) - _edge_count(G) + len(G) != 2:
+    topo = topology(Mesh(U, G)) if len(G) >= 4 else None
+    if topo is None or not (topo.closed and topo.components == 1 and topo.genus == 0):
         return None
     return U, G
-
-
-def _edge_count(tris: np.ndarray) -> int:
-    e = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1)
-    return len(np.unique(e, axis=0))
 
 
 def transfer(x: np.ndarray, U: np.ndarray, G: np.ndarray, coarse: np.ndarray) -> np.ndarray:
@@ -122,11 +120,7 @@ def _local_descent(s, near, moving, eps, floor, steps):
         np.add.at(g, t[:, 2], -r * np.cross(a, b))
         g[~moving] = 0.0
         g -= np.einsum("ij,ij->i", g, s)[:, None] * s             # tangent to the sphere
-        length = np.linalg.norm(s[edges[:, 0]] - s[edges[:, 1]], axis=1)
-        length[length <= 1e-9 * length.max()] = np.inf        # vertices on one point move apart by other edges
-        h = np.full(len(s), np.inf)
-        np.minimum.at(h, edges[:, 0], length)
-        np.minimum.at(h, edges[:, 1], length)
+        h = local_sizes(s, edges, ignore_below=1e-9)       # vertices on one point move apart by other edges
         size = np.linalg.norm(g, axis=1)
         go = (size > 0) & np.isfinite(h)
         s[go] -= g[go] * (0.2 * h[go] / size[go])[:, None]

@@ -245,29 +245,24 @@ def _place(s, v, u, faces, n_changed, cosines, sines, halves):
     su = s[u].copy()
     n_ends = 2 + n_changed + len(cosines)
     ends = np.empty((n_ends, 3))
-    # the mean of v's neighbours, summed row by row
+    # the mean of v's neighbours (summed row by row) and their mean distance (summed pairwise, as numpy does)
     mean = np.zeros(3)
+    dist = np.empty(len(ring))
     k = 0
     for w in ring:
         if w != v and w != u:
             mean += s[w]
+            d = s[w] - su
+            dist[k] = np.sqrt((d[0] * d[0] + d[1] * d[1]) + d[2] * d[2])
             k += 1
     ends[0] = mean / k
+    reach = _pairwise_sum(dist[:k]) / k
     for i in range(n_changed):
         f = faces[len(faces) - n_changed + i]
         c = np.zeros(3)
         for j in range(3):
             c += s[u if f[j] == v else f[j]]
         ends[1 + i] = c / 3
-    # the mean distance to the neighbours, summed pairwise as numpy does
-    dist = np.empty(k)
-    k = 0
-    for w in ring:
-        if w != v and w != u:
-            d = s[w] - su
-            dist[k] = np.sqrt((d[0] * d[0] + d[1] * d[1]) + d[2] * d[2])
-            k += 1
-    reach = _pairwise_sum(dist) / k
     t1 = _cross(su, np.array([1.0, 0.0, 0.0]) if abs(su[0]) < 0.9 else np.array([0.0, 1.0, 0.0]))
     t1 /= np.sqrt(_dot(t1, t1))
     t2 = _cross(su, t1)
