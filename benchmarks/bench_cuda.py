@@ -27,8 +27,6 @@ import geoimg
 from geoimg.surface import _kernels as kernels
 
 
-PINNED_DEFAULT = False
-
 
 def tin(n_faces: int, seed: int):
     rng = np.random.default_rng(seed)
@@ -81,6 +79,7 @@ def bench(cu, n_faces: int, res: int, s_values) -> list[dict]:
     t_mesh, (mesh, param) = timed(tin, n_faces, 0)
     print(f"mesh {mesh.n_faces} faces in {t_mesh:.1f} s", flush=True)
     rows = []
+    default = cu.PINNED
     for s in s_values:
         t_fit, surf = timed(geoimg.fit_surface, mesh, param, s)
         args, kw = kernel_args(surf, res)
@@ -99,7 +98,7 @@ def bench(cu, n_faces: int, res: int, s_values) -> list[dict]:
                     t, b = timed(cu.sample_grid_gaussian_cuda, *args, derivatives=derivs, profile=prof, **kw)
                     gpu.append((t, prof))
                 best[pinned] = min(gpu, key=lambda x: x[0])
-            cu.PINNED = PINNED_DEFAULT
+            cu.PINNED = default
             t_gpu, prof = best[False]
             prof["gpu_pinned_s"] = best[True][0]
             prof["download_pinned_s"] = best[True][1]["download_s"]
@@ -157,8 +156,6 @@ def main() -> None:
     why = cu.cuda_unavailable()
     if why is not None:
         raise SystemExit(f"bench_cuda: {why}; it needs a CUDA GPU (or NUMBA_ENABLE_CUDASIM=1 with --tiny)")
-    global PINNED_DEFAULT
-    PINNED_DEFAULT = cu.PINNED
     gpu = "simulator" if numba.config.ENABLE_CUDASIM else cuda.get_current_device().name
     print(f"numba {numba.__version__}, {numba.config.NUMBA_NUM_THREADS} CPU threads, GPU {gpu}, "
           f"cpus {os.cpu_count()}", flush=True)
