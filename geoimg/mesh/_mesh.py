@@ -61,7 +61,7 @@ def pad_faces(faces: Any) -> np.ndarray:
     if arr.ndim != 2:
         raise MeshError(f"faces: expected a 2-D (F, K) index array, got shape {arr.shape}")
     if arr.size and arr.dtype.kind not in "biuf":          # e.g. integers beyond 64 bits come as objects
-        raise MeshError(f"faces: expected integer vertex indices, got {arr.dtype} values")
+        raise MeshError(f"faces: expected integer vertex indices (64-bit at most), got {arr.dtype} values")
     if arr.size and not np.issubdtype(arr.dtype, np.integer):
         if not np.all(np.isfinite(arr)) or np.any(arr != np.round(arr)):
             raise MeshError(f"faces: expected integer vertex indices, got dtype {arr.dtype} with non-integers")
