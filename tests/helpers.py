@@ -25,7 +25,7 @@ def data_file(name: str) -> Path:
 
 
 def shared_file(rel: str) -> Path:
-    """A file of ../shared/data (tests/test_shared_data.py is collected only when that folder exists)."""
+    """A file of ../shared/data (tests/test_shared_data.py is skipped where that folder is absent)."""
     path = SHARED / rel
     if not path.is_file():
         raise FileNotFoundError(f"shared test data {path} not present")

@@ -55,26 +55,43 @@ def _areas(s, tris, planar, out):
     return bad
 
 
+CHUNK = 1024      # triangles per partial sum: fixed, so that the sums do not depend on the number of threads
+
+
 @njit(parallel=True, cache=True)
 def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
-    """The energy, and ``sum a_t log r_t`` (what the areas' normalization adds to the gradient)."""
+    """The energy, and ``sum a_t log r_t`` (what the areas' normalization adds to the gradient). Each chunk of
+    ``CHUNK`` triangles is summed in order, then the chunks' sums in order: the same bits on any number of
+    threads (a reduction over ``prange`` adds in an order that depends on them)."""
+    n = tris.shape[0]
+    n_chunks = -(-n // CHUNK)
+    e_part = np.zeros(n_chunks)
+    log_part = np.zeros(n_chunks)
+    for c in prange(n_chunks):
+        e = 0.0
+        mean_log = 0.0
+        for t in range(c * CHUNK, min(n, (c + 1) * CHUNK)):
+            dsum = 0.0
+            for k in range(3):
+                k1, k2 = (k + 1) % 3, (k + 2) % 3
+                l2 = 0.0
+                for d in range(3):
+                    dv = s[tris[t, k1], d] - s[tris[t, k2], d]
+                    l2 += dv * dv
+                dsum += cot[t, k] * l2
+            dd = 0.5 * lam * dsum
+            dirichlet[t] = dd
+            ay = lam * area[t]
+            lr = math.log(ay / a[t]) if a[t] > 0.0 else 0.0     # a face of no area on the mesh: no term
+            e += a[t] * lr * lr + beta * a[t] * (dd / ay - 2.0)
+            mean_log += a[t] * lr
+        e_part[c] = e
+        log_part[c] = mean_log
     e = 0.0
     mean_log = 0.0
-    for t in prange(tris.shape[0]):
-        dsum = 0.0
-        for k in range(3):
-            k1, k2 = (k + 1) % 3, (k + 2) % 3
-            l2 = 0.0
-            for c in range(3):
-                dv = s[tris[t, k1], c] - s[tris[t, k2], c]
-                l2 += dv * dv
-            dsum += cot[t, k] * l2
-        d = 0.5 * lam * dsum
-        dirichlet[t] = d
-        ay = lam * area[t]
-        lr = math.log(ay / a[t]) if a[t] > 0.0 else 0.0     # a face of no area on the mesh: no term
-        e += a[t] * lr * lr + beta * a[t] * (d / ay - 2.0)
-        mean_log += a[t] * lr
+    for c in range(n_chunks):
+        e += e_part[c]
+        mean_log += log_part[c]
     return e, mean_log
 
 

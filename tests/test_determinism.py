@@ -1,0 +1,101 @@
+"""The same input and options give the same bytes on any number of threads: sphere, disk and cut-open maps
+at 1, 2 and 4 numba threads (each in a process of its own, as a laptop, a server and a Dask worker run them),
+and ``geoimg batch`` (a thread per worker) against ``geoimg image`` (every core)."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import geoimg
+from geoimg import cli
+from helpers import DATA
+from meshes import cap, write
+
+RES = 65
+HASHES = """
+import hashlib, json, sys, warnings
+import numpy as np
+import geoimg
+warnings.simplefilter("ignore")
+out = {}
+for path in sys.argv[1:]:
+    img = geoimg.mesh_to_image(geoimg.load_mesh(path), %d)
+    out[path] = [type(img.domain).__name__] + [hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
+                                               for a in (img.pixels, img.normals, img.valid)]
+print(json.dumps(out))
+""" % RES
+
+
+def _hashes(paths, threads: int) -> dict:
+    env = {**os.environ, "NUMBA_NUM_THREADS": str(threads)}
+    done = subprocess.run([sys.executable, "-c", HASHES, *map(str, paths)], env=env, capture_output=True,
+                          text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+@pytest.fixture(scope="module")
+def meshes(tmp_path_factory):
+    """A sphere map (Spot, 5,856 faces), a balanced disk (a cap of 2,880 faces) and a cut-open torus
+    (4,608 faces): each more triangles than one chunk of the balancing's sums."""
+    folder = tmp_path_factory.mktemp("det")
+    return [DATA / "spot.obj", write(cap(80.0, rings=30, segments=48), folder / "cap.obj"), DATA / "torus.obj"]
+
+
+def test_every_map_gives_the_same_bytes_on_1_2_and_4_threads(meshes):
+    runs = {t: _hashes(meshes, t) for t in (1, 2, 4)}
+    domains = sorted(v[0] for v in runs[1].values())
+    assert domains == ["CutDomain", "OctahedralDomain", "PlanarDomain"]
+    assert runs[1] == runs[2] == runs[4]
+
+
+def test_the_balancing_energy_does_not_depend_on_the_threads():
+    """In one process: the energy and its normalization term summed on 1 and 2 threads, bit for bit, and
+    equal to the chunked sum written out in numpy (the kernel's order of additions)."""
+    numba = pytest.importorskip("numba")
+    from geoimg.parametrization import _balance_kernels as bk
+    rng = np.random.default_rng(1)
+    n_t = 3 * bk.CHUNK + 17
+    s = rng.normal(size=(n_t + 2, 3))
+    s /= np.linalg.norm(s, axis=1, keepdims=True)
+    tris = np.stack([np.arange(n_t), np.arange(n_t) + 1, np.arange(n_t) + 2], axis=1)
+    a = rng.random(n_t)
+    a /= a.sum()
+    cot = rng.random((n_t, 3))
+    area = rng.random(n_t) + 0.1
+    results = []
+    for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
+        numba.set_num_threads(threads)
+        try:
+            results.append(bk._terms(s, tris, a, cot, area, 0.7, 0.3, np.empty(n_t)))
+        finally:
+            numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    assert results[0] == results[-1]
+    e, _ = results[0]
+    d = np.empty(n_t)
+    bk._terms(s, tris, a, cot, area, 0.7, 0.3, d)
+    lr = np.log(0.7 * area / a)
+    terms = a * lr * lr + 0.3 * a * (d / (0.7 * area) - 2.0)
+    chunks = [sum(terms[c:c + bk.CHUNK].tolist()) for c in range(0, n_t, bk.CHUNK)]
+    assert np.isclose(e, sum(chunks), rtol=1e-13, atol=0)
+
+
+def test_batch_writes_the_bytes_that_geoimg_image_writes(tmp_path):
+    pytest.importorskip("distributed")
+    src = tmp_path / "in"
+    src.mkdir()
+    (src / "spot.obj").write_bytes((DATA / "spot.obj").read_bytes())
+    assert cli.main(["image", str(src / "spot.obj"), "-o", str(tmp_path / "one.exr"), "--res", str(RES), "-q",
+                     "--no-colors"]) == 0
+    assert cli.main(["batch", str(src), "-o", str(tmp_path / "out"), "--res", str(RES), "--workers", "2",
+                     "--no-psnr", "--no-colors", "-q"]) == 0
+    one = geoimg.load_image(tmp_path / "one.exr")
+    many = geoimg.load_image(tmp_path / "out" / "spot.exr")
+    assert one.pixels.tobytes() == many.pixels.tobytes()
+    assert one.normals is not None and many.normals is not None
+    assert one.normals.tobytes() == many.normals.tobytes()
