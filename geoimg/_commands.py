@@ -477,9 +477,9 @@ def cmd_batch(args) -> int:
     c = table.attrs["summary"]
     bad = c["refused"] + c["failed"]
     if not args.quiet:
-        skipped = f", {c['skipped']} of them done before" if c["skipped"] else ""
-        print(f"{c['total']} inputs: {c['ok'] + c['skipped']} converted{skipped}, {c['refused']} refused, "
-              f"{c['failed']} failed in {_duration(c['elapsed'])}; manifest {table.attrs['manifest']}")
+        skipped = f" ({c['skipped']} of these finished by an earlier run)" if c["skipped"] else ""
+        print(f"{c['total']} inputs: {c['ok']} converted, {c['refused']} refused, {c['failed']} failed{skipped} "
+              f"in {_duration(c['elapsed'])}; manifest {table.attrs['manifest']}")
     if bad:
         print(f"geoimg batch: {bad} of {c['total']} inputs were not converted (all reasons in "
               f"{table.attrs['manifest']}):", file=sys.stderr)

@@ -78,6 +78,8 @@ def test_manifest_outputs_and_a_second_run_that_skips_everything(client, inputs,
     stamps = {p: p.stat().st_mtime_ns for p in out.rglob("*.exr")}
     again = batch.convert([inputs], out, client=client, resolution=RES, quads=True)
     assert again.attrs["summary"]["skipped"] == 5 and list(again.status) == list(table.status)
+    assert {k: again.attrs["summary"][k] for k in ("ok", "refused", "failed", "done")} == \
+        {"ok": 3, "refused": 2, "failed": 0, "done": 5}
     assert {p: p.stat().st_mtime_ns for p in out.rglob("*.exr")} == stamps      # nothing rewritten
 
     changed = batch.convert([inputs], out, client=client, resolution=RES, quads=True, s=2.0)
@@ -216,6 +218,12 @@ def test_cli_exit_status_summary_and_usage_errors(inputs, tmp_path):
     run = subprocess.run(_batch_command(inputs, "-o", out, "--res", RES, "--workers", 1, "--force"),
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 1
+    assert "2 of 5 inputs were not converted" in run.stderr and "bad.obj: refused:" in run.stderr
+    # a rerun skips every input and reports what the manifest says: the refusals stay refusals, exit 1
+    run = subprocess.run(_batch_command(inputs, "-o", out, "--res", RES, "--workers", 1),
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 1, run.stdout
+    assert "5 inputs: 3 converted, 2 refused, 0 failed (5 of these finished by an earlier run)" in run.stdout
     assert "2 of 5 inputs were not converted" in run.stderr and "bad.obj: refused:" in run.stderr
     for args in (["--zarr", tmp_path / "z.zarr"], ["--quads", "stl"], ["--workers", "0"], ["--mean", "x"]):
         run = subprocess.run(_batch_command(inputs, "-o", tmp_path / "o2", *args), capture_output=True,

@@ -118,14 +118,17 @@ class _Cluster:
                 pass
 
 
-def _counts(rows: dict, total: int, skipped: int, t0: float) -> dict:
+def _counts(rows: dict, total: int, before: list[str], t0: float) -> dict:
+    """Counts of a batch: ``rows`` finished in this run, ``before`` the statuses (ok or refused) of the inputs an
+    earlier run finished and this one skipped, which count as what they were."""
     statuses = [r["status"] for r in rows.values()]
     done = len(statuses)
     elapsed = time.perf_counter() - t0
     rate = done / elapsed if elapsed > 0 and done else 0.0
-    left = total - skipped - done
-    return {"done": done + skipped, "ok": statuses.count("ok"), "refused": statuses.count("refused"),
-            "failed": statuses.count("failed"), "skipped": skipped, "total": total, "elapsed": elapsed,
+    left = total - len(before) - done
+    statuses += before
+    return {"done": done + len(before), "ok": statuses.count("ok"), "refused": statuses.count("refused"),
+            "failed": statuses.count("failed"), "skipped": len(before), "total": total, "elapsed": elapsed,
             "per_minute": 60 * rate, "eta": left / rate if rate else None}
 
 
@@ -158,7 +161,8 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
         there) or refused it, and the file has not changed since.
     progress : callable, optional
         Called every half second with counts: ``done, ok, refused, failed, skipped, total, elapsed,
-        per_minute, eta``.
+        per_minute, eta``. ``ok`` and ``refused`` include the ``skipped`` inputs, as an earlier run recorded
+        them: a refusal stays a refusal on every rerun.
     **options
         Those of :class:`ConvertOptions`: ``resolution, s, method, axis, boundary, weights, n, tol,
         sliver_rule, component, normals, steps, mode, nsr, quads, quads_format, psnr``.
@@ -227,7 +231,8 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
         open_store(zarr, keys, resolution, opts.normals, digest, colors=opts.colors)
         records = store_records(zarr)
     todo = [job for job in jobs if not _finished(old.get(job.input), job, records)]
-    skipped = len(jobs) - len(todo)
+    pending = {job.input for job in todo}
+    skipped = [old[job.input]["status"] for job in jobs if job.input not in pending]
     rows: dict[str, dict] = {}
     pending_records: dict[int, dict] = {}
     say = progress or (lambda counts: None)
