@@ -171,6 +171,11 @@ def cmd_landmarks(args) -> int:
     return 0
 
 
+def _point(p) -> str:
+    """``[x, y, z]`` with 6 significant digits (rounding by scaling would overflow near 1e308)."""
+    return "[" + ", ".join(f"{float(x):.6g}" for x in p) + "]"
+
+
 def cmd_info(args) -> int:
     path = Path(args.file)
     if path.suffix.lower() in IMAGE_FORMATS + (".png",):
@@ -179,7 +184,7 @@ def cmd_info(args) -> int:
         print(f"{path}: geometry image {W} x {H}, domain {img.domain.kind}, {int(img.valid.sum())} valid pixels, "
               f"normals {'yes' if img.normals is not None else 'no'}, colours {'yes' if img.colors is not None else 'no'}")
         lo, hi = img.pixels[img.valid].min(axis=0), img.pixels[img.valid].max(axis=0)
-        print(f"  bounding box {np.round(lo, 6).tolist()} .. {np.round(hi, 6).tolist()}")
+        print(f"  bounding box {_point(lo)} .. {_point(hi)}")
         for key, value in sorted(img.metadata.items()):
             print(f"  {key}: {value}")
         return 0
@@ -194,7 +199,7 @@ def cmd_info(args) -> int:
     if look:
         print(f"  {', '.join(look)}")
     v = mesh.vertices[used]
-    print(f"  bounding box {np.round(v.min(axis=0), 6).tolist()} .. {np.round(v.max(axis=0), 6).tolist()}, "
+    print(f"  bounding box {_point(v.min(axis=0))} .. {_point(v.max(axis=0))}, "
           f"diagonal {mesh.bounding_box_diagonal():.6g}")
     print(f"  per-vertex UVs: {'yes' if mesh.uv is not None else 'no'}")
     t = topology(mesh)

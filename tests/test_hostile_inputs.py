@@ -65,15 +65,34 @@ def test_the_memory_limit_can_be_set(monkeypatch):
         filters.memory_limit()
 
 
-@pytest.mark.parametrize("vertices, message", [
-    ([[0, 0, 0], [1, 1, 1], [2, 2, 2], [3, 3, 3]], "zero area"),                  # collinear
-    (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]) * 1e-300, "size 1e-300"),
-    (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]) * 1e200, "size 1e\\+200"),
+@pytest.mark.parametrize("vertices, error, message", [
+    ([[0, 0, 0], [1, 1, 1], [2, 2, 2], [3, 3, 3]], geoimg.ParametrizationError, "zero area"),     # collinear
+    (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]) * 1e-300, geoimg.MeshError, "size 1e-300"),
+    (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]) * 1e200, geoimg.MeshError, "size 1e\\+200"),
 ])
-def test_degenerate_geometry_is_refused(vertices, message):
-    faces = [[0, 1, 2], [1, 2, 3]] if len(vertices) == 4 and message == "zero area" else [[0, 1, 2, 3]]
-    with pytest.raises(geoimg.ParametrizationError, match=message):
+def test_degenerate_geometry_is_refused(vertices, error, message):
+    faces = [[0, 1, 2], [1, 2, 3]] if message == "zero area" else [[0, 1, 2, 3]]
+    with pytest.raises(error, match=message):
         geoimg.mesh_to_image(geoimg.Mesh(vertices, faces), 9)
+
+
+def test_coordinates_near_the_float_limit_are_one_line(tmp_path, capsys):
+    """A tetrahedron at 1e308: refused before the repairs square a size (they overflowed), and described by
+    geoimg info without overflowing (its bounding box rounded by scaling read inf)."""
+    path = tmp_path / "huge.obj"
+    path.write_text("v 1e308 0 0\nv 0 1e308 0\nv 0 0 1e308\nv 1e308 1e308 1e308\n"
+                    "f 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n")
+    with pytest.raises(geoimg.MeshError, match="size 1e\\+308"):
+        geoimg.mesh_to_images(path, 9)
+    assert main(["image", str(path), "-o", str(tmp_path / "h.exr"), "--res", "9"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "scale the mesh first" in err
+    assert not (tmp_path / "h.exr").exists()
+    with __import__("warnings").catch_warnings():
+        __import__("warnings").simplefilter("error")
+        assert main(["info", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "[0, 0, 0] .. [1e+308, 1e+308, 1e+308], diagonal 1.73205e+308" in out
 
 
 def test_a_preview_png_is_not_a_geometry_image(tmp_path, capsys, small_exr):

@@ -338,4 +338,26 @@ class Mesh:
     def bounding_box_diagonal(self) -> float:
         """Length of the diagonal of the axis-aligned bounding box of the referenced vertices."""
         v = self.vertices[self.referenced_vertices()]
-        return float(np.linalg.norm(v.max(axis=0) - v.min(axis=0)))
+        half = v.max(axis=0) / 2 - v.min(axis=0) / 2           # halves first: no overflow near 1e308
+        scale = float(half.max())
+        return 2.0 * scale * float(np.linalg.norm(half / scale)) if scale > 0 else 0.0
+
+    def coordinate_scale(self) -> float:
+        """The largest absolute coordinate of the referenced vertices, checked to be within what geoimg's
+        arithmetic holds (squares of sizes and areas in float64, positions in float32 images).
+
+        Raises
+        ------
+        MeshError
+            If it is above 1e100 or below 1e-100 (and not 0): scale the mesh first.
+
+        Examples
+        --------
+        >>> Mesh([[0, 0, 0], [2, 0, 0], [0, 1, 0]], [[0, 1, 2]]).coordinate_scale()
+        2.0
+        """
+        scale = float(np.abs(self.vertices[self.referenced_vertices()]).max())
+        if 0 < scale < 1e-100 or scale > 1e100:
+            raise MeshError(f"mesh: coordinates of size {scale:.3g} are beyond what geometry images (float32) "
+                            "and the surface's arithmetic hold; scale the mesh first")
+        return scale

@@ -58,12 +58,12 @@ def drop_degenerate_faces(mesh: Mesh) -> tuple[Mesh, int]:
     >>> kept.faces.tolist(), dropped
     ([[0, 1, 2]], 2)
     """
+    scale = mesh.coordinate_scale()                  # before any product of coordinates: refused if it would overflow
     f, valid = mesh.faces, mesh.faces >= 0
     v = mesh.vertices
     p = v[np.where(valid, f, f[:, :1])]
     nxt = v[np.where(mesh.next_vertices() >= 0, mesh.next_vertices(), f[:, :1])]
     normal = (np.cross(p, nxt) * valid[..., None]).sum(axis=1)           # Newell: twice the vector area
-    scale = float(np.abs(v[mesh.referenced_vertices()]).max()) if mesh.n_faces else 0.0
     area = np.linalg.norm(normal, axis=1)
     keep = area > 1e-14 * max(scale, 1e-300) ** 2
     if keep.all():

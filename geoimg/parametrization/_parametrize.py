@@ -277,10 +277,7 @@ def _cut(mesh: Mesh, topo=None, balance: str = DEFAULT_DISK_BALANCE,
 def _check_area(mesh: Mesh) -> None:
     """Refuse a mesh whose faces all have zero area (its points on a line or at one place)."""
     v = mesh.vertices
-    scale = float(np.abs(v[mesh.referenced_vertices()]).max())
-    if 0 < scale < 1e-100 or scale > 1e100:
-        raise ParametrizationError(f"mesh: coordinates of size {scale:.3g} are beyond what geometry images (float32) "
-                                   "and the surface's arithmetic hold; scale the mesh first")
+    scale = mesh.coordinate_scale()
     tris, _ = mesh.triangulate()
     area = np.linalg.norm(np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]]), axis=1)
     if not area.max() > 1e-24 * max(scale, 1e-300) ** 2:
