@@ -297,8 +297,9 @@ def _same_size_faces(rows: list[list[str]]) -> np.ndarray | None:
 
 
 def _read_off_binary(data: bytes) -> Mesh:
-    """Binary OFF: counts and data as 32-bit words, big-endian (the original layout) or little-endian
-    (what PMP and others write): the byte order whose counts fit the file is taken."""
+    """Binary OFF: counts and data as 32-bit words, big-endian (the original layout) or little-endian (what
+    PMP and others write), each face's indices followed by a colour count, or not (PMP writes none): the
+    byte order whose counts fit the file, and the face layout that reads to the file's last byte."""
     start = data.index(b"\n") + 1
     if len(data) < start + 12:
         raise MeshFileError("the file ends inside the binary OFF header")
@@ -313,18 +314,39 @@ def _read_off_binary(data: bytes) -> Mesh:
     off = start + 12
     vertices = np.frombuffer(data, order + "f4", nv * 3, off).reshape(nv, 3).astype(np.float64)
     off += nv * 12
+    read = []
+    for colour_counts in (True, False):
+        try:
+            read.append(_binary_off_faces(data, off, nf, order, colour_counts))
+        except MeshFileError as e:
+            read.append(e)
+    parsed = [r for r in read if not isinstance(r, MeshFileError)]
+    if not parsed:
+        raise read[0]
+    exact = [faces for faces, end in parsed if end == len(data)]
+    return Mesh(vertices, exact[0] if exact else parsed[0][0])
+
+
+def _binary_off_faces(data: bytes, off: int, nf: int, order: str, colour_counts: bool):
+    """The ``nf`` faces of a binary OFF from byte ``off``, and the offset after them."""
     faces = []
+    word = struct.Struct(order + "i")
     for _ in range(nf):
-        (k,) = struct.unpack_from(order + "i", data, off)
-        if not 3 <= k <= (len(data) - off) // 4:
+        if off + 4 > len(data):
+            raise MeshFileError(f"the file ends after {len(faces)} of {nf} faces")
+        (k,) = word.unpack_from(data, off)
+        if not 3 <= k <= (len(data) - off) // 4 - 1:
             raise MeshFileError(f"a face says it has {k} vertices")
-        idx = struct.unpack_from(f"{order}{k}i", data, off + 4)
-        (nc,) = struct.unpack_from(order + "i", data, off + 4 + 4 * k)
-        if not 0 <= nc <= 4:
-            raise MeshFileError(f"a face says it has {nc} colour components")
-        off += 8 + 4 * k + 4 * nc
-        faces.append(idx)
-    return Mesh(vertices, faces)
+        faces.append(struct.unpack_from(f"{order}{k}i", data, off + 4))
+        off += 4 + 4 * k
+        if colour_counts:
+            if off + 4 > len(data):
+                raise MeshFileError(f"the file ends inside face {len(faces) - 1}")
+            (nc,) = word.unpack_from(data, off)
+            if not 0 <= nc <= 4:
+                raise MeshFileError(f"a face says it has {nc} colour components")
+            off += 4 + 4 * nc
+    return faces, off
 
 
 def _write_off(mesh: Mesh, tmp: Path, _ext: str) -> None:

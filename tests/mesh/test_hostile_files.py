@@ -45,6 +45,24 @@ def test_binary_off_in_either_byte_order(tmp_path, order):
     assert m.faces.tolist() == faces and np.array_equal(m.vertices, v)
 
 
+@pytest.mark.parametrize("faces", [[[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+                                   [[0, 1, 2, 3], [0, 4, 1], [1, 4, 2], [2, 4, 3], [3, 4, 0]]])
+def test_binary_off_as_pmp_writes_it(tmp_path, faces):
+    """pmp-library's binary OFF: little-endian unsigned counts, float32 positions, each face its size and
+    indices with no colour count after them (a tetrahedron; a pyramid whose quad's size word would read as
+    a colour count of 3)."""
+    v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 1]], np.float32)[:max(map(max, faces)) + 1]
+    body = struct.pack("<3I", len(v), len(faces), 0) + v.astype("<f4").tobytes()
+    body += b"".join(struct.pack(f"<{len(f) + 1}I", len(f), *f) for f in faces)
+    (tmp_path / "pmp.off").write_bytes(b"OFF BINARY\n" + body)
+    m = load_mesh(tmp_path / "pmp.off")
+    assert [row[:k] for row, k in zip(m.faces.tolist(), m.face_sizes.tolist())] == faces
+    assert np.array_equal(m.vertices, v)
+    (tmp_path / "cut.off").write_bytes(b"OFF BINARY\n" + body[:-2])          # truncated in either layout
+    with pytest.raises(MeshFileError, match="corrupt|ends|vertices|do not fit"):
+        load_mesh(tmp_path / "cut.off")
+
+
 def test_a_tiny_ply_declaring_a_trillion_items_is_refused_at_once(tmp_path):
     (tmp_path / "j.ply").write_bytes(b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                      b"property float z\nelement junk 1000000000000\nelement face 1\n"
