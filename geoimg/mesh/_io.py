@@ -546,11 +546,31 @@ def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
 
 
 # ------------------------------------------------------------------------------ STL, GLB (trimesh)
+def _check_stl(path: Path) -> None:
+    """Refuse a file that is neither a binary STL (an 80-byte header, a triangle count n, then 50 n bytes) nor
+    an ASCII one (``solid`` ... ``facet``) before trimesh guesses (it then needs packages it does not declare)."""
+    size = path.stat().st_size
+    with open(path, "rb") as fh:
+        head = fh.read(1024)
+    if size >= 84 and 84 + 50 * struct.unpack_from("<I", head, 80)[0] == size:
+        return
+    text = head.lstrip().lower()
+    if text.startswith(b"solid") and b"facet" in text:
+        return
+    raise MeshFileError(f"not a valid STL: neither binary (84 + 50 bytes a triangle; this file has {size} bytes) "
+                        "nor ASCII (starting with 'solid', then 'facet' lines)")
+
+
 def _read_trimesh(path: Path) -> Mesh:
+    if path.suffix.lower() == ".stl":
+        _check_stl(path)
     import trimesh          # STL and GLB alone: its import costs half a second that OBJ, OFF and PLY never need
     try:
         loaded: Any = trimesh.load(str(path), process=False, force="mesh")
-    except Exception as e:   # noqa: BLE001 - trimesh raises many kinds (even ImportError) on a bad file
+    except ImportError as e:
+        raise MeshFileError(f"cannot be read as {path.suffix[1:].upper()}: trimesh needs the package {e.name} for "
+                            f"this file (pip install {e.name})") from None
+    except Exception as e:   # noqa: BLE001 - trimesh raises many kinds on a bad file
         raise MeshFileError(f"cannot be read as {path.suffix[1:].upper()} ({type(e).__name__}: {e})") from None
     v = np.asarray(loaded.vertices, np.float64)
     f = np.asarray(loaded.faces, np.int64)

@@ -91,9 +91,14 @@ def test_a_face_list_under_another_name_is_read(tmp_path):
     assert load_mesh(tmp_path / "n.ply").faces.tolist() == [[0, 1, 2]]
 
 
-def test_a_garbage_stl_is_a_bad_file(tmp_path):
-    (tmp_path / "g.stl").write_bytes(b"solid x\n this is not an stl at all \x00\x01\x02" * 3)
-    with pytest.raises(MeshFileError, match="g.stl"):
+@pytest.mark.parametrize("data", [b"solid x\n this is not an stl at all \x00\x01\x02" * 3,
+                                  b"this is not an stl file at all, really\n", bytes(range(256)) * 2])
+def test_a_garbage_stl_is_a_bad_file(tmp_path, monkeypatch, data):
+    """Said to be no STL before trimesh guesses: without charset_normalizer (which trimesh's STL reader
+    imports and does not declare) it ended in ModuleNotFoundError."""
+    monkeypatch.setitem(__import__("sys").modules, "charset_normalizer", None)      # as where it is not installed
+    (tmp_path / "g.stl").write_bytes(data)
+    with pytest.raises(MeshFileError, match="g.stl: not a valid STL"):
         load_mesh(tmp_path / "g.stl")
 
 
