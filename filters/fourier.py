@@ -68,8 +68,13 @@ def butterworth(cutoff: float, order: int = 2):
     positive(cutoff, "cutoff")
     positive(order, "order", integer=True)
 
+    c2 = float(cutoff) ** 2             # 0 below 1e-162: every frequency but 0 is then far above the cutoff
+
     def gain(fy, fx):
-        return 1.0 / (1.0 + ((fy ** 2 + fx ** 2) / cutoff ** 2) ** order)
+        f2 = fy ** 2 + fx ** 2
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):     # gain 0 past float's range
+            ratio = np.where(f2 > 0, f2 / c2, 0.0) if c2 == 0 else f2 / c2
+            return 1.0 / (1.0 + ratio ** order)
 
     return gain
 
@@ -94,7 +99,9 @@ def highpass(image: ArrayLike, cutoff: float, mode: str = "reflect", *, order: i
 
 def bandpass(image: ArrayLike, low: float, high: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
     """Frequencies between ``low`` and ``high`` cycles per pixel: ``lowpass(high) - lowpass(low)``."""
-    if not (isinstance(low, (int, float)) and isinstance(high, (int, float)) and 0 < low < high):
+    positive(low, "low")
+    positive(high, "high")
+    if not low < high:
         raise ValueError(f"low, high: expected 0 < low < high, got {low!r}, {high!r}")
     lo, hi = butterworth(low, order), butterworth(high, order)
     return fourier_filter(image, lambda fy, fx: hi(fy, fx) - lo(fy, fx), mode)

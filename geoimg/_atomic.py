@@ -2,11 +2,25 @@
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path", "check_writable", "write_all"]
+from ._types import as_path
+
+__all__ = ["OutputExists", "atomic_path", "check_writable", "write_all"]
+
+
+class OutputExists(FileExistsError):
+    """An output file exists and may not be replaced; ``filename`` is its path (the command line says
+    ``--force`` where the API says ``overwrite=True``)."""
+
+    def __init__(self, path: Path):
+        super().__init__(errno.EEXIST, "exists", str(path))
+
+    def __str__(self) -> str:
+        return f"{self.filename} exists; pass overwrite=True to replace it"
 
 
 def check_writable(path, overwrite: bool) -> Path:
@@ -14,14 +28,16 @@ def check_writable(path, overwrite: bool) -> Path:
 
     Raises
     ------
-    FileExistsError
+    OutputExists
         If the file exists and ``overwrite`` is false.
     FileNotFoundError
         If the parent folder does not exist.
+    InputTypeError
+        If ``path`` is not a file name.
     """
-    path = Path(path)
+    path = as_path(path)
     if path.exists() and not overwrite:
-        raise FileExistsError(f"{path} exists; pass overwrite=True (--force on the command line) to replace it")
+        raise OutputExists(path)
     if not path.parent.exists():
         raise FileNotFoundError(f"folder {path.parent} does not exist")
     return path

@@ -284,6 +284,12 @@ def _terminated(signum, frame):
     raise SystemExit(128 + signum)
 
 
+def _exists(error: BaseException) -> bool:
+    """Whether ``error`` is an output that may not be replaced (said in the command line's words)."""
+    from ._atomic import OutputExists
+    return isinstance(error, OutputExists)
+
+
 def _run(args) -> int:
     """Run the parsed command: its module, with everything it needs, is imported only now."""
     from . import _commands           # heavy (numpy, scipy, numba, OpenImageIO...): not needed for --help
@@ -309,7 +315,8 @@ def main(argv=None) -> int:
             pass
         return 0
     except (GeoimgError, OSError) as e:   # refusals, and missing, existing or unwritable paths; a bug still shows
-        print(f"geoimg {args.command}: error: {e}", file=sys.stderr)
+        text = f"{e.filename} exists; add --force to replace it" if _exists(e) else str(e)
+        print(f"geoimg {args.command}: error: {text}", file=sys.stderr)
         return 2
 
 

@@ -285,6 +285,17 @@ def test_bad_arguments_are_refused(call, message):
         call()
 
 
+def test_numpy_scalars_are_numbers_and_tiny_cutoffs_keep_only_the_mean():
+    """``np.float32(0.1)`` is a number (bandpass refused it); a cutoff so small that its square underflows
+    gives the limit (only frequency 0 passes), not NaN: the same bits as any cutoff far below 1/size."""
+    np.testing.assert_array_equal(bandpass(NOISE, np.float32(0.1), np.float64(0.2)), bandpass(NOISE, float(np.float32(0.1)), 0.2))
+    np.testing.assert_array_equal(lowpass(NOISE, np.float32(0.1)), lowpass(NOISE, float(np.float32(0.1))))
+    tiny = lowpass(NOISE, 1e-200)
+    assert np.isfinite(tiny).all()
+    np.testing.assert_array_equal(tiny, lowpass(NOISE, 1e-100))
+    assert np.ptp(highpass(NOISE, 1e-200) + tiny - NOISE) < 1e-12
+
+
 # --- Fourier ----------------------------------------------------------------------------------------
 
 def test_fourier_bands_add_up_and_symmetric_extension_avoids_the_border_error(mountain_image):

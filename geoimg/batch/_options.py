@@ -5,6 +5,9 @@ import dataclasses
 import hashlib
 import json
 import math
+import numbers
+
+import numpy as np
 
 import filters
 
@@ -62,6 +65,11 @@ class ConvertOptions:
     psnr: bool = True
 
     def __post_init__(self):
+        # numpy's scalars are numbers too: kept as Python's, so that equal options hash alike
+        for name in ("resolution", "n", "component", "s", "tol", "nsr"):
+            value = getattr(self, name)
+            if isinstance(value, np.generic) and isinstance(value, numbers.Number):
+                object.__setattr__(self, name, value.item())
         if self.resolution is not None and (isinstance(self.resolution, bool) or not isinstance(self.resolution, int)
                                             or self.resolution < 2):
             raise InputError(f"resolution: expected a whole number of pixels of at least 2, got {self.resolution!r}")

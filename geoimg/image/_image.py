@@ -4,6 +4,7 @@ from __future__ import annotations
 import inspect
 import json
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
@@ -20,7 +21,7 @@ from ..errors import GeoimgError, ImageError, ImageFileError, InputError, InputT
 from ..mesh import Mesh
 from ._domain import Domain
 from ._npz import write_npz
-from .._types import PathLike
+from .._types import PathLike, as_path
 
 __all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS", "IMAGE_FORMATS", "NPY_SIDECAR", "TIFF_DESCRIPTION"]
 
@@ -113,6 +114,10 @@ class GeometryImage:
             n = np.asarray(self.normals)
             if n.shape != p.shape:
                 raise ImageError(f"normals: expected shape {p.shape}, got {n.shape}")
+            if not np.issubdtype(n.dtype, np.floating):
+                raise InputTypeError(f"normals: expected a float array, got {n.dtype}")
+            if not np.isfinite(n).all():
+                raise ImageError("normals: contain NaN or infinite values")
             n = n.copy()
             n.setflags(write=False)
             object.__setattr__(self, "normals", n)
@@ -125,6 +130,8 @@ class GeometryImage:
                 raise ImageError("colors: expected values in [0, 1]")
             c.setflags(write=False)
             object.__setattr__(self, "colors", c)
+        if not isinstance(self.metadata, Mapping):
+            raise InputTypeError(f"metadata: expected a dict, got {type(self.metadata).__name__}")
         meta = dict(self.metadata)
         domain = self.domain
         if isinstance(domain, str):
@@ -328,7 +335,7 @@ class GeometryImage:
         :func:`geoimg._atomic.write_all`, which writes them all or none."""
         if layout not in EXR_LAYOUTS:
             raise InputError(f"layout: expected one of {', '.join(EXR_LAYOUTS)}, got {layout!r}")
-        path = Path(path)
+        path = as_path(path)
         suffix = path.suffix.lower()
         if suffix not in IMAGE_FORMATS:
             raise ImageFileError(f"{path}: geometry images are saved as {', '.join(IMAGE_FORMATS)}; use one of those "

@@ -17,7 +17,7 @@ from ._domain import Domain
 from ._image import (COLOR_CHANNELS, IMAGE_FORMATS, NPY_SIDECAR, PREVIEW_LEVELS, TIFF_DESCRIPTION,
                      GeometryImage)
 from ._npz import read_npy, read_npz
-from .._types import PathLike
+from .._types import PathLike, as_path
 
 __all__ = ["IMAGE_FORMATS", "ASSUMABLE_DOMAINS", "save_image", "load_image", "save_preview", "save_scalar",
            "save_colormap", "diverging_colors", "save_normal_map"]
@@ -121,7 +121,8 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
         If the file cannot be read, has no R, G, B channels, has no geoimg metadata and no ``assume``, or
         is not a geoimg archive.
     """
-    suffix = Path(path).suffix.lower()
+    path = as_path(path)
+    suffix = path.suffix.lower()
     if suffix == ".npz":
         return _load_npz(path, assume)
     if suffix == ".npy":

@@ -20,7 +20,7 @@ from ..errors import InputTypeError, MeshError, MeshFileError
 from ._appearance import (TEXTURE_SUFFIX, obj_colors, ply_colors, read_mtl_texture, split_corners,
                           write_texture)
 from ._mesh import Mesh, pad_faces
-from .._types import PathLike
+from .._types import PathLike, as_path
 
 __all__ = ["load_mesh", "save_mesh", "mesh_file_jobs", "MESH_FORMATS"]
 
@@ -56,7 +56,7 @@ def load_mesh(path: PathLike) -> Mesh:
     >>> load_mesh(p).faces.tolist()
     [[0, 1, 2, 3]]
     """
-    path = Path(path)
+    path = as_path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no mesh file at {path}")
     ext = path.suffix.lower()
@@ -109,7 +109,7 @@ def mesh_file_jobs(mesh: Mesh, path: PathLike) -> list:
     format keeps no colours or texture that the mesh has."""
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
-    path = Path(path)
+    path = as_path(path)
     ext = path.suffix.lower()
     writers = {".obj": _write_obj, ".off": _write_off, ".ply": _write_ply, ".stl": _write_trimesh, ".glb": _write_trimesh}
     if ext not in writers:

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial import cKDTree
 
+from ..errors import InputTypeError
 from ._distance_kernels import nearest_triangle_distances
 from ._mesh import Mesh
 
@@ -49,6 +50,9 @@ def surface_distance(reference: Mesh, other: Mesh, n: int = 200000) -> dict:
     ``n`` samples, spread by area: an estimate of the mean over the surfaces, whatever their vertex
     counts), each side's ``rms``, and ``psnr_db = 20 log10(diagonal / rms)``.
     """
+    for name, value in (("reference", reference), ("other", other)):
+        if not isinstance(value, Mesh):
+            raise InputTypeError(f"{name}: expected a geoimg.Mesh, got {type(value).__name__}")
     diag = reference.bounding_box_diagonal()
     ab = point_mesh_distance(sample_surface(reference, n), other)
     ba = point_mesh_distance(sample_surface(other, n), reference)

@@ -17,9 +17,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from numpy.typing import ArrayLike
+
 from ..errors import InputError
 
-__all__ = ["square_to_sphere", "sphere_to_square", "check_size", "weld_index", "area_ratio", "grid_directions",
+__all__ = ["directions", "square_to_sphere", "sphere_to_square", "check_size", "weld_index", "area_ratio", "grid_directions",
            "square_jacobian", "glued_groups", "group_means", "average_glued"]
 
 
@@ -77,6 +79,31 @@ def square_to_sphere(uv: np.ndarray) -> np.ndarray:
     return p / np.linalg.norm(p, axis=-1, keepdims=True)
 
 
+def directions(p: ArrayLike, name: str = "p") -> np.ndarray:
+    """Vectors ``p`` (..., 3) as float64, refused when one is not finite or is zero (it has no direction),
+    or so long that the sum of its components' sizes overflows.
+
+    Examples
+    --------
+    >>> directions([[0.0, 0.0, 0.0]])
+    Traceback (most recent call last):
+    ...
+    geoimg.errors.InputError: p: 1 of 1 vectors have length 0, and no direction
+    """
+    p = np.asarray(p, dtype=np.float64)
+    if p.ndim < 1 or p.shape[-1] != 3:
+        raise InputError(f"{name}: expected vectors of shape (..., 3), got {p.shape}")
+    if not np.isfinite(p).all():
+        raise InputError(f"{name}: contains NaN or infinite values")
+    size = np.abs(p).max(axis=-1)
+    zero = size == 0
+    if zero.any():
+        raise InputError(f"{name}: {int(zero.sum())} of {zero.size} vectors have length 0, and no direction")
+    if size.max() > 1e300:
+        raise InputError(f"{name}: vectors of length {size.max():.3g}; scale them below 1e300")
+    return p
+
+
 def sphere_to_square(p: np.ndarray) -> np.ndarray:
     """Image points ``uv`` in ``[0, 1]^2`` of directions ``p`` (..., 3) (need not be unit length).
 
@@ -86,7 +113,7 @@ def sphere_to_square(p: np.ndarray) -> np.ndarray:
     >>> sphere_to_square(q).round(12).tolist()
     [[0.3, 0.9], [0.8, 0.6]]
     """
-    p = np.asarray(p, dtype=np.float64)
+    p = directions(p)
     q = p / np.abs(p).sum(axis=-1, keepdims=True)
     x, y, z = q[..., 0], q[..., 1], q[..., 2]
     lower = z < 0
@@ -104,7 +131,7 @@ def area_ratio(p: np.ndarray) -> np.ndarray:
     >>> float(area_ratio(np.array([0.0, 0.0, 1.0])))
     1.0
     """
-    p = np.asarray(p, dtype=np.float64)
+    p = directions(p)
     p = p / np.linalg.norm(p, axis=-1, keepdims=True)
     return 1.0 / np.abs(p).sum(axis=-1) ** 3
 

@@ -82,9 +82,16 @@ class PlanarSurface(Surface):
         if self.s_map is not None and kind == kernels.GAUSSIAN:   # exponents scale by (s_ref / s(u, v))^2
             sp, su, sv = self.s_map(pts)
             factor = ((self.s / sp) ** 2, -2.0 * self.s ** 2 * su / sp ** 3, -2.0 * self.s ** 2 * sv / sp ** 3)
-        return kernels.evaluate_points(kind, pts, fm.centres, self._param, self._radius, fm.C, fm.A, fm.B,
-                                       self._cells, log_g_ref=self.log_g_ref, exact=exact or self.tol == 0,
-                                       factor=factor)
+        out = kernels.evaluate_points(kind, pts, fm.centres, self._param, self._radius, fm.C, fm.A, fm.B,
+                                      self._cells, log_g_ref=self.log_g_ref, exact=exact or self.tol == 0,
+                                      factor=factor)
+        for values in out[:3]:                 # points, P_u, P_v: the faces' planes extended that far overflow
+            bad = ~np.isfinite(values).all(axis=1)
+            if bad.any():
+                raise InputError(f"uv: {int(bad.sum())} points (the first {pts[bad][0].tolist()}) lie so far "
+                                 f"outside the parameter domain (extent {list(self.extent)}) that the surface "
+                                 "overflows there")
+        return out
 
     def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Surface points at parameter points.

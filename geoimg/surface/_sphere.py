@@ -21,6 +21,7 @@ from ..errors import InputError, ParametrizationError
 from ..image import Domain
 from ..mesh import Mesh
 from ..parametrization import square_jacobian, square_to_sphere
+from ..parametrization._octahedral import directions
 from . import _sphere_kernels as sphere_kernels
 from ._base import Surface, truncation_radius, unit
 from ._curvature import sphere_curvature
@@ -116,8 +117,9 @@ class SphereSurface(Surface):
         directions ``q`` (k, 3). Returns ``P, P_t1, P_t2, t1, t2, status`` (the derivatives zeros without
         ``derivatives``: about half the work)."""
         d = np.asarray(q, dtype=np.float64)
-        if d.ndim != 2 or d.shape[1] != 3 or not np.isfinite(d).all():
+        if d.ndim != 2 or d.shape[1] != 3:
             raise InputError(f"q: expected finite directions of shape (k, 3), got {d.shape}")
+        d = directions(d, "q")
         d = d / np.linalg.norm(d, axis=1, keepdims=True)
         t1, t2 = sphere_kernels.tangent_frames(d)
         P, P1, P2, st = sphere_kernels.evaluate_sphere(d, t1, t2, self._faces, self._cells, log_g_ref=self.log_g_ref,
