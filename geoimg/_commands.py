@@ -3,6 +3,7 @@ parses the arguments (with nothing but the option vocabularies) and imports this
 so that ``geoimg --help`` starts in a fraction of a second."""
 from __future__ import annotations
 
+import os
 import sys
 import time
 from pathlib import Path
@@ -303,9 +304,11 @@ def cmd_filter(args) -> int:
 
 
 def cmd_curvature(args) -> int:
+    stem = Path(args.output)
+    if stem.is_dir() or not stem.name or str(args.output).endswith(("/", os.sep)):    # a folder: the input's name
+        stem = stem / Path(args.image).stem
     image = _read_image(args.image, args)
     K, H = image_curvature(image)
-    stem = Path(args.output)
     jobs: list = []
     for name, values in (("gaussian", K), ("mean", H)):
         jobs.append((stem.with_name(f"{stem.name}_{name}.exr"),

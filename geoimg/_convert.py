@@ -1,7 +1,9 @@
 """Mesh to geometry image in one call: load, repair, parametrize, fit the weighted-mean surface, sample."""
 from __future__ import annotations
 
+import numbers
 import time
+import warnings
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -9,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from ._choices import COMPONENT_CHOICES, DEFAULT_DISK_BALANCE
-from .errors import InputTypeError, MeshError
+from .errors import InputError, InputTypeError, MeshError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair
 from .parametrization import Parametrization, parametrize
@@ -142,6 +144,9 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
     ((9, 9), 'heightfield')
     """
     check_backend(backend)
+    if resolution is not None and (isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral)
+                                   or resolution < 2):                  # before the work, not after it
+        raise InputError(f"resolution: expected a whole number of pixels of at least 2, got {resolution!r}")
     say = progress or (lambda message: None)
     with _timed(timings, "load"):
         mesh, source = _load(mesh_or_path, say)
@@ -153,7 +158,9 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
     say(f"parametrized by {parametrization.method}; fitting the surface (s={s}, {weights} weights)")
     with _timed(timings, "fit"):
         surface = fit_surface(mesh, parametrization, s, weights=weights, n=n, tol=tol, sliver_rule=sliver_rule)
-    res = surface.auto_resolution() if resolution is None else resolution
+    res = surface.auto_resolution() if resolution is None else surface.domain.round_resolution(resolution)
+    if resolution is not None and res != resolution:
+        warnings.warn(f"resolution {resolution}: {surface.domain.size_rule()}; sampled at {res}", stacklevel=2)
     say(f"sampling {res} pixels along the longer side")
     with _timed(timings, "sample"):
         image = surface.sample(res, normals=normals, backend=backend)

@@ -5,6 +5,7 @@ or geometry images.
 """
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -19,11 +20,18 @@ FLOAT, UINT16, UINT8 = oiio.FLOAT, oiio.UINT16, oiio.UINT8
 
 
 def _error(source) -> str:
-    """OpenImageIO's last error message (of the library or of one file), whatever bytes it holds."""
+    """OpenImageIO's last error message (of the library or of one file), whatever bytes it holds, on one line:
+    its lines (often the same complaint in several words) joined, repeats and the file name left out."""
     try:
-        return source.geterror()
+        text = source.geterror()
     except UnicodeDecodeError:
         return "an error message that is not valid UTF-8"
+    lines: list[str] = []
+    for line in text.splitlines():
+        line = re.sub(r"^EXR Error \([^)]*\):\s*", "", line.strip())
+        if line and line not in lines:
+            lines.append(line)
+    return "; ".join(lines) or "no reason given"
 
 
 def _oiio_name(path) -> str:

@@ -4,6 +4,7 @@ the commands themselves are in :mod:`geoimg._commands`, imported when one runs."
 from __future__ import annotations
 
 import argparse
+import difflib
 import os
 import signal
 import sys
@@ -14,9 +15,12 @@ from filters.padding import PAD_MODES
 
 from . import __version__
 from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, BACKENDS, DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
-                       FILTER_STEPS, FRAME_FORMATS, MESH_FORMATS, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
+                       FILTER_STEPS, FRAME_FORMATS, IMAGE_FORMATS, MESH_FORMATS, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
                        UP_AXES, WEIGHTS)
 from .errors import GeoimgError
+
+
+_IMAGES = ", ".join(f for f in IMAGE_FORMATS if f != ".tiff")
 
 
 class _Op(argparse.Action):
@@ -71,18 +75,31 @@ class _Parser(argparse.ArgumentParser):
     """argparse's parser, its errors one line (as every error of geoimg's), not the usage and then the line;
     the subcommands' parsers are of the same class."""
 
+    commands = None         # on the top-level parser: the subcommands (an unknown option is theirs to explain)
+
     def error(self, message: str):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
+    def parse_args(self, args=None, namespace=None):  # type: ignore[override]
+        parsed, extras = self.parse_known_args(args, namespace)
+        if extras:
+            command = self.commands.choices.get(getattr(parsed, "command", None), self) if self.commands else self
+            known = [o for action in command._actions for o in action.option_strings]
+            close = difflib.get_close_matches(extras[0].split("=")[0], known, n=1)
+            hint = f"; did you mean {close[0]}?" if close and extras[0].startswith("-") else ""
+            command.error(f"unrecognized arguments: {' '.join(extras)}{hint}")
+        return parsed
+
 
 def build_parser() -> argparse.ArgumentParser:
-    p: argparse.ArgumentParser = _Parser(prog="geoimg", description="Polygon meshes to geometry images and back.")
+    p = _Parser(prog="geoimg", description="Polygon meshes to geometry images and back.")
     p.add_argument("--version", action="version", version=f"geoimg {__version__}")
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     common.add_argument("--progress", action="store_true",
                         help="show progress off a terminal too (logs, CI); on a terminal it is always shown")
     sub = p.add_subparsers(dest="command", required=True)
+    p.commands = sub
 
     conversion = argparse.ArgumentParser(add_help=False)        # mesh -> image: geoimg image and geoimg batch
     conversion.add_argument("--res", type=_positive(int), default=None,
@@ -136,7 +153,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)", parents=[common, conversion, writing])
     im.add_argument("mesh", help=f"input mesh ({', '.join(MESH_FORMATS)})")
-    im.add_argument("-o", "--output", required=True, help="output .exr (or .npz: NumPy arrays)")
+    im.add_argument("-o", "--output", required=True,
+                    help=f"output geometry image ({_IMAGES}: OpenEXR, NumPy arrays, float TIFF, one NumPy array)")
     im.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")
     im.add_argument("--force", action="store_true", help="overwrite existing files")
     im.add_argument("--backend", choices=BACKENDS, default="cpu",
@@ -144,15 +162,15 @@ def build_parser() -> argparse.ArgumentParser:
                          "through numba.cuda (cuda)")
 
     me = sub.add_parser("mesh", help="geometry image -> quad mesh", parents=[common, reading])
-    me.add_argument("image", help="input geometry image (.exr, .npz)")
+    me.add_argument("image", help=f"input geometry image ({_IMAGES})")
     me.add_argument("-o", "--output", required=True, help="output mesh (.obj/.ply/.off keep quads)")
     me.add_argument("--force", action="store_true", help="overwrite an existing file")
 
     fi = sub.add_parser("filter", help="smooth, sharpen or Fourier-filter a geometry image",
                         parents=[common, steps, reading, writing],
                         description="Operations run in the order given; a mask restricts every one of them.")
-    fi.add_argument("image", help="input geometry image (.exr, .npz)")
-    fi.add_argument("-o", "--output", required=True, help="output .exr or .npz")
+    fi.add_argument("image", help=f"input geometry image ({_IMAGES})")
+    fi.add_argument("-o", "--output", required=True, help=f"output geometry image ({_IMAGES})")
     fi.add_argument("--mask", default=None, help="image file (same size): where to filter, 0..1")
     fi.add_argument("--region", type=float, nargs=4, metavar=("X", "Y", "Z", "R"), default=None,
                     help="filter within distance R of the point (X, Y, Z) of the surface")
@@ -166,9 +184,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     cu = sub.add_parser("curvature", help="Gaussian and mean curvature maps and a normal map of a geometry image",
                         parents=[common, reading])
-    cu.add_argument("image", help="input geometry image (.exr, .npz)")
+    cu.add_argument("image", help=f"input geometry image ({_IMAGES})")
     cu.add_argument("-o", "--output", required=True,
-                    help="output stem: writes STEM_gaussian.exr/.png, STEM_mean.exr/.png, STEM_normals.png")
+                    help="output stem: writes STEM_gaussian.exr/.png, STEM_mean.exr/.png, STEM_normals.png "
+                         "(a folder: the input's name in it)")
     cu.add_argument("--force", action="store_true", help="overwrite existing files")
 
     view = argparse.ArgumentParser(add_help=False)
@@ -181,7 +200,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     re_ = sub.add_parser("render", help="shade a mesh or geometry image to PNG (headless)",
                          parents=[common, view, reading])
-    re_.add_argument("file", help="mesh or geometry image (.exr, .npz)")
+    re_.add_argument("file", help=f"mesh or geometry image ({_IMAGES})")
     re_.add_argument("-o", "--output", required=True, help="output .png")
     re_.add_argument("--force", action="store_true", help="overwrite an existing file")
     re_.add_argument("--transparent", action="store_true",
@@ -189,7 +208,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     mo = sub.add_parser("morph", help="morph between shapes: glTF with morph targets, GIF/MP4, frame files",
                         parents=[common, view, reading])
-    mo.add_argument("shapes", nargs="+", help="two or more meshes or geometry images (.exr, .npz), in order")
+    mo.add_argument("shapes", nargs="+", help=f"two or more meshes or geometry images ({_IMAGES}), in order")
     mo.add_argument("-o", "--output", default=None, help="output .glb (morph targets + weights animation)")
     mo.add_argument("--frames", type=int, default=30, help="frames in all (default 30)")
     mo.add_argument("--fps", type=_positive(float), default=24.0, help="frames per second (default 24)")
@@ -256,7 +275,7 @@ def build_parser() -> argparse.ArgumentParser:
     lm.add_argument("--force", action="store_true", help="overwrite existing files")
 
     info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common, reading])
-    info.add_argument("file", help="a mesh file or a geometry image (.exr, .npz)")
+    info.add_argument("file", help=f"a mesh file or a geometry image ({_IMAGES})")
 
     demo = sub.add_parser("demo", help="run the whole pipeline on the bundled terrain", parents=[common])
     demo.add_argument("-o", "--output", default="geoimg-demo", help="output folder (default ./geoimg-demo)")

@@ -4,7 +4,7 @@ import pytest
 import geoimg
 from geoimg.cli import main
 
-from helpers import MOUNTAIN
+from helpers import DATA, MOUNTAIN
 import meshes
 from meshes import l_hexagon, mobius, write
 
@@ -317,3 +317,69 @@ def test_every_command_shows_examples_that_parse():
             argv = shlex.split(example.split("#")[0])
             assert argv[0] == "geoimg" and argv[1] == name
             parser.parse_args(argv[1:])                 # exits (fails the test) on an option that does not exist
+
+
+def test_curvature_into_a_folder_takes_the_inputs_name(tmp_path, capsys, monkeypatch):
+    exr = tmp_path / "terrain.exr"
+    assert main(["image", str(MOUNTAIN), "-o", str(exr), "--res", "17", "-q"]) == 0
+    (tmp_path / "maps").mkdir()
+    monkeypatch.chdir(tmp_path / "maps")
+    assert main(["curvature", str(exr), "-o", ".", "-q"]) == 0          # was a traceback: '.' has an empty name
+    assert main(["curvature", str(exr), "-o", str(tmp_path / "maps") + "/", "-q", "--force"]) == 0
+    assert sorted(p.name for p in (tmp_path / "maps").iterdir()) == [
+        "terrain_gaussian.exr", "terrain_gaussian.png", "terrain_mean.exr", "terrain_mean.png", "terrain_normals.png"]
+
+
+def test_an_axis_with_a_method_that_takes_none_is_refused(tmp_path, capsys):
+    sphere = str(DATA / "sphere.obj")
+    for argv in (["image", sphere, "-o", str(tmp_path / "s.exr"), "--axis", "z", "--method", "sphere"],
+                 ["batch", sphere, "-o", str(tmp_path / "out"), "--axis", "z", "--method", "disk"]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert "axis: the up axis of a height field" in err and len(err.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(geoimg.ParametrizationError, match="method 'uv' takes none"):
+        geoimg.parametrize(geoimg.load_mesh(MOUNTAIN), "uv", axis="y")
+
+
+def test_a_misspelled_option_points_to_its_commands_help(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["image", str(MOUNTAIN), "-o", "x.exr", "--rez", "33"])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert err.strip() == ("geoimg image: error: unrecognized arguments: --rez 33; did you mean --res? "
+                           "(see geoimg image --help)")
+
+
+def test_help_lists_every_image_format(capsys):
+    with pytest.raises(SystemExit):
+        main(["image", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "output geometry image (.exr, .npz, .tif, .npy" in text
+
+
+def test_a_resolution_the_domain_cannot_have_is_rounded_with_a_note(tmp_path, capsys, monkeypatch):
+    """``--res 256`` for a closed mesh: an octahedral image needs an odd side. It was refused after the
+    parametrization's work; now the image is 257 and a warning says why. A resolution that is no size at all
+    is refused before any work."""
+    sphere = str(DATA / "sphere.obj")
+    assert main(["image", sphere, "-o", str(tmp_path / "s.exr"), "--res", "32"]) == 0
+    err = capsys.readouterr().err
+    assert "resolution 32: an octahedral image has an odd side" in err and "sampled at 33" in err
+    assert geoimg.load_image(tmp_path / "s.exr").shape == (33, 33)
+    import geoimg._convert as convert
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("work started before the resolution was checked")
+    monkeypatch.setattr(convert, "parametrize", no_work)
+    for bad in (1, 2.5, "64", True):
+        with pytest.raises(geoimg.InputError, match="resolution: expected a whole number"):
+            geoimg.mesh_to_image(sphere, bad)
+
+
+def test_openimageio_errors_are_one_line(tmp_path, capsys):
+    header_only = tmp_path / "h.exr"
+    header_only.write_bytes(b"\x76\x2f\x31\x01\x02\x00\x00\x00")
+    assert main(["info", str(header_only)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "cannot be read as an image" in err and "EXR Error" not in err

@@ -16,6 +16,7 @@ from .. import __version__
 from .._steps import check_steps
 from ..errors import InputError, InputTypeError
 from ..parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
+from ..parametrization._parametrize import check_axis
 from ..surface import S_RANGE, SLIVER_RULES, WEIGHTS
 
 __all__ = ["ConvertOptions", "QUAD_FORMATS"]
@@ -87,6 +88,7 @@ class ConvertOptions:
             raise InputError(f"n: expected a positive whole number, got {self.n!r}")
         _choice("method", self.method, PARAMETRIZATION_METHODS)
         _choice("axis", self.axis, AXES, optional=True)
+        check_axis(self.method, self.axis)
         _choice("boundary", self.boundary, DISK_BOUNDARIES)
         _choice("balance", self.balance, DISK_BALANCES)
         _choice("weights", self.weights, WEIGHTS)

@@ -163,6 +163,10 @@ class Domain(ABC):
         """The nearest resolution at or above ``resolution`` that this kind of image can have."""
         return int(resolution)
 
+    def size_rule(self) -> str:
+        """Which sizes this kind of image can have, in words."""
+        return "any size"
+
     def pixel_uv(self, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
         """Image coordinates of the columns (u) and rows (v), from 0 to the extent."""
         h, w = shape
@@ -368,6 +372,9 @@ class OctahedralDomain(Domain):
     def round_resolution(self, resolution: int) -> int:
         return int(resolution) + 1 - int(resolution) % 2
 
+    def size_rule(self) -> str:
+        return "an octahedral image has an odd side (its glued sides pair up pixel for pixel)"
+
     def directions(self, n: int) -> np.ndarray:
         """Unit directions (n, n, 3) of the pixels, computed so that glued pixels get identical ones."""
         return grid_directions(n)
@@ -464,6 +471,10 @@ class CutDomain(Domain):
     def round_resolution(self, resolution: int) -> int:
         q = self.quantum
         return int(-(-(max(int(resolution), 2) - 1) // q) * q + 1)
+
+    def size_rule(self) -> str:
+        return (f"a cut-open image is N x N with N - 1 a multiple of {self.quantum} (the two sides of the cut pair "
+                "up pixel for pixel)")
 
     def _perimeter_pixels(self, n: int) -> np.ndarray:
         """Flat pixel index of each perimeter position 0 .. 4 (n - 1) (the last one is pixel 0 again)."""

@@ -129,23 +129,27 @@ def _local_descent(s, near, moving, eps, floor, steps):
 
 
 def multilevel_start(x: np.ndarray, tris: np.ndarray, coarse_map: Callable, *,
-                     coarse_triangles: int | None = None):
+                     coarse_triangles: int | None = None, progress: Callable | None = None):
     """A one-to-one starting map of the closed genus-0 triangle mesh ``x, tris`` made through a coarse copy
     (see the module's text), of ``coarse_triangles`` (default :data:`COARSE_TRIANGLES`); ``coarse_map(U, G)``
-    returns unit vectors for the coarse mesh, or None.
+    returns unit vectors for the coarse mesh, or None; ``progress(message)`` hears of each stage.
     Returns ``(s, info)``, ``s`` None when no such map was found (``info["multilevel"]`` says why)."""
+    say = progress or (lambda message: None)
     tris = np.asarray(tris, np.int64)
     coarse = decimate(x, tris, COARSE_TRIANGLES if coarse_triangles is None else coarse_triangles)
     if coarse is None:
         return None, {"multilevel": "decimation failed"}
     U, G = coarse
     info: dict = {"coarse_triangles": int(len(G))}
+    say(f"coarse copy of {len(G)} triangles made; mapping it")
     sc = coarse_map(U, G)
     if sc is None:
         return None, {**info, "multilevel": "the coarse mesh's direct maps fold"}
     s = transfer(x, U, G, sc)
     folds = int(np.sum(~(chord_orientation(s, tris) > 0)))
     info["transfer_folds"] = folds
+    if folds:
+        say(f"coarse map carried over to every vertex; opening its {folds} folded triangles")
     taken, opened = 0, False
     for rings in UNTANGLE_RINGS:             # wider and wider neighbourhoods, each from where the last left off
         s, steps, opened = untangle(s, tris, rings=rings)

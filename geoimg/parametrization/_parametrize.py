@@ -186,10 +186,18 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
     """
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
+    check_axis(method, axis)
     _check_area(mesh)
     if method == "auto":
         return _auto(mesh, axis, boundary, balance, progress)
     return _by_method(mesh, method, axis, boundary, balance, progress)
+
+
+def check_axis(method: str, axis: str | None) -> None:
+    """Refuse an up axis with a method that takes none (it was ignored without a word)."""
+    if axis is not None and method not in ("auto", "heightfield"):
+        raise ParametrizationError(f"axis: the up axis of a height field (method 'heightfield' or 'auto'); "
+                                   f"method {method!r} takes none, so leave it out")
 
 
 def _by_method(mesh: Mesh, method: str, axis, boundary, balance, progress, topo=None) -> Parametrization:
@@ -208,8 +216,6 @@ def _by_method(mesh: Mesh, method: str, axis, boundary, balance, progress, topo=
     if method == "disk":
         raw, info = disk_coords(mesh, boundary, balance, progress=progress)
     elif method == "uv":
-        if axis is not None:
-            raise ParametrizationError("axis: only used with method='heightfield'")
         if mesh.uv is None:
             raise ParametrizationError(
                 "method='uv': the mesh has no per-vertex UVs (OBJ 'vt' that map one-to-one onto positions); "

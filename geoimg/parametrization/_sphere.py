@@ -304,10 +304,12 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
     if steps is None and len(tris) >= MULTILEVEL_TRIANGLES and used.all():
         if progress is not None:
             progress(f"{len(tris)} triangles: mapping a coarse copy first")
-        s, extra = multilevel_start(x, tris, _decimated_map(beta))
+        s, extra = multilevel_start(x, tris, _decimated_map(beta), progress=progress)
         info.update(extra)
         if s is not None:
             start, f0, steps = "multilevel", None, MULTILEVEL_STEPS
+        elif progress is not None:
+            progress(f"no start from the coarse copy ({extra['multilevel']}): the direct maps")
     if s is None:
         s, start, f0 = _direct_start(x, tris, used, vertex_area, lap)
         folds = int(np.sum(chord_orientation(s, tris) <= 0))

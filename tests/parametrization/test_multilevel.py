@@ -54,9 +54,14 @@ def test_the_fallback_when_the_coarse_map_folds(monkeypatch):
     direct, direct_info = sphere_coords(mesh)
     monkeypatch.setattr(_sphere, "MULTILEVEL_TRIANGLES", 1000)             # 1,280 triangles take the coarse path
     monkeypatch.setattr(_sphere, "_decimated_map", lambda beta: (lambda U, G: None))
-    s, info = sphere_coords(mesh)
+    heard: list = []
+    s, info = sphere_coords(mesh, progress=heard.append)
     assert info["multilevel"] == "the coarse mesh's direct maps fold" and info["start"] in ("conformal", "mean-value")
     assert np.array_equal(s, direct) and info["balance_steps"] == direct_info["balance_steps"]   # the direct path
+    # every stage says so (a 100k-face mesh was silent for 20 s between the coarse copy and the balancing)
+    assert heard[:3] == ["1280 triangles: mapping a coarse copy first",
+                         f"coarse copy of {info['coarse_triangles']} triangles made; mapping it",
+                         "no start from the coarse copy (the coarse mesh's direct maps fold): the direct maps"]
 
 
 def test_multilevel_start_says_why_it_found_no_map(monkeypatch):
