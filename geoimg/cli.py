@@ -10,10 +10,12 @@ import signal
 import sys
 import threading
 import warnings
+from typing import Any
 
 from filters.padding import PAD_MODES
 
 from . import __version__
+from ._atomic import OutputExists
 from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, BACKENDS, DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
                        FILTER_STEPS, FRAME_FORMATS, IMAGE_FORMATS, MESH_FORMATS, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
                        UP_AXES, WEIGHTS)
@@ -75,7 +77,7 @@ class _Parser(argparse.ArgumentParser):
     """argparse's parser, its errors one line (as every error of geoimg's), not the usage and then the line;
     the subcommands' parsers are of the same class."""
 
-    commands = None         # on the top-level parser: the subcommands (an unknown option is theirs to explain)
+    commands: Any = None    # on the top-level parser: the subcommands (an unknown option is theirs to explain)
 
     def error(self, message: str):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
@@ -92,14 +94,15 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="geoimg", description="Polygon meshes to geometry images and back.")
+    top = _Parser(prog="geoimg", description="Polygon meshes to geometry images and back.")
+    p: argparse.ArgumentParser = top
     p.add_argument("--version", action="version", version=f"geoimg {__version__}")
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
     common.add_argument("--progress", action="store_true",
                         help="show progress off a terminal too (logs, CI); on a terminal it is always shown")
     sub = p.add_subparsers(dest="command", required=True)
-    p.commands = sub
+    top.commands = sub
 
     conversion = argparse.ArgumentParser(add_help=False)        # mesh -> image: geoimg image and geoimg batch
     conversion.add_argument("--res", type=_positive(int), default=None,
@@ -303,12 +306,6 @@ def _terminated(signum, frame):
     raise SystemExit(128 + signum)
 
 
-def _exists(error: BaseException) -> bool:
-    """Whether ``error`` is an output that may not be replaced (said in the command line's words)."""
-    from ._atomic import OutputExists
-    return isinstance(error, OutputExists)
-
-
 def _run(args) -> int:
     """Run the parsed command: its module, with everything it needs, is imported only now."""
     from . import _commands           # heavy (numpy, scipy, numba, OpenImageIO...): not needed for --help
@@ -334,7 +331,7 @@ def main(argv=None) -> int:
             pass
         return 0
     except (GeoimgError, OSError) as e:   # refusals, and missing, existing or unwritable paths; a bug still shows
-        text = f"{e.filename} exists; add --force to replace it" if _exists(e) else str(e)
+        text = f"{e.filename} exists; add --force to replace it" if isinstance(e, OutputExists) else str(e)
         print(f"geoimg {args.command}: error: {text}", file=sys.stderr)
         return 2
 
