@@ -267,7 +267,7 @@ def test_an_interrupted_run_leaves_nothing_partial_and_resumes(tmp_path, how):
     run = subprocess.run(_batch_command(root, "-o", out, "--res", 129, "--workers", 1, "--quads"),
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
-    assert f"{len(rows)} of them done before" in run.stdout
+    assert f"({len(rows)} of these finished by an earlier run)" in run.stdout
     assert len(batch.read_manifest(manifest)) == 8 and len(list(out.glob("*.exr"))) == 8
 
 

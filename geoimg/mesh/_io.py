@@ -329,7 +329,7 @@ def _read_off_binary(data: bytes) -> Mesh:
 
 def _binary_off_faces(data: bytes, off: int, nf: int, order: str, colour_counts: bool):
     """The ``nf`` faces of a binary OFF from byte ``off``, and the offset after them."""
-    faces = []
+    faces: list[tuple] = []
     word = struct.Struct(order + "i")
     for _ in range(nf):
         if off + 4 > len(data):
