@@ -189,3 +189,16 @@ def place_numpy(s, v, u, faces, n_changed):
     best = int(np.argmax(score))
     s[v] = cand[best] if score[best] > 0 else su
     return bool(score[best] > 0)
+
+
+def coverage_numpy(pts: np.ndarray, E: np.ndarray, K: np.ndarray, w: np.ndarray, sigma: float) -> np.ndarray:
+    """The coverage-weighted surface at homogeneous points ``pts`` (k, 3), summed over every triangle in plain
+    numpy (weights ``prod Phi(E_k . p / sigma)``, maps ``K p / (w . p)``; triangles with ``w . p <= 1/2`` left
+    out, as the kernel does): the twin of ``geoimg.surface._coverage_kernels``."""
+    from scipy.special import ndtr
+    z = np.einsum("tkc,pc->ptk", E, pts) / sigma
+    F = ndtr(z).prod(axis=2)
+    wp = pts @ w.T
+    F = np.where(wp > 0.5, F, 0.0)
+    P = np.einsum("tic,pc->pti", K, pts) / np.where(wp > 0.5, wp, 1.0)[..., None]
+    return (F[..., None] * P).sum(axis=1) / F.sum(axis=1)[:, None]

@@ -30,7 +30,7 @@ __all__ = ["save_glb", "save_frames", "frame_jobs", "FRAME_FORMATS"]
 
 
 def _triangles(mesh) -> np.ndarray:
-    tris, _ = mesh.triangulate()
+    tris, _ = mesh.triangulate(quads="shorter")
     return np.ascontiguousarray(tris, np.uint32)
 
 

@@ -199,11 +199,11 @@ def _geometry(obj):
     n = np.asarray(mesh.normals if mesh.normals is not None else mesh.vertex_normals(), np.float64)
     c = None if mesh.colors is None else np.asarray(mesh.colors[:, :3], np.float64)
     if mesh.texture is None:
-        tris, _ = mesh.triangulate()
+        tris, _ = mesh.triangulate(quads="shorter")
         return (np.asarray(mesh.vertices, np.float64), np.ascontiguousarray(tris, np.uint32), n, c,
                 np.zeros((mesh.n_vertices, 2)), None)
     source, uv, faces = split_corners(mesh)
-    tris, _ = mesh.derived(faces, vertex_source=source).triangulate()
+    tris, _ = mesh.derived(faces, vertex_source=source).triangulate(quads="shorter")
     return (np.asarray(mesh.vertices[source], np.float64), np.ascontiguousarray(tris, np.uint32), n[source], None,
             np.column_stack([uv[:, 0], 1.0 - uv[:, 1]]), mesh.texture)
 

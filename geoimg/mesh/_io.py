@@ -74,7 +74,8 @@ def load_mesh(path: PathLike) -> Mesh:
 
 
 def save_mesh(mesh: Mesh, path: PathLike, *, overwrite: bool = False) -> Path:
-    """Write a mesh atomically; OBJ, OFF and PLY keep quads and n-gons, STL and GLB are triangulated.
+    """Write a mesh atomically; OBJ, OFF and PLY keep quads and n-gons, STL and GLB are triangulated (quads
+    along their shorter diagonal).
 
     OBJ also writes ``vt`` and ``vn`` when the mesh has UVs or normals, ``v x y z r g b`` with colours, and
     with a texture its material library ``NAME.mtl`` and the texture ``NAME.png`` beside it (all three or
@@ -619,7 +620,7 @@ def _write_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:
         visual = trimesh.visual.TextureVisuals(uv=uv, image=texture)
     elif ext == ".glb" and mesh.colors is not None:
         visual = trimesh.visual.ColorVisuals(vertex_colors=np.round(mesh.colors * 255).astype(np.uint8))
-    tris, _ = mesh.triangulate()
+    tris, _ = mesh.triangulate(quads="shorter")         # as geometry images are drawn and measured
     tm = trimesh.Trimesh(mesh.vertices, tris, process=False, visual=visual)
     with open(tmp, "wb") as fh:
         tm.export(fh, file_type=ext[1:])

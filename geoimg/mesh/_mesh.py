@@ -291,8 +291,10 @@ class Mesh:
         nxt[np.arange(self.n_faces), self.face_sizes - 1] = self.faces[:, 0]
         return np.where(self.faces >= 0, nxt, -1)
 
-    def triangulate(self) -> tuple[np.ndarray, np.ndarray]:
-        """Fan-triangulate every face (for export to triangle-only formats).
+    def triangulate(self, quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
+        """Split every face into triangles: a fan from its first corner, or with ``quads="shorter"`` each
+        quad along its shorter diagonal in space (as geometry images are drawn and measured: the split
+        that bends a non-planar quad least), larger polygons fanned.
 
         Returns
         -------
@@ -305,12 +307,27 @@ class Mesh:
         >>> m = Mesh(np.eye(4, 3), [[0, 1, 2, 3]])
         >>> m.triangulate()[0].tolist()
         [[0, 1, 2], [0, 2, 3]]
+        >>> Mesh([[0, 0, 0], [2, 0, 0], [3, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]]).triangulate("shorter")[0].tolist()
+        [[1, 2, 3], [1, 3, 0]]
         """
+        if quads not in ("fan", "shorter"):
+            raise MeshError(f"quads: expected 'fan' or 'shorter', got {quads!r}")
         per_face = self.face_sizes - 2                                 # linear time, any polygon size
         owner = np.repeat(np.arange(self.n_faces), per_face)
         start = np.repeat(np.cumsum(per_face) - per_face, per_face)
         j = np.arange(len(owner)) - start + 1                          # 1 .. k - 2 within each face
-        t = np.stack([self.faces[owner, 0], self.faces[owner, j], self.faces[owner, j + 1]], axis=1)
+        f = self.faces
+        quad = self.face_sizes == 4
+        if quads == "shorter" and quad.any():  # a quad whose 1-3 diagonal is shorter is fanned from corner 1
+            v = self.vertices
+            q = f[quad, :4]
+            turn = np.zeros(self.n_faces, bool)
+            turn[quad] = np.einsum("ij,ij->i", v[q[:, 1]] - v[q[:, 3]], v[q[:, 1]] - v[q[:, 3]]) < \
+                np.einsum("ij,ij->i", v[q[:, 0]] - v[q[:, 2]], v[q[:, 0]] - v[q[:, 2]])
+            if turn.any():
+                f = f.copy()
+                f[turn, :4] = np.roll(f[turn, :4], -1, axis=1)
+        t = np.stack([f[owner, 0], f[owner, j], f[owner, j + 1]], axis=1)
         return t, owner
 
     def vertex_normals(self) -> np.ndarray:

@@ -9,6 +9,7 @@ from ..image import Domain
 from ..mesh import Mesh
 from ..parametrization import Parametrization
 from ._base import Surface
+from ._coverage import check_s, fit_coverage_surface
 from ._face_maps import SLIVER_RULES
 from ._planar import fit_planar_surface
 from ._smoothness import SmoothnessMap
@@ -85,9 +86,11 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         (:func:`geoimg.surface.uv_smoothness`, planar only) give a surface smoothed more in some places
         than in others, its normals still exact (paper 4.5). Per-face values cannot keep a region sharp
         inside a smoothed surrounding (the wide Gaussians around reach in); a map can.
-    weights : {"gaussian", "local"}
-        Rational Gaussian (infinitely smooth) or locally supported ``1 - 3R^2 + 2R^3`` (C1, faster, may
-        leave holes, which are reported and masked).
+    weights : {"gaussian", "local", "coverage"}
+        The paper's rational Gaussians of the distance to each face's centre (infinitely smooth), its
+        locally supported ``1 - 3R^2 + 2R^3`` (C1, faster, may leave holes, which are reported and masked),
+        or each triangle's share of a Gaussian footprint of width ``sigma = s * dbar`` (infinitely smooth,
+        tends to the mesh itself as ``s -> 0``; one number ``s``; see :mod:`geoimg.surface._coverage`).
     n : int, default 10
         Face centres inside each local weight's support (``weights="local"``).
     tol : float, default 1e-10
@@ -122,15 +125,17 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
     mesh = _parametrized_mesh(mesh, param)
     if weights not in WEIGHTS:
         raise InputError(f"weights: expected one of {WEIGHTS}, got {weights!r}")
-    s, s_face, s_map = _smoothness(s, mesh.n_faces)
     if not (isinstance(tol, (int, float, np.number)) and 0 <= tol < 1):
         raise InputError(f"tol: expected a number in [0, 1), got {tol!r}")
+    domain = Domain.from_metadata(param.domain, {"extent": param.extent, **param.domain_fields,
+                                                 "orientation": int(param.info.get("orientation", 1))})
+    if weights == "coverage":
+        return fit_coverage_surface(mesh, param.coords, domain, check_s(s), tol=float(tol))
+    s, s_face, s_map = _smoothness(s, mesh.n_faces)
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
         raise InputError(f"n: expected an integer >= 2, got {n!r}")
     if sliver_rule not in SLIVER_RULES:
         raise InputError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
-    domain = Domain.from_metadata(param.domain, {"extent": param.extent, **param.domain_fields,
-                                                 "orientation": int(param.info.get("orientation", 1))})
     fit = _FITTERS[domain.parameter_dim]
     return fit(mesh, param.coords, domain, s, s_face, s_map, weights=weights, n=int(n), tol=float(tol),
                sliver_rule=sliver_rule)

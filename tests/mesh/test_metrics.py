@@ -1,37 +1,51 @@
-"""Distances between surfaces: the numba point-to-triangle kernel against its numpy twin, and the metrics."""
+"""Distances between surfaces: exact closest points (libigl's AABB tree) against brute force, quads split
+along their shorter diagonal, and the metrics."""
 import numpy as np
 import pytest
 
 import geoimg
 from geoimg.mesh import point_mesh_distance, surface_distance
-from geoimg.mesh._distance_kernels import nearest_triangle_distances
 from reference import point_triangle_distance
 
 
-def test_kernel_equals_the_numpy_twin_in_every_region_and_on_degenerate_triangles():
+def test_distances_are_exact_closest_points_as_brute_force_finds_them():
+    """libigl's AABB tree against the numpy point-triangle distance over every triangle: points inside,
+    beside edges, past corners, near large triangles next to small ones (where the nearest centres misled the
+    old candidate search), and degenerate triangles (a repeated vertex, corners on a line)."""
     rng = np.random.default_rng(1)
     V = rng.normal(size=(300, 3))
-    V[11] = V[10]                                              # a repeated vertex
-    V[20:23] = V[20] + np.outer([0, 1, 2], [1, 1, 1])          # corners on a line
+    V[11] = V[10]
+    V[20:23] = V[20] + np.outer([0, 1, 2], [1, 1, 1])
+    V[290:293] = [[-20, -20, 0], [20, -20, 0], [0, 20, 0]]       # a huge triangle among small ones
     T = rng.integers(0, 300, size=(500, 3))
-    T[0], T[1], T[2] = [10, 11, 12], [20, 21, 22], [5, 5, 5]
-    P = rng.normal(size=(3000, 3)) * 2                        # inside, beside edges, past corners
-    C = rng.integers(0, 500, size=(3000, 8))
-    C[:, 0] = rng.integers(0, 3, 3000)                         # every point also sees a degenerate triangle
-    with np.errstate(invalid="ignore"):
-        ref = point_triangle_distance(P[:, None], V[T[C][..., 0]], V[T[C][..., 1]], V[T[C][..., 2]]).min(axis=1)
-    got = nearest_triangle_distances(P, V, T.astype(np.int64), C.astype(np.int64))
-    np.testing.assert_allclose(got, ref, rtol=1e-12, atol=1e-12)
+    T[0], T[1], T[2] = [10, 11, 12], [20, 21, 22], [290, 291, 292]
+    mesh = geoimg.Mesh(V, T)
+    P = rng.normal(size=(3000, 3)) * 2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ref = point_triangle_distance(P[:, None], V[T][None, :, 0], V[T][None, :, 1], V[T][None, :, 2])
+    ref = np.nanmin(ref, axis=1)
+    np.testing.assert_allclose(point_mesh_distance(P, mesh), ref, rtol=1e-9, atol=1e-12)
 
 
-def test_degenerate_triangles_measure_to_their_edges_without_dividing_by_zero():
-    v = np.array([[0.0, 0, 0], [1, 0, 0], [1, 0, 0], [0, 0, 0]])
-    tris = np.array([[0, 1, 2], [0, 0, 0], [0, 3, 1]])          # a segment, a point, a segment
-    pts = np.array([[2.0, 0, 0], [0.5, 1, 0], [-1, 0, 0]])
-    for t in range(3):
-        got = nearest_triangle_distances(pts, v, tris, np.full((3, 1), t))
-        want = [2.0, np.hypot(0.5, 1), 1.0] if t == 1 else [1.0, 1.0, 1.0]
-        np.testing.assert_allclose(got, want, atol=1e-15)
+def test_quads_are_measured_split_along_their_shorter_diagonal():
+    """A non-planar quad whose 1-3 diagonal (3.16) is shorter than the fan's 0-2 (3.32): split along 1-3 its
+    half (0, 1, 3) is flat, so a point on it is at distance 0; split as a fan it would not be."""
+    quad = geoimg.Mesh([[0, 0, 0], [3, 0, 0], [3, 1, 1], [0, 1, 0]], [[0, 1, 2, 3]])
+    tris, _ = quad.triangulate(quads="shorter")
+    assert sorted(map(sorted, tris.tolist())) == [[0, 1, 3], [1, 2, 3]]
+    point = np.array([[1.0, 0.3, 0.0]])
+    assert point_mesh_distance(point, quad)[0] < 1e-12
+    fan = geoimg.Mesh(quad.vertices, quad.triangulate()[0])
+    assert point_mesh_distance(point, fan)[0] > 0.05
+
+
+def test_bad_arguments_are_geoimg_errors():
+    square = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+    with pytest.raises(geoimg.InputTypeError, match="mesh: expected a geoimg.Mesh"):
+        point_mesh_distance(np.zeros((1, 3)), "square")
+    with pytest.raises(geoimg.InputError, match="NaN or infinite"):
+        point_mesh_distance(np.array([[np.nan, 0, 0]]), square)
+    assert point_mesh_distance(np.zeros((0, 3)), square).shape == (0,)
 
 
 def test_point_mesh_distance_of_a_unit_square():

@@ -1,0 +1,361 @@
+"""The coverage-weighted surface: the paper's weighted mean of the faces' planes, each face weighted by how
+much of a Gaussian footprint around the point it covers, so that the surface tends to the mesh itself as
+``s -> 0`` while staying infinitely smooth.
+
+The paper's rational Gaussians weigh a face by the distance from the point to the face's *centre*
+(``G_i = exp(-|x - c_i|^2 / 2 sigma_i^2)``). However small ``s``, a point then follows the face whose
+centre is nearest in units of ``d_i``, not the face that holds it, and the surface stays a few tenths of a
+face away from the mesh (the plateau measured in ``benchmarks/bench_fidelity.py``). Here the weight of a
+triangle ``t`` is the integral over ``t`` of a Gaussian of width ``sigma`` centred on the point, in the
+closed form of a product over its edges, ``F_t(x) = Phi(z_0) Phi(z_1) Phi(z_2)`` with ``z_k`` the signed
+distance of ``x`` to edge ``k`` over ``sigma`` (exact for one edge, and for two edges meeting at a right
+angle; near a corner it is the blur of the wedge its two edges make). Inside a triangle, farther than a few
+``sigma`` from its edges, its weight is 1 and every other one vanishes: ``P`` is the triangle's own map.
+Across an edge the weights of its two triangles are ``Phi(z)`` and ``Phi(-z)``: the crease is rounded over a
+few ``sigma``. So ``P -> `` the piecewise-linear mesh as ``sigma -> 0``, ``P`` is C-infinity for every
+``sigma > 0``, and with ``sigma`` about a pixel spacing the rounding is a prefilter for the image's grid
+(anti-aliasing: what point sampling lacks).
+
+Each polygon is split into triangles (quads along their shorter diagonal in space), and each triangle
+maps by its own corners (barycentric interpolation; on the sphere, of the central projection of the
+direction onto its chord triangle), so the limit is the triangulated mesh exactly. ``sigma = s * dbar``,
+``dbar`` the triangles' mean enclosing-circle radius in the parameter domain, one width for every triangle
+(the prefilter of a regular grid is the same everywhere). :func:`prefilter_s` gives the ``s`` that serves a
+resolution.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.special import ndtri
+
+from ..errors import InputError, ParametrizationError
+from ..image import Domain
+from ..mesh import Mesh
+from ..parametrization import square_jacobian, square_to_sphere
+from ..parametrization._octahedral import directions
+from . import _coverage_kernels as ck
+from . import _kernels as kernels
+from ._base import Surface, unit
+from ._curvature import planar_curvature, sphere_curvature
+from ._face_maps import enclosing_circle_radius
+from ._planar import MAX_AUTO_RESOLUTION, _with_ghosts
+from ._sphere import MAX_AUTO_RESOLUTION as MAX_SPHERE_RESOLUTION
+from ._sphere_kernels import build_cells_3d, tangent_frames
+
+__all__ = ["CoverageSurface", "PlanarCoverageSurface", "SphereCoverageSurface", "fit_coverage_surface",
+           "PREFILTER", "prefilter_s", "check_s"]
+
+PREFILTER = 0.5     # sigma in pixel spacings of the default image: see benchmarks/bench_fidelity.py
+FLOOR_OVER_TOL = 1e4    # a sum of weights below FLOOR_OVER_TOL * tol is outside the triangles: recomputed exactly
+
+
+COVERAGE_S_RANGE = (1e-6, 1e3)   # sigma = s dbar: no exponent to underflow, but a width of at least a millionth
+
+
+def check_s(s) -> float:
+    """One positive ``s`` for coverage weights (one width everywhere: no per-face values or maps)."""
+    if isinstance(s, bool) or not isinstance(s, (int, float, np.number)):
+        raise InputError(f"s: coverage weights take one number (one width everywhere), got {s!r:.80}")
+    lo, hi = COVERAGE_S_RANGE
+    if not (np.isfinite(s) and lo <= s <= hi):
+        raise InputError(f"s: expected a number from {lo:g} to {hi:g} (sigma = s * dbar), got {s!r}")
+    return float(s)
+
+
+def prefilter_s(surface: "CoverageSurface", resolution: int) -> float:
+    """The ``s`` whose width ``sigma = s * dbar`` is :data:`PREFILTER` of the pixel spacing of a
+    ``resolution`` image of ``surface``'s domain (the mean spacing on the sphere)."""
+    return PREFILTER * surface.pixel_spacing(resolution) / surface.dbar
+
+
+@dataclass(frozen=True, eq=False)
+class CoverageSurface(Surface):
+    """A fitted coverage-weighted surface (``weights="coverage"``); build it with :func:`geoimg.fit_surface`.
+
+    Attributes
+    ----------
+    domain : Domain
+    s : float
+        ``sigma = s * dbar``.
+    dbar : float
+        The triangles' mean size (enclosing-circle radius) in the parameter domain.
+    tol : float
+        Weights below it are skipped (0: every triangle is summed, in the log domain).
+    """
+
+    domain: Domain
+    s: float
+    tol: float
+    dbar: float
+    tables: Any = field(repr=False)         # (E, K, w) of the triangles (see _coverage_kernels)
+    centres: Any = field(repr=False)        # (T, 3) homogeneous centroids
+    size: Any = field(repr=False)           # (T,) largest distance of a corner from the centroid
+    spread: Any = field(repr=False)         # (T,) 1 / sin(smallest angle / 2)
+    fallback: Any = field(repr=False)       # triangles a point outside them is summed over
+    polygons: Any = field(repr=False, default=None)    # (T, 3, 2) planar triangles, for the mask
+    weights: str = "coverage"
+    n: int = 0
+    sliver_rule: str = "exact"
+    _cells: Any = field(repr=False, default=None)
+
+    @property
+    def sigma(self) -> float:
+        """The weights' width in the parameter domain."""
+        return self.s * self.dbar
+
+    @property
+    def log_g_ref(self) -> float:
+        return -math.inf
+
+    def with_s(self, s: float) -> "CoverageSurface":
+        """The same surface at another ``s`` (nothing refitted)."""
+        return type(self)(**{**self.__dict__, "s": check_s(s), "_cells": None})
+
+    def _zmin(self) -> float:
+        return float(ndtri(self.tol)) if self.tol > 0 else -math.inf
+
+    def cells(self):
+        """Triangles binned by their reach (made once, on first use)."""
+        if self._cells is None:
+            reach = self.size + 1.05 * (-self._zmin()) * self.sigma * self.spread if self.tol > 0 else \
+                np.full(len(self.size), 4.0)
+            object.__setattr__(self, "_cells", build_cells_3d(self.centres, np.minimum(reach, 4.0)))
+        return self._cells
+
+    def _evaluate(self, pts, t1, t2, derivatives=True, exact=False):
+        exact = exact or self.tol == 0
+        fallback = np.arange(len(self.size)) if exact else self.fallback
+        return ck.evaluate_coverage(pts, t1, t2, self.tables, self.cells(), fallback, sigma=self.sigma,
+                                    zmin=self._zmin(), floor=FLOOR_OVER_TOL * self.tol, derivatives=derivatives,
+                                    exact=exact)
+
+    def pixel_spacing(self, resolution: int) -> float:
+        """The distance between neighbouring pixels of a ``resolution`` image, in parameter units."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True, eq=False)
+class PlanarCoverageSurface(CoverageSurface):
+    """The coverage-weighted surface over a parameter rectangle."""
+
+    def pixel_spacing(self, resolution: int) -> float:
+        return max(self.extent) / (int(resolution) - 1)
+
+    def _points(self, uv, exact):
+        pts = np.asarray(uv, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] != 2:
+            raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
+        if not np.isfinite(pts).all():
+            raise InputError("uv: contains NaN or infinite values")
+        k = len(pts)
+        hom = np.column_stack([pts, np.ones(k)])
+        P, Pu, Pv, st = self._evaluate(hom, np.tile([1.0, 0.0, 0.0], (k, 1)), np.tile([0.0, 1.0, 0.0], (k, 1)),
+                                       exact=exact)
+        bad = ~np.isfinite(P).all(axis=1)
+        if bad.any():
+            raise InputError(f"uv: {int(bad.sum())} points (the first {pts[bad][0].tolist()}) lie so far outside the "
+                             "parameter domain that the surface overflows there")
+        return P, Pu, Pv, st
+
+    def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
+        """Surface points (k, 3) at parameter points ``uv`` (k, 2).
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 1], [1, 1, 2], [0, 1, 1]], [[0, 1, 2], [0, 2, 3]])
+        >>> p = geoimg.Parametrization(m.vertices[:, :2], (1, 1))
+        >>> geoimg.fit_surface(m, p, s=0.1, weights="coverage").evaluate([[0.5, 0.25]]).round(9).tolist()
+        [[0.5, 0.25, 0.75]]
+        """
+        return self._points(uv, exact)[0]
+
+    def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """Analytic first derivatives ``(P_u, P_v)``, each of shape (k, 3)."""
+        _, pu, pv, _ = self._points(uv, exact)
+        return pu, pv
+
+    def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
+        """Unit normals ``orientation * (P_u x P_v) / |P_u x P_v|``, shape (k, 3)."""
+        pu, pv = self.derivatives(uv, exact=exact)
+        return unit(np.cross(pu, pv) * self.orientation)
+
+    def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        return planar_curvature(self, resolution)
+
+    def auto_resolution(self) -> int:
+        """Pixels along the longer side for a sample spacing of ``s * dbar`` (the paper's section 4.4)."""
+        spacing = self.s * self.dbar
+        return max(2, self._capped(int(math.ceil(max(self.extent) / spacing)) + 1, MAX_AUTO_RESOLUTION))
+
+    def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
+        if backend != "cpu":
+            raise InputError(f"backend {backend!r}: coverage weights are sampled on the CPU only; use backend='cpu'")
+        u, v = self.domain.pixel_uv(shape)
+        uu, vv = np.meshgrid(u, v)
+        P, Pu, Pv, st = self._points(np.stack([uu.ravel(), vv.ravel()], axis=1), False)
+        H, W = shape
+        eps = 0.5 * max(u[1] - u[0], v[1] - v[0])  # within half a pixel of a triangle
+        mask = kernels.face_coverage(u, v, self.polygons, np.full(len(self.polygons), 3), eps)
+        nrm = kernels.unit_normals(Pu.reshape(H, W, 3), Pv.reshape(H, W, 3), self.orientation) if normals else None
+        return P.reshape(H, W, 3), nrm, mask, int((st == ck.EXACT).sum()), 0
+
+
+@dataclass(frozen=True, eq=False)
+class SphereCoverageSurface(CoverageSurface):
+    """The coverage-weighted surface over the sphere (octahedral images)."""
+
+    def pixel_spacing(self, resolution: int) -> float:
+        return math.sqrt(4.0 * math.pi) / (int(resolution) - 1)
+
+    def evaluate_directions(self, q: ArrayLike, *, exact: bool = False, derivatives: bool = True) -> tuple:
+        """Points and derivatives along a tangent frame ``(t1, t2)`` at directions ``q`` (k, 3): ``P, P_t1,
+        P_t2, t1, t2, status``, as :meth:`SphereSurface.evaluate_directions` returns them."""
+        d = np.asarray(q, dtype=np.float64)
+        if d.ndim != 2 or d.shape[1] != 3:
+            raise InputError(f"q: expected finite directions of shape (k, 3), got {d.shape}")
+        d = directions(d, "q")
+        d = d / np.linalg.norm(d, axis=1, keepdims=True)
+        t1, t2 = tangent_frames(d)
+        P, P1, P2, st = self._evaluate(d, t1, t2, derivatives=derivatives, exact=exact)
+        return P, P1, P2, t1, t2, st
+
+    def _uv(self, uv):
+        pts = np.asarray(uv, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] != 2:
+            raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
+        if not np.isfinite(pts).all() or pts.min() < 0 or pts.max() > 1:
+            raise InputError("uv: octahedral image coordinates must lie in [0, 1]")
+        return pts
+
+    def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
+        """Surface points at octahedral image coordinates ``uv`` (k, 2); shape (k, 3)."""
+        return self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact, derivatives=False)[0]
+
+    def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """``(P_u, P_v)`` at image coordinates (one-sided on the octahedron's creases)."""
+        pts = self._uv(uv)
+        _, P1, P2, t1, t2, _ = self.evaluate_directions(square_to_sphere(pts), exact=exact)
+        du, dv = square_jacobian(pts)
+        pu = P1 * (du * t1).sum(1, keepdims=True) + P2 * (du * t2).sum(1, keepdims=True)
+        pv = P1 * (dv * t1).sum(1, keepdims=True) + P2 * (dv * t2).sum(1, keepdims=True)
+        return pu, pv
+
+    def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
+        """Unit normals from the analytic derivatives (smooth across the creases), shape (k, 3)."""
+        _, P1, P2, _, _, _ = self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)
+        return unit(np.cross(P1, P2) * self.orientation)
+
+    def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        return sphere_curvature(self, resolution)
+
+    def auto_resolution(self) -> int:
+        """Odd side whose pixels are ``s * dbar`` apart on the sphere, on average."""
+        side = int(math.ceil(math.sqrt(4.0 * math.pi) / (self.s * self.dbar))) + 1
+        return max(3, self._capped(side, MAX_SPHERE_RESOLUTION))
+
+    def _glue(self, P: np.ndarray, nrm: np.ndarray | None):
+        """Nothing to average: glued boundary pixels are evaluated at bit-identical directions."""
+        return P, nrm, 0.0
+
+    def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
+        if backend != "cpu":
+            raise InputError(f"backend {backend!r}: octahedral (spherical) images are sampled on the CPU only")
+        n = shape[0]
+        q = self.domain.directions(n).reshape(-1, 3)             # type: ignore[attr-defined]   # octahedral
+        t1, t2 = tangent_frames(q)
+        P, P1, P2, st = self._evaluate(q, t1, t2, derivatives=normals)
+        nrm = kernels.unit_normals(P1, P2, self.orientation).reshape(n, n, 3) if normals else None
+        return P.reshape(n, n, 3), nrm, None, int((st == ck.EXACT).sum()), 0
+
+
+def _triangle_tables(corners: np.ndarray, xyz: np.ndarray, planar: bool):
+    """Edge rows ``E``, maps ``K``, denominators ``w`` of triangles with homogeneous corner coordinates
+    ``corners`` (T, 3, 3) and positions ``xyz`` (T, 3, 3); and which triangles are kept (not degenerate)."""
+    M = np.transpose(corners, (0, 2, 1))                     # columns: the corners
+    det = np.linalg.det(M)
+    scale = np.abs(M).max(axis=(1, 2)) ** 3
+    keep = np.abs(det) > 1e-14 * scale
+    Minv = np.zeros_like(M)
+    Minv[keep] = np.linalg.inv(M[keep])
+    spatial = Minv[:, :, :2] if planar else Minv
+    norm = np.linalg.norm(spatial, axis=2)
+    keep &= (norm > 0).all(axis=1)
+    E = Minv / np.where(norm > 0, norm, 1.0)[..., None]
+    K = np.einsum("tic,tcj->tij", np.transpose(xyz, (0, 2, 1)), Minv)   # positions by barycentric coordinates
+    w = Minv.sum(axis=1)
+    at_centroid = np.einsum("tc,tc->t", w, corners.mean(axis=1))        # 1 on the plane; scaled to 1 on the sphere
+    at_centroid = np.where(keep & (np.abs(at_centroid) > 0), at_centroid, 1.0)
+    if not planar:
+        at_centroid /= np.linalg.norm(corners.mean(axis=1), axis=1)
+    return E, K / at_centroid[:, None, None], w / at_centroid[:, None], keep
+
+
+def _shape(corners: np.ndarray):
+    """Each triangle's centroid, the largest distance of a corner from it, and 1 / sin(half its smallest
+    angle) (how far its outline moves at a corner when its edges move out by 1)."""
+    centroid = corners.mean(axis=1)
+    size = np.linalg.norm(corners - centroid[:, None], axis=2).max(axis=1)
+    cos = []
+    for k in range(3):
+        a = corners[:, (k + 1) % 3] - corners[:, k]
+        b = corners[:, (k + 2) % 3] - corners[:, k]
+        cos.append(np.einsum("tc,tc->t", a, b) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1),
+                                                            1e-300))
+    smallest = np.arccos(np.clip(np.max(cos, axis=0), -1.0, 1.0))
+    return centroid, size, 1.0 / np.maximum(np.sin(0.5 * smallest), 1e-3)
+
+
+def _border_triangles(tris: np.ndarray) -> np.ndarray:
+    """Triangles with an edge no other triangle shares (all of them when there are none)."""
+    e = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1)
+    _, inverse, counts = np.unique(e, axis=0, return_inverse=True, return_counts=True)
+    lone = (counts[inverse.ravel()] == 1).reshape(3, -1).any(axis=0)
+    return np.flatnonzero(lone) if lone.any() else np.arange(len(tris))
+
+
+def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float, *, tol: float) -> CoverageSurface:
+    """Fit the coverage-weighted surface to a mesh whose vertices have ``coords`` in ``domain``: (N, 2)
+    planar or (N, 3) unit vectors (called by ``fit_surface``, which has checked the settings)."""
+    planar = coords.shape[1] == 2
+    tris, _ = mesh.triangulate(quads="shorter")
+    tri_mesh = Mesh(mesh.vertices, tris)
+    polygons = coords[tris] if planar else None
+    if planar:        # faces a cut glues across the square's sides continue beyond them, as copies
+        d = enclosing_circle_radius(coords[tris])
+        ghosts = domain.ghosts(coords[tris].mean(axis=1), 4.0 * d + 8.0 * s * float(d.mean()))
+        if ghosts:
+            tri_mesh, coords, _ = _with_ghosts(tri_mesh, coords, np.arange(len(tris)), ghosts)
+            tris = tri_mesh.faces
+    corners = np.concatenate([coords[tris], np.ones(tris.shape + (1,))], axis=2) if planar else coords[tris]
+    E, K, w, keep = _triangle_tables(corners, tri_mesh.vertices[tris], planar)
+    if not keep.any():
+        raise ParametrizationError("every face has zero area in the parameter domain")
+    if not keep.all():
+        warnings.warn(f"fit_surface: {int((~keep).sum())} triangles of zero area in the parameter domain were left "
+                      "out", stacklevel=4)
+    tris, corners, E, K, w = tris[keep], corners[keep], E[keep], K[keep], w[keep]
+    dbar = float((enclosing_circle_radius(corners[:, :, :2]) if planar else _sphere_sizes(corners)).mean())
+    centres, size, spread = _shape(corners)
+    tables = tuple(np.ascontiguousarray(a, np.float64) for a in (E, K, w))
+    kind = PlanarCoverageSurface if planar else SphereCoverageSurface
+    return kind(domain, float(s), float(tol), dbar, tables, np.ascontiguousarray(centres), size, spread,
+                _border_triangles(tris) if planar else np.arange(len(tris)), polygons)
+
+
+def _sphere_sizes(corners: np.ndarray) -> np.ndarray:
+    """Enclosing-circle radii of chord triangles (T, 3, 3), each measured in its own plane."""
+    e1 = corners[:, 1] - corners[:, 0]
+    e2 = corners[:, 2] - corners[:, 0]
+    l1 = np.linalg.norm(e1, axis=1)
+    x1 = e1 / np.maximum(l1, 1e-300)[:, None]
+    a = np.einsum("tc,tc->t", e2, x1)
+    b = np.linalg.norm(e2 - a[:, None] * x1, axis=1)
+    flat = np.stack([np.zeros((len(l1), 2)), np.stack([l1, np.zeros_like(l1)], 1), np.stack([a, b], 1)], axis=1)
+    return enclosing_circle_radius(flat)

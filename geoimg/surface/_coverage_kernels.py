@@ -1,0 +1,185 @@
+"""numba kernels of the coverage-weighted surface (see :mod:`geoimg.surface._coverage`).
+
+Every triangle ``t`` is given in homogeneous point coordinates ``p`` (``(u, v, 1)`` on the plane, a unit
+direction ``q`` on the sphere): its barycentric coordinates are ``M_t^-1 p`` (divided by their sum on the
+sphere: the central projection onto its chord plane), so
+
+- its edge functions ``z_k = E_tk . p / sigma`` are signed distances to its three edges (to their great
+  circles, as sines, on the sphere), positive inside;
+- its map ``P_t(p) = K_t p / (w_t . p)`` interpolates its corners' positions (affine on the plane, where
+  ``w_t . p = 1``);
+- its weight ``F_t = Phi(z_0) Phi(z_1) Phi(z_2)`` (``Phi`` the normal distribution function) is the
+  Gaussian-blurred indicator of the triangle, as a product over its edges: 1 deep inside, 1/2 on an edge,
+  1/4 near a corner, falling like a Gaussian outside. Two triangles sharing an edge have weights
+  ``Phi(z)`` and ``Phi(-z)``, which add to 1.
+
+``P = sum F_t P_t / sum F_t``. A triangle is skipped where one of its edge functions is below ``zmin``
+(its weight then below ``Phi(zmin)``, the tolerance). A point whose sum of weights is below ``floor`` lies
+outside the triangles (beyond a planar mesh's border) and is recomputed in the log domain over the
+triangles ``fallback`` lists (the border's), shifted by the largest log-weight so that nothing
+underflows: status ``EXACT``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ._sphere_kernels import _cell_of
+
+__all__ = ["evaluate_coverage", "log_ndtr", "TRUNCATED", "EXACT"]
+
+TRUNCATED, EXACT = 0, 1
+_SQRT1_2 = 1.0 / math.sqrt(2.0)
+_LOG_SQRT_2PI = 0.5 * math.log(2.0 * math.pi)
+
+
+@njit(cache=True, inline="always")
+def _phi_cdf(z):
+    """``Phi(z)``, the standard normal distribution function."""
+    return 0.5 * math.erfc(-z * _SQRT1_2)
+
+
+@njit(cache=True)
+def log_ndtr(z):
+    """``log Phi(z)``, without underflow: ``erfc`` down to z = -37, then the asymptotic series."""
+    if z > -37.0:
+        return math.log(0.5 * math.erfc(-z * _SQRT1_2))
+    r = 1.0 / (z * z)
+    return -0.5 * z * z - math.log(-z) - _LOG_SQRT_2PI + math.log1p(r * (-1.0 + r * (3.0 - 15.0 * r)))
+
+
+@njit(cache=True, inline="always")
+def _edge(z, zmax, deriv):
+    """``Phi(z)`` and ``(phi / Phi)(z)`` (0 unless ``deriv``); 1 and 0 from ``zmax`` on."""
+    if z >= zmax:
+        return 1.0, 0.0
+    cdf = 0.5 * math.erfc(-z * _SQRT1_2)
+    return cdf, (math.exp(-0.5 * z * z - _LOG_SQRT_2PI) / cdf if deriv else 0.0)
+
+
+@njit(cache=True, inline="always")
+def _log_edge(z):
+    """``log Phi(z)`` and ``(phi / Phi)(z)``, stable far outside."""
+    lc = log_ndtr(z)
+    return lc, math.exp(-0.5 * z * z - _LOG_SQRT_2PI - lc)
+
+
+@njit(cache=True, inline="always")
+def _add(t, p, t1, t2, E, K, w, inv_sigma, zmin, zmax, deriv, shift, log_domain, acc):
+    """Add triangle ``t``'s terms at ``p`` into ``acc`` (``S, N[3], S_1, N_1[3], S_2, N_2[3]``); in the log
+    domain its weight is ``exp(log F - shift)``. Returns False when it is skipped: an edge function below
+    ``zmin``, or a direction more than about 60 degrees from the triangle (``w . p < 1/2``, ``w`` scaled to
+    1 at its centroid: there the central projection would grow without bound)."""
+    z0 = (E[t, 0, 0] * p[0] + E[t, 0, 1] * p[1] + E[t, 0, 2] * p[2]) * inv_sigma
+    if not log_domain and z0 < zmin:
+        return False
+    z1 = (E[t, 1, 0] * p[0] + E[t, 1, 1] * p[1] + E[t, 1, 2] * p[2]) * inv_sigma
+    if not log_domain and z1 < zmin:
+        return False
+    z2 = (E[t, 2, 0] * p[0] + E[t, 2, 1] * p[1] + E[t, 2, 2] * p[2]) * inv_sigma
+    if not log_domain and z2 < zmin:
+        return False
+    wp = w[t, 0] * p[0] + w[t, 1] * p[1] + w[t, 2] * p[2]
+    if not wp > 0.5:
+        return False
+    if log_domain:
+        c0, r0 = _log_edge(z0)
+        c1, r1 = _log_edge(z1)
+        c2, r2 = _log_edge(z2)
+        F = math.exp(c0 + c1 + c2 - shift)
+    else:
+        c0, r0 = _edge(z0, zmax, deriv)
+        c1, r1 = _edge(z1, zmax, deriv)
+        c2, r2 = _edge(z2, zmax, deriv)
+        F = c0 * c1 * c2
+    inv_wp = 1.0 / wp
+    P0 = (K[t, 0, 0] * p[0] + K[t, 0, 1] * p[1] + K[t, 0, 2] * p[2]) * inv_wp
+    P1 = (K[t, 1, 0] * p[0] + K[t, 1, 1] * p[1] + K[t, 1, 2] * p[2]) * inv_wp
+    P2 = (K[t, 2, 0] * p[0] + K[t, 2, 1] * p[1] + K[t, 2, 2] * p[2]) * inv_wp
+    acc[0] += F
+    acc[1] += F * P0
+    acc[2] += F * P1
+    acc[3] += F * P2
+    if not deriv:
+        return True
+    for a in range(2):
+        tau = t1 if a == 0 else t2
+        g = (r0 * (E[t, 0, 0] * tau[0] + E[t, 0, 1] * tau[1] + E[t, 0, 2] * tau[2])
+             + r1 * (E[t, 1, 0] * tau[0] + E[t, 1, 1] * tau[1] + E[t, 1, 2] * tau[2])
+             + r2 * (E[t, 2, 0] * tau[0] + E[t, 2, 1] * tau[1] + E[t, 2, 2] * tau[2]))
+        dF = F * g * inv_sigma
+        wt = w[t, 0] * tau[0] + w[t, 1] * tau[1] + w[t, 2] * tau[2]
+        d0 = ((K[t, 0, 0] * tau[0] + K[t, 0, 1] * tau[1] + K[t, 0, 2] * tau[2]) - P0 * wt) * inv_wp
+        d1 = ((K[t, 1, 0] * tau[0] + K[t, 1, 1] * tau[1] + K[t, 1, 2] * tau[2]) - P1 * wt) * inv_wp
+        d2 = ((K[t, 2, 0] * tau[0] + K[t, 2, 1] * tau[1] + K[t, 2, 2] * tau[2]) - P2 * wt) * inv_wp
+        o = 4 + 4 * a
+        acc[o] += dF
+        acc[o + 1] += dF * P0 + F * d0
+        acc[o + 2] += dF * P1 + F * d1
+        acc[o + 3] += dF * P2 + F * d2
+    return True
+
+
+@njit(cache=True)
+def _largest_log_weight(p, cand, E, w, inv_sigma):
+    m = -np.inf
+    for k in range(cand.shape[0]):
+        t = cand[k]
+        wp = w[t, 0] * p[0] + w[t, 1] * p[1] + w[t, 2] * p[2]
+        if not wp > 0.5:
+            continue
+        lf = 0.0
+        for e in range(3):
+            lf += log_ndtr((E[t, e, 0] * p[0] + E[t, e, 1] * p[1] + E[t, e, 2] * p[2]) * inv_sigma)
+        if lf > m:
+            m = lf
+    return m
+
+
+@njit(parallel=True, cache=True)
+def _kernel(pts, t1, t2, E, K, w, inv_sigma, zmin, zmax, floor, h, n, ptr, cells, fallback, deriv, force_exact,
+            P, D1, D2, status):
+    for i in prange(pts.shape[0]):
+        acc = np.zeros(12)
+        p = pts[i]
+        ok = False
+        if not force_exact:
+            c = _cell_of(p[0], p[1], p[2], h, n)
+            for k in range(ptr[c], ptr[c + 1]):
+                _add(cells[k], p, t1[i], t2[i], E, K, w, inv_sigma, zmin, zmax, deriv, 0.0, False, acc)
+            ok = acc[0] >= floor
+        status[i] = TRUNCATED
+        if not ok:
+            for q in range(12):
+                acc[q] = 0.0
+            m = _largest_log_weight(p, fallback, E, w, inv_sigma)
+            for k in range(fallback.shape[0]):
+                _add(fallback[k], p, t1[i], t2[i], E, K, w, inv_sigma, zmin, zmax, deriv, m, True, acc)
+            status[i] = EXACT
+        s = acc[0]
+        for c in range(3):
+            val = acc[1 + c] / s
+            P[i, c] = val
+            D1[i, c] = (acc[5 + c] - val * acc[4]) / s
+            D2[i, c] = (acc[9 + c] - val * acc[8]) / s
+
+
+def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, sigma, zmin, floor, derivatives=True, exact=False):
+    """The coverage-weighted surface and its derivatives along ``t1, t2`` at points ``pts`` (k, 3) given in
+    homogeneous coordinates (see the module's text). ``tables`` is ``(E, K, w)``: (T, 3, 3) edge rows,
+    (T, 3, 3) maps and (T, 3) denominators; ``cells`` from :func:`~._sphere_kernels.build_cells_3d` over the
+    triangles' reach; ``fallback`` the triangles a point outside them is summed over (all of them with
+    ``exact``). Returns ``P, P_t1, P_t2`` (k, 3) and a status per point."""
+    pts = np.ascontiguousarray(pts, np.float64)
+    k = len(pts)
+    t1 = np.ascontiguousarray(t1, np.float64)
+    t2 = np.ascontiguousarray(t2, np.float64)
+    P, D1, D2 = np.empty((k, 3)), np.empty((k, 3)), np.empty((k, 3))
+    status = np.empty(k, np.int8)
+    E, K, w = tables
+    h, n, ptr, cf = cells
+    _kernel(pts, t1, t2, E, K, w, 1.0 / float(sigma), float(zmin), float(-zmin), float(floor), float(h), int(n), ptr,
+            cf, np.ascontiguousarray(fallback, np.int64), bool(derivatives), bool(exact), P, D1, D2, status)
+    return P, D1, D2, status

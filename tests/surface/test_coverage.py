@@ -1,0 +1,165 @@
+"""Coverage weights (``weights="coverage"``): linear precision, the mesh itself as the limit when s -> 0
+(monotonically), truncated = exact, analytic derivatives = finite differences, on the plane and the sphere;
+glued octahedral pixels; bad settings."""
+import numpy as np
+import pytest
+
+import geoimg
+from geoimg import fit_surface, parametrize
+from geoimg.mesh import point_mesh_distance
+from geoimg.surface import _coverage_kernels as ck
+from helpers import finite_differences, mixed_mesh
+import meshes
+
+AFFINE = np.array([[1.0, 0.5, -2.0], [0.3, -1.0, 0.7]])
+OFFSET = np.array([0.2, -0.4, 1.5])
+
+
+def affine_mesh():
+    uv, faces = mixed_mesh(seed=3)
+    return geoimg.Mesh(uv @ AFFINE + OFFSET, faces), geoimg.Parametrization(uv, (1.0, 1.0))
+
+
+@pytest.fixture(scope="module")
+def ball():
+    mesh = meshes.icosphere(3, 0.3)
+    return mesh, parametrize(mesh)
+
+
+@pytest.mark.parametrize("s", [0.05, 0.5, 3.0])
+def test_linear_precision_on_triangles_quads_and_hexagons(s):
+    mesh, param = affine_mesh()
+    surf = fit_surface(mesh, param, s, weights="coverage")
+    rng = np.random.default_rng(2)
+    pts = np.concatenate([rng.uniform(0, 1, (300, 2)), [[0, 0], [1, 1], [0.5, -0.1]]])
+    assert np.allclose(surf.evaluate(pts), pts @ AFFINE + OFFSET, rtol=0, atol=1e-10)
+    pu, pv = surf.derivatives(pts)
+    assert np.allclose(pu, AFFINE[0], atol=1e-9) and np.allclose(pv, AFFINE[1], atol=1e-9)
+    img = surf.sample(33)
+    assert img.mask.all() and img.metadata["weights"] == "coverage"
+
+
+def test_the_plane_surface_tends_to_the_mesh_itself_as_s_falls(mountain):
+    """The terrain at random points: the largest distance to the mesh falls monotonically with s, about in
+    proportion (only points within a few sigma of an edge move: the crease is rounded over sigma); at its
+    vertices the surface is the mesh (the paper's weights plateau instead, at a few tenths of a face)."""
+    param = parametrize(mountain, "heightfield", axis="y")
+    rng = np.random.default_rng(5)
+    pts = rng.uniform(0.05, 0.95, (2000, 2)) * param.extent
+    far = []
+    for s in (1.0, 0.5, 0.25, 0.1, 0.05, 0.02):
+        surf = fit_surface(mountain, param, s, weights="coverage")
+        far.append(point_mesh_distance(surf.evaluate(pts), mountain).max())
+    assert all(a > b for a, b in zip(far, far[1:])), far
+    assert far[-1] < 0.02 * far[0], far
+    used = mountain.referenced_vertices()
+    at_vertices = fit_surface(mountain, param, 0.02, weights="coverage").evaluate(param.coords[used])
+    assert np.abs(at_vertices - mountain.vertices[used]).max() < 1e-9 * mountain.bounding_box_diagonal()
+
+
+def test_the_sphere_surface_tends_to_the_mesh_itself_as_s_falls(ball):
+    mesh, param = ball
+    rng = np.random.default_rng(6)
+    q = rng.normal(size=(3000, 3))
+    far = []
+    for s in (0.8, 0.4, 0.2, 0.1, 0.05, 0.02):
+        surf = fit_surface(mesh, param, s, weights="coverage")
+        far.append(point_mesh_distance(surf.evaluate_directions(q, derivatives=False)[0], mesh).max())
+    assert all(a > b for a, b in zip(far, far[1:])), far
+    assert far[-1] < 0.02 * far[0], far
+
+
+@pytest.mark.parametrize("s", [0.1, 1.0])
+def test_truncated_equals_exact(mountain, ball, s):
+    param = parametrize(mountain, "heightfield", axis="y")
+    surf = fit_surface(mountain, param, s, weights="coverage")
+    pts = np.random.default_rng(3).uniform(0, 1, (300, 2)) * param.extent
+    diag = mountain.bounding_box_diagonal()
+    assert np.abs(surf.evaluate(pts) - surf.evaluate(pts, exact=True)).max() <= 1e-8 * diag
+    assert np.abs(fit_surface(mountain, param, s, weights="coverage", tol=0).evaluate(pts) -
+                  surf.evaluate(pts, exact=True)).max() == 0.0
+    mesh, sparam = ball
+    sphere = fit_surface(mesh, sparam, s, weights="coverage")
+    q = np.random.default_rng(4).normal(size=(300, 3))
+    a = sphere.evaluate_directions(q)
+    b = sphere.evaluate_directions(q, exact=True)
+    assert (b[5] == ck.EXACT).all() and (a[5] == ck.TRUNCATED).all()
+    for x, y in zip(a[:3], b[:3]):
+        assert np.abs(x - y).max() <= 1e-8 * max(1.0, np.abs(y).max())
+
+
+@pytest.mark.parametrize("s", [0.1, 1.0])
+def test_analytic_derivatives_match_finite_differences(mountain, ball, s):
+    param = parametrize(mountain, "heightfield", axis="y")
+    surf = fit_surface(mountain, param, s, weights="coverage")
+    pts = np.random.default_rng(4).uniform(0.1, 0.9, (80, 2))
+    pu, pv = surf.derivatives(pts)
+    fu, fv = finite_differences(surf, pts, h=1e-7)
+    scale = np.abs(pu).max()
+    assert np.abs(pu - fu).max() < 1e-4 * scale and np.abs(pv - fv).max() < 1e-4 * scale
+    assert np.all(surf.normals(pts)[:, 1] > 0)             # y up
+    mesh, sparam = ball
+    sphere = fit_surface(mesh, sparam, s, weights="coverage")
+    q = np.random.default_rng(7).normal(size=(60, 3))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    P, P1, P2, t1, t2, _ = sphere.evaluate_directions(q)
+    h = 1e-7
+    for t, D in ((t1, P1), (t2, P2)):
+        fd = (sphere.evaluate_directions(q + h * t)[0] - sphere.evaluate_directions(q - h * t)[0]) / (2 * h)
+        assert np.abs(fd - D).max() < 1e-4 * np.abs(D).max()
+
+
+def test_an_octahedral_image_welds_watertight_and_keeps_its_input(ball):
+    mesh, param = ball
+    before = mesh.vertices.copy(), param.coords.copy()
+    img = fit_surface(mesh, param, 0.2, weights="coverage").sample(33)
+    quads = img.to_mesh()
+    assert geoimg.mesh.topology(quads).closed and geoimg.mesh.topology(quads).genus == 0
+    assert np.array_equal(mesh.vertices, before[0]) and np.array_equal(param.coords, before[1])
+    normals = img.normals.reshape(-1, 3)
+    assert np.allclose(np.linalg.norm(normals, axis=1), 1.0, atol=1e-6)
+
+
+def test_log_ndtr_is_finite_far_out():
+    from scipy.special import log_ndtr
+    for z in (-1e3, -200.0, -40.0, -37.0, -36.9, -5.0, 0.0, 3.0, 40.0):
+        assert ck.log_ndtr(z) == pytest.approx(float(log_ndtr(z)), rel=1e-12, abs=1e-300)
+
+
+def test_points_outside_a_planar_mesh_are_summed_exactly_over_its_border():
+    mesh, param = affine_mesh()
+    surf = fit_surface(mesh, param, 0.05, weights="coverage")
+    far = np.array([[3.0, 3.0], [-2.0, 0.5], [0.5, 1.5]])
+    _, _, _, status = surf._points(far, False)
+    assert (status == ck.EXACT).all()
+    assert np.allclose(surf.evaluate(far), far @ AFFINE + OFFSET, atol=1e-9)      # linear precision still
+
+
+@pytest.mark.parametrize("s, message", [(np.ones(3), "one number"), (0.0, "from 1e-06"), (1e4, "from 1e-06"),
+                                        (np.nan, "from 1e-06"), ("1", "one number"), (True, "one number")])
+def test_bad_smoothness_is_refused(s, message):
+    mesh, param = affine_mesh()
+    with pytest.raises(geoimg.InputError, match=message):
+        fit_surface(mesh, param, s, weights="coverage")
+
+
+def test_cuda_is_refused_for_coverage_weights():
+    mesh, param = affine_mesh()
+    with pytest.raises(geoimg.InputError, match="CPU only|no CUDA|not usable|cuda"):
+        fit_surface(mesh, param, 0.5, weights="coverage").sample(9, backend="cuda")
+
+
+def test_the_kernel_equals_its_numpy_twin(ball):
+    from reference import coverage_numpy
+    mesh, param = affine_mesh()
+    bumpy = geoimg.Mesh(np.column_stack([mesh.vertices[:, :2], np.sin(7 * param.coords[:, 0])]), mesh.faces)
+    for surf, pts in ((fit_surface(bumpy, param, 0.3, weights="coverage"),
+                       np.column_stack([np.random.default_rng(8).uniform(0, 1, (200, 2)), np.ones(200)])),
+                      (fit_surface(*ball, 0.3, weights="coverage"),
+                       np.random.default_rng(9).normal(size=(200, 3)))):
+        if pts[0, 2] != 1.0:
+            pts /= np.linalg.norm(pts, axis=1, keepdims=True)
+        E, K, w = surf.tables
+        ref = coverage_numpy(pts, E, K, w, surf.sigma)
+        got = surf._evaluate(pts, pts * 0, pts * 0, derivatives=False)[0]
+        assert np.abs(got - ref).max() < 1e-9 * np.abs(ref).max()
