@@ -123,8 +123,10 @@ def cmd_image(args) -> int:
         if not args.quiet:
             H, W = image.shape
             piece = f" (piece {image.metadata['component']} of {image.metadata['components']})" if many else ""
+            m = image.metadata
             print(f"wrote {out}: {W} x {H} {image.domain.kind} geometry image{piece}, {int(image.valid.sum())} "
-                  f"valid pixels ({image.metadata['exact_pixels']} evaluated exactly)")
+                  f"valid pixels; to the mesh: PSNR {m['psnr_db']:.1f} dB, Hausdorff {100 * m['hausdorff']:.2g} % "
+                  f"of the diagonal ({m['weights']} weights, s = {m['s']:.3g})")
     return 0
 
 
@@ -449,7 +451,8 @@ class BatchProgress:
     def _describe(c: dict) -> str:
         eta = "" if c["eta"] is None or c["done"] >= c["total"] else f", {_duration(c['eta'])} left"
         skipped = f" ({c['skipped']} done before)" if c["skipped"] else ""
-        return (f"{c['done']}/{c['total']} done{skipped}, {c['refused']} refused, {c['failed']} failed, "
+        return (f"{c['done']}/{c['total']} done{skipped}, {c['poor']} poor, {c['refused']} refused, "
+                f"{c['failed']} failed, "
                 f"{c['per_minute']:.1f}/min{eta}")
 
     def __call__(self, counts: dict) -> None:
@@ -476,20 +479,21 @@ def cmd_batch(args) -> int:
                    weights=args.weights, n=args.n, tol=args.tol, sliver_rule=args.sliver_rule,
                    normals=not args.no_normals, colors=not args.no_colors, steps=args.ops or (), mode=args.mode,
                    nsr=args.nsr,
-                   quads=args.quads is not None, quads_format=args.quads or "obj", psnr=not args.no_psnr)
+                   quads=args.quads is not None, quads_format=args.quads or "obj", psnr=not args.no_psnr,
+                   min_psnr=args.min_psnr, max_hausdorff=args.max_hausdorff)
     if args.component is not None:
         options["component"] = _component(args.component)
     table = convert_batch(args.inputs, args.output, zarr=args.zarr, manifest=args.manifest, workers=args.workers,
                           memory_limit=args.memory_limit, scheduler=args.scheduler, force=args.force,
                           progress=BatchProgress(args.quiet, args.progress_every), **options)
     c = table.attrs["summary"]
-    bad = c["refused"] + c["failed"]
+    bad = c["poor"] + c["refused"] + c["failed"]
     if not args.quiet:
         skipped = f" ({c['skipped']} of these finished by an earlier run)" if c["skipped"] else ""
-        print(f"{c['total']} inputs: {c['ok']} converted, {c['refused']} refused, {c['failed']} failed{skipped} "
-              f"in {_duration(c['elapsed'])}; manifest {table.attrs['manifest']}")
+        print(f"{c['total']} inputs: {c['ok'] + c['poor']} converted ({c['poor']} of them poor), {c['refused']} "
+              f"refused, {c['failed']} failed{skipped} in {_duration(c['elapsed'])}; manifest {table.attrs['manifest']}")
     if bad:
-        print(f"geoimg batch: {bad} of {c['total']} inputs were not converted (all reasons in "
+        print(f"geoimg batch: {bad} of {c['total']} inputs were not converted, or converted poorly (all reasons in "
               f"{table.attrs['manifest']}):", file=sys.stderr)
         failed = table[table["status"] != "ok"]
         for _, row in failed.head(BATCH_PROBLEMS_SHOWN).iterrows():

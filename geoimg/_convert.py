@@ -13,14 +13,20 @@ import numpy as np
 from ._choices import COMPONENT_CHOICES, DEFAULT_DISK_BALANCE
 from .errors import InputError, InputTypeError, MeshError
 from .image import GeometryImage
-from .mesh import Mesh, load_mesh, repair
+from .mesh import Mesh, load_mesh, repair, surface_distance
 from .parametrization import Parametrization, parametrize
 from .surface import fit_surface
+from .surface._coverage import check_s, prefilter_s
 from .surface._attributes import sample_colors
 from .surface._base import check_backend
 from ._types import Progress
 
-__all__ = ["mesh_to_image", "mesh_to_images", "COMPONENT_CHOICES"]
+__all__ = ["mesh_to_image", "mesh_to_images", "measure_fidelity", "poor_reason", "COMPONENT_CHOICES",
+           "FIDELITY_SAMPLES", "POOR_PSNR_DB", "POOR_HAUSDORFF"]
+
+FIDELITY_SAMPLES = 20000     # area samples a side for the fidelity every conversion reports (about 0.1 dB)
+POOR_PSNR_DB = 30.0          # an image below this PSNR, or with a Hausdorff distance above POOR_HAUSDORFF of
+POOR_HAUSDORFF = 0.10        # the diagonal, is far from its mesh: a warning, and 'poor' in a batch
 
 
 
@@ -44,7 +50,7 @@ def _load(mesh_or_path, say) -> tuple[Mesh, str]:
     raise InputTypeError(f"mesh_or_path: expected a geoimg.Mesh or a file path, got {type(mesh_or_path).__name__}")
 
 
-def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0, method: str = "auto", *,
+def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = None, method: str = "auto", *,
                    component: str | int = "all", progress: Progress | None = None, timings: dict | None = None,
                    **options: Any) -> list[GeometryImage]:
     """The geometry images of a mesh's pieces, largest first, after the repairs of
@@ -90,15 +96,20 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.
     return images
 
 
-def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0, method: str = "auto", *,
+def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = None, method: str = "auto", *,
                   axis: str | None = None, boundary: str = "square", balance: str = DEFAULT_DISK_BALANCE,
-                  weights: str = "gaussian", n: int = 10,
+                  weights: str = "coverage", n: int = 10,
                   tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True, colors: bool = True,
                   backend: str = "cpu", parametrization: Parametrization | None = None,
-                  progress: Progress | None = None, timings: dict | None = None) -> GeometryImage:
+                  progress: Progress | None = None, timings: dict | None = None,
+                  fidelity: bool = True) -> GeometryImage:
     """The geometry image of a mesh: :func:`~geoimg.parametrize`, :func:`~geoimg.fit_surface` and
     :meth:`~geoimg.Surface.sample` in one call. A mesh of several pieces, or one that needs repairs
     before it can be parametrized, goes through :func:`mesh_to_images`.
+
+    By default the image is as close to the mesh as its resolution allows: coverage weights whose width is
+    0.4 of a pixel spacing (:func:`geoimg.surface.prefilter_s`), a prefilter for the grid rather than a
+    smoothing of the shape. Smoothing is asked for with ``s`` (or filters afterwards).
 
     Parameters
     ----------
@@ -108,8 +119,9 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
         Pixels along the longer side; default from ``s`` (:meth:`~geoimg.Surface.auto_resolution`). A
         cut-open image (meshes with handles or several boundary loops) needs N - 1 a multiple of 64
         (65, 129, 257, 513, ...).
-    s : float, per-face values or SmoothnessMap; default 1.0
-        Smoothness (see :func:`geoimg.fit_surface`).
+    s : float, per-face values or SmoothnessMap, optional
+        Smoothness (see :func:`geoimg.fit_surface`). Default: for coverage weights the width that serves
+        the resolution (``sigma`` 0.4 of a pixel spacing); for the paper's weights 1.
     method, axis, boundary, balance
         The parametrization (see :func:`geoimg.parametrize`); ignored when ``parametrization`` is given.
     weights, n, tol, sliver_rule
@@ -128,7 +140,12 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
         Called with a short message at each stage.
     timings : dict, optional
         Seconds spent per stage are added to it (``load``, ``repair``, ``parametrize``, ``fit``,
-        ``sample``, ``colors``; summed over pieces).
+        ``sample``, ``colors``, ``fidelity``; summed over pieces).
+    fidelity : bool, default True
+        Measure the image's quad mesh against the mesh (:func:`geoimg.mesh.surface_distance` with
+        :data:`FIDELITY_SAMPLES` samples a side) into ``metadata["psnr_db"]`` and ``metadata["hausdorff"]``
+        (relative to the bounding-box diagonal), with a warning when the image is far from the mesh (below
+        :data:`POOR_PSNR_DB` or above :data:`POOR_HAUSDORFF`).
 
     Returns
     -------
@@ -144,6 +161,8 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
     ((9, 9), 'heightfield')
     """
     check_backend(backend)
+    if s is not None and weights == "coverage":
+        check_s(s)                                      # before the work
     if resolution is not None and (isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral)
                                    or resolution < 2):                  # before the work, not after it
         raise InputError(f"resolution: expected a whole number of pixels of at least 2, got {resolution!r}")
@@ -155,12 +174,17 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
         with _timed(timings, "parametrize"):
             parametrization = parametrize(mesh, method, axis=axis, boundary=boundary, balance=balance,
                                           progress=progress)
-    say(f"parametrized by {parametrization.method}; fitting the surface (s={s}, {weights} weights)")
+    serve = s is None and weights == "coverage"          # the width that serves the resolution
+    s_fit = (1.0 if s is None else s)
+    say(f"parametrized by {parametrization.method}; fitting the surface "
+        f"({'s for the resolution' if serve else f's={s_fit}'}, {weights} weights)")
     with _timed(timings, "fit"):
-        surface = fit_surface(mesh, parametrization, s, weights=weights, n=n, tol=tol, sliver_rule=sliver_rule)
+        surface = fit_surface(mesh, parametrization, s_fit, weights=weights, n=n, tol=tol, sliver_rule=sliver_rule)
     res = surface.auto_resolution() if resolution is None else surface.domain.round_resolution(resolution)
     if resolution is not None and res != resolution:
         warnings.warn(f"resolution {resolution}: {surface.domain.size_rule()}; sampled at {res}", stacklevel=2)
+    if serve:
+        surface = surface.with_s(prefilter_s(surface, res))     # type: ignore[attr-defined,arg-type]   # coverage
     say(f"sampling {res} pixels along the longer side")
     with _timed(timings, "sample"):
         image = surface.sample(res, normals=normals, backend=backend)
@@ -175,4 +199,34 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = 1.0
     normal = parametrization.info.get("normal")
     if normal is not None:                       # a terrain's up axis, for pictures
         image.metadata["up"] = "xyz"[int(np.argmax(np.abs(normal)))]
+    if fidelity:
+        say("measuring the image against the mesh")
+        with _timed(timings, "fidelity"):
+            measure_fidelity(image, mesh)
     return image
+
+
+def measure_fidelity(image: GeometryImage, mesh: Mesh) -> dict:
+    """How close ``image``'s quad mesh lies to ``mesh``: ``psnr_db`` and ``hausdorff`` (relative to the
+    mesh's bounding-box diagonal) from :func:`geoimg.mesh.surface_distance` with :data:`FIDELITY_SAMPLES`
+    area samples a side, recorded in ``image.metadata``; a warning says when the image is far from the mesh
+    (PSNR below :data:`POOR_PSNR_DB` or Hausdorff above :data:`POOR_HAUSDORFF`)."""
+    d = surface_distance(mesh, image.to_mesh(), n=FIDELITY_SAMPLES)
+    record = {"psnr_db": round(float(d["psnr_db"]), 2), "hausdorff": float(f"{d['hausdorff_rel']:.4g}")}
+    image.metadata.update(record)
+    why = poor_reason(record["psnr_db"], record["hausdorff"], POOR_PSNR_DB, POOR_HAUSDORFF)
+    if why:
+        warnings.warn(f"the image is far from its mesh ({why}): its map squeezes or folds part of the shape; "
+                      "see the map's stretch in the parametrization, or try another --method", stacklevel=3)
+    return record
+
+
+def poor_reason(psnr_db: float, hausdorff: float, min_psnr: float = POOR_PSNR_DB,
+                max_hausdorff: float = POOR_HAUSDORFF) -> str:
+    """Why an image at ``psnr_db`` and relative ``hausdorff`` from its mesh is poor ('' when it is not)."""
+    reasons = []
+    if psnr_db < min_psnr:
+        reasons.append(f"PSNR {psnr_db:.1f} dB < {min_psnr:g}")
+    if hausdorff > max_hausdorff:
+        reasons.append(f"Hausdorff {100 * hausdorff:.1f} % > {100 * max_hausdorff:g} % of the diagonal")
+    return ", ".join(reasons)

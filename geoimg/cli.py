@@ -107,7 +107,11 @@ def build_parser() -> argparse.ArgumentParser:
     conversion = argparse.ArgumentParser(add_help=False)        # mesh -> image: geoimg image and geoimg batch
     conversion.add_argument("--res", type=_positive(int), default=None,
                             help="pixels along the longer side (default: from s)")
-    conversion.add_argument("--s", type=_positive(float), default=1.0, help="smoothness s (sigma_i = s d_i), default 1")
+    conversion.add_argument("--s", type=_positive(float), default=None,
+                            help="smoothness s: the weights' width over the mean face size (sigma = s d); default: "
+                                 "the width that serves --res, 0.4 of a pixel (a prefilter for the grid, not a "
+                                 "smoothing: the image as close to the mesh as its resolution allows); 1 with "
+                                 "--weights gaussian or local")
     conversion.add_argument("--method", choices=PARAMETRIZATION_METHODS, default="auto",
                             help="parametrization (default auto)")
     conversion.add_argument("--axis", choices=AXES, default=None, help="up axis of a height field")
@@ -117,9 +121,11 @@ def build_parser() -> argparse.ArgumentParser:
                             help="disk and cut-open meshes: balance the mean-value map's area, a disk's boundary "
                                  "sliding along the square's sides (default area), relax it with SLIM, the boundary "
                                  "held (slim), or keep it (none); either balancing opens up squeezed parts")
-    conversion.add_argument("--weights", choices=WEIGHTS, default="gaussian",
-                            help="the weight of each face: rational Gaussian (default gaussian) or local (its n "
-                                 "nearest face centres)")
+    conversion.add_argument("--weights", choices=WEIGHTS, default="coverage",
+                            help="the weight of each face: the share of a Gaussian footprint it covers (default "
+                                 "coverage: the surface tends to the mesh as s falls), the paper's rational "
+                                 "Gaussian of the distance to its centre (gaussian), or local (its n nearest face "
+                                 "centres)")
     conversion.add_argument("--n", type=int, default=10,
                             help="face centres per local weight (--weights local; default 10)")
     conversion.add_argument("--tol", type=float, default=1e-10,
@@ -254,6 +260,11 @@ def build_parser() -> argparse.ArgumentParser:
                     help="also write the quad mesh, NAME_quads.obj (or .ply, .off)")
     ba.add_argument("--no-normals", action="store_true", help="leave out the exact normals")
     ba.add_argument("--no-psnr", action="store_true", help="do not measure the quad mesh against the input")
+    ba.add_argument("--min-psnr", type=float, default=30.0, metavar="DB",
+                    help="below this PSNR to the input an image is marked poor, and the exit status is 1 (default 30)")
+    ba.add_argument("--max-hausdorff", type=float, default=0.10, metavar="FRACTION",
+                    help="above this Hausdorff distance to the input, as a fraction of its bounding-box diagonal, an "
+                         "image is marked poor (default 0.1)")
     ba.add_argument("--manifest", default=None, metavar="CSV", help="manifest CSV (default OUTPUT/manifest.csv)")
     ba.add_argument("--workers", type=_positive(int), default=None, metavar="N",
                     help="local worker processes (default: one per core)")
@@ -283,7 +294,8 @@ def build_parser() -> argparse.ArgumentParser:
     demo = sub.add_parser("demo", help="run the whole pipeline on the bundled terrain", parents=[common])
     demo.add_argument("-o", "--output", default="geoimg-demo", help="output folder (default ./geoimg-demo)")
     demo.add_argument("--res", type=_positive(int), default=256, help="pixels along the longer side (default 256)")
-    demo.add_argument("--s", type=_positive(float), default=2.0, help="smoothness s (default 2)")
+    demo.add_argument("--s", type=_positive(float), default=None,
+                      help="smoothness s (default: the width that serves --res)")
     demo.add_argument("--mesh", default=None, help="another mesh instead of the bundled sample")
     demo.add_argument("--force", action="store_true",
                       help="write into a folder that an earlier demo did not make (its files are replaced)")

@@ -214,7 +214,7 @@ def test_cli_exit_status_summary_and_usage_errors(inputs, tmp_path):
     run = subprocess.run(_batch_command(inputs / "a", "-o", out, "--res", RES, "--workers", 1),
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
-    assert "2 inputs: 2 converted, 0 refused, 0 failed" in run.stdout
+    assert "2 inputs: 2 converted (0 of them poor), 0 refused, 0 failed" in run.stdout
     run = subprocess.run(_batch_command(inputs, "-o", out, "--res", RES, "--workers", 1, "--force"),
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 1
@@ -223,7 +223,8 @@ def test_cli_exit_status_summary_and_usage_errors(inputs, tmp_path):
     run = subprocess.run(_batch_command(inputs, "-o", out, "--res", RES, "--workers", 1),
                          capture_output=True, text=True, timeout=300)
     assert run.returncode == 1, run.stdout
-    assert "5 inputs: 3 converted, 2 refused, 0 failed (5 of these finished by an earlier run)" in run.stdout
+    assert "5 inputs: 3 converted (0 of them poor), 2 refused, 0 failed (5 of these finished by an earlier run)" \
+        in run.stdout
     assert "2 of 5 inputs were not converted" in run.stderr and "bad.obj: refused:" in run.stderr
     for args in (["--zarr", tmp_path / "z.zarr"], ["--quads", "stl"], ["--workers", "0"], ["--mean", "x"]):
         run = subprocess.run(_batch_command(inputs, "-o", tmp_path / "o2", *args), capture_output=True,
@@ -286,7 +287,8 @@ class _Stream:
 
 
 def _counts(done, elapsed, total=10):
-    return {"done": done, "ok": done, "refused": 0, "failed": 0, "skipped": 0, "total": total, "elapsed": elapsed,
+    return {"done": done, "ok": done, "poor": 0, "refused": 0, "failed": 0, "skipped": 0, "total": total,
+            "elapsed": elapsed,
             "per_minute": 60 * done / elapsed if elapsed else 0.0, "eta": (total - done) * elapsed / done if done else None}
 
 
@@ -297,7 +299,7 @@ def test_progress_lines_off_a_terminal_a_bar_on_one_and_nothing_when_quiet():
         p(_counts(done, t))
     lines = logs.text.splitlines()
     assert [line.split("]")[0] for line in lines] == ["[0s", "[6s", "[12s"]       # every 5 s, and the end
-    assert lines[1].endswith("3/10 done, 0 refused, 0 failed, 32.7/min, 13s left")
+    assert lines[1].endswith("3/10 done, 0 poor, 0 refused, 0 failed, 32.7/min, 13s left")
     assert lines[-1].startswith("[12s] 10/10 done") and "left" not in lines[-1]
     term = _Stream(tty=True)
     p = _commands.BatchProgress(stream=term)
@@ -321,3 +323,23 @@ def test_zarr_items_keep_their_colours(tmp_path):
                                         for i in range(2)})
     assert np.array_equal(batch.read_item(store, 0).colors, coloured.colors)
     assert batch.read_item(store, 1).colors is None
+
+
+def test_an_image_far_from_its_input_is_marked_poor_and_counted(inputs, tmp_path):
+    """With a PSNR bar no image can reach the converted inputs are 'poor': written, but counted apart, listed
+    with the reason, exit 1; a rerun keeps them poor. Bad bars are refused before any work."""
+    out = tmp_path / "out"
+    run = subprocess.run(_batch_command(inputs / "a", "-o", out, "--res", RES, "--workers", 1, "--min-psnr", 500),
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 1, run.stderr
+    assert "2 inputs: 2 converted (2 of them poor), 0 refused, 0 failed" in run.stdout
+    assert "poor: far from the input: PSNR" in run.stderr and "< 500" in run.stderr
+    rows = batch.read_manifest(out / batch.MANIFEST_NAME)
+    assert {r["status"] for r in rows.values()} == {"poor"} and all((out / "a").glob("*.exr"))
+    run = subprocess.run(_batch_command(inputs / "a", "-o", out, "--res", RES, "--workers", 1, "--min-psnr", 500),
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 1 and "(2 of them poor)" in run.stdout and "2 of these finished by an earlier run" in run.stdout
+    for bad in (["--min-psnr", "nan"], ["--max-hausdorff", "0"], ["--max-hausdorff", "x"]):
+        run = subprocess.run(_batch_command(inputs / "a", "-o", tmp_path / "o2", *bad), capture_output=True,
+                             text=True, timeout=60)
+        assert run.returncode == 2 and "Traceback" not in run.stderr and not (tmp_path / "o2").exists()

@@ -13,11 +13,39 @@ from helpers import MOUNTAIN, load_data
 
 def test_mesh_to_image_is_the_pipeline_in_one_call():
     mesh = geoimg.load_mesh(MOUNTAIN)
-    by_hand = geoimg.fit_surface(mesh, geoimg.parametrize(mesh), 2.0).sample(33)
-    image = geoimg.mesh_to_image(MOUNTAIN, 33, 2.0)
-    assert np.array_equal(image.pixels, by_hand.pixels) and np.array_equal(image.normals, by_hand.normals)
-    assert image.domain == by_hand.domain
-    assert image.metadata["source"] == "mountain.obj" and image.metadata["parametrization"] == "heightfield"
+    param = geoimg.parametrize(mesh)
+    for weights, s in (("gaussian", 2.0), ("coverage", 2.0)):
+        by_hand = geoimg.fit_surface(mesh, param, s, weights=weights).sample(33)
+        image = geoimg.mesh_to_image(MOUNTAIN, 33, s, weights=weights)
+        assert np.array_equal(image.pixels, by_hand.pixels) and np.array_equal(image.normals, by_hand.normals)
+        assert image.domain == by_hand.domain
+        assert image.metadata["source"] == "mountain.obj" and image.metadata["parametrization"] == "heightfield"
+
+
+def test_by_default_the_width_serves_the_resolution_and_the_fidelity_is_recorded():
+    """No s: coverage weights of width PREFILTER pixel spacings at that resolution (a prefilter, not a
+    smoothing); the image's distance to the mesh is in its metadata, and closer than the paper's s = 1."""
+    from geoimg.surface import PREFILTER, prefilter_s
+    mesh = geoimg.load_mesh(MOUNTAIN)
+    param = geoimg.parametrize(mesh)
+    image = geoimg.mesh_to_image(mesh, 65, parametrization=param)
+    surface = geoimg.fit_surface(mesh, param, 1.0, weights="coverage")
+    assert image.metadata["weights"] == "coverage"
+    assert image.metadata["s"] == prefilter_s(surface, 65)
+    assert surface.with_s(image.metadata["s"]).sigma == pytest.approx(PREFILTER * surface.pixel_spacing(65))
+    paper = geoimg.mesh_to_image(mesh, 65, weights="gaussian", parametrization=param)
+    assert paper.metadata["s"] == 1.0
+    assert image.metadata["psnr_db"] > paper.metadata["psnr_db"] > 30
+    assert 0 < image.metadata["hausdorff"] < 0.01
+    assert "psnr_db" not in geoimg.mesh_to_image(mesh, 9, parametrization=param, fidelity=False).metadata
+
+
+def test_an_image_far_from_its_mesh_says_so(monkeypatch):
+    import geoimg._convert as convert
+    monkeypatch.setattr(convert, "POOR_PSNR_DB", 500.0)
+    mesh = geoimg.load_mesh(MOUNTAIN)
+    with pytest.warns(UserWarning, match=r"far from its mesh \(PSNR .* dB < 500"):
+        convert.measure_fidelity(geoimg.mesh_to_image(mesh, 9, fidelity=False), mesh)
 
 
 def test_a_given_parametrization_is_used_and_progress_is_reported():

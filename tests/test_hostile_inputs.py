@@ -25,8 +25,10 @@ def small_exr(tmp_path_factory):
 
 @pytest.mark.parametrize("argv, message", [
     (["image", str(MOUNTAIN), "--res", "100000"], "would need about .* GiB; the limit is"),
-    (["image", str(MOUNTAIN), "--s", "1e-300", "--res", "9"], "s: expected values from 0.001 to 1000"),
-    (["image", str(MOUNTAIN), "--s", "1e300", "--res", "9"], "s: expected values from 0.001 to 1000"),
+    (["image", str(MOUNTAIN), "--s", "1e-300", "--res", "9"], "s: expected a number from 1e-06 to 1000"),
+    (["image", str(MOUNTAIN), "--s", "1e300", "--res", "9"], "s: expected a number from 1e-06 to 1000"),
+    (["image", str(MOUNTAIN), "--s", "1e-300", "--res", "9", "--weights", "gaussian"],
+     "s: expected values from 0.001 to 1000"),
 ])
 def test_absurd_image_requests_are_one_line(tmp_path, capsys, argv, message):
     argv = argv[:2] + ["-o", str(tmp_path / "x.exr")] + argv[2:]

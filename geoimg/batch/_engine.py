@@ -32,7 +32,7 @@ def _finished(row: dict | None, job: Job, records) -> bool:
     """Whether an earlier run's row says this job's outputs exist, made with the same options from the same
     file, or that it refused this very file with these options (a refusal is decided by the file and the
     options alone; a failure may be passing, and is tried again)."""
-    if not row or row.get("status") not in ("ok", "refused") or row.get("options_hash") != job.options_hash:
+    if not row or row.get("status") not in ("ok", "poor", "refused") or row.get("options_hash") != job.options_hash:
         return False
     if row.get("input_size") != str(job.input_size) or row.get("input_mtime_ns") != str(job.input_mtime_ns):
         return False
@@ -127,7 +127,8 @@ def _counts(rows: dict, total: int, before: list[str], t0: float) -> dict:
     rate = done / elapsed if elapsed > 0 and done else 0.0
     left = total - len(before) - done
     statuses += before
-    return {"done": done + len(before), "ok": statuses.count("ok"), "refused": statuses.count("refused"),
+    return {"done": done + len(before), "ok": statuses.count("ok"), "poor": statuses.count("poor"),
+            "refused": statuses.count("refused"),
             "failed": statuses.count("failed"), "skipped": len(before), "total": total, "elapsed": elapsed,
             "per_minute": 60 * rate, "eta": left / rate if rate else None}
 
@@ -160,12 +161,12 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
         it, an input is skipped when an earlier run with the same options converted it (its outputs still
         there) or refused it, and the file has not changed since.
     progress : callable, optional
-        Called every half second with counts: ``done, ok, refused, failed, skipped, total, elapsed,
-        per_minute, eta``. ``ok`` and ``refused`` include the ``skipped`` inputs, as an earlier run recorded
-        them: a refusal stays a refusal on every rerun.
+        Called every half second with counts: ``done, ok, poor, refused, failed, skipped, total, elapsed,
+        per_minute, eta``. ``ok``, ``poor`` and ``refused`` include the ``skipped`` inputs, as an earlier run
+        recorded them: a refusal stays a refusal on every rerun.
     **options
         Those of :class:`ConvertOptions`: ``resolution, s, method, axis, boundary, weights, n, tol,
-        sliver_rule, component, normals, steps, mode, nsr, quads, quads_format, psnr``.
+        sliver_rule, component, normals, steps, mode, nsr, quads, quads_format, psnr, min_psnr, max_hausdorff``.
 
     Returns
     -------

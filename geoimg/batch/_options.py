@@ -12,12 +12,14 @@ import numpy as np
 import filters
 
 from .._choices import DEFAULT_DISK_BALANCE, QUAD_FORMATS
+from .._convert import POOR_HAUSDORFF, POOR_PSNR_DB
 from .. import __version__
 from .._steps import check_steps
 from ..errors import InputError, InputTypeError
 from ..parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
 from ..parametrization._parametrize import check_axis
 from ..surface import S_RANGE, SLIVER_RULES, WEIGHTS
+from ..surface._coverage import COVERAGE_S_RANGE
 
 __all__ = ["ConvertOptions", "QUAD_FORMATS"]
 
@@ -34,7 +36,8 @@ class ConvertOptions:
     """What :func:`geoimg.batch.convert` does to each input: the options of :func:`geoimg.mesh_to_images`,
     then the filter ``steps`` (``(name, values)`` pairs of :data:`geoimg._steps.FILTER_STEPS`, with
     ``mode`` and ``nsr``), and what to write besides the image (``quads`` in ``quads_format``) and
-    measure (``psnr``: the quad mesh against the input).
+    measure (``psnr``: the quad mesh against the input; below ``min_psnr`` dB or with a Hausdorff distance
+    above ``max_hausdorff`` of the diagonal the input is marked ``poor``).
 
     Examples
     --------
@@ -43,15 +46,15 @@ class ConvertOptions:
     >>> ConvertOptions(s=0).digest() # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    geoimg.errors.InputError: s: expected a number from 0.001 to 1000, got 0
+    geoimg.errors.InputError: s: expected a number from 1e-06 to 1000, got 0
     """
     resolution: int | None = None
-    s: float = 1.0
+    s: float | None = None
     method: str = "auto"
     axis: str | None = None
     boundary: str = "square"
     balance: str = DEFAULT_DISK_BALANCE
-    weights: str = "gaussian"
+    weights: str = "coverage"
     n: int = 10
     tol: float = 1e-10
     sliver_rule: str = "robust"
@@ -64,10 +67,12 @@ class ConvertOptions:
     quads: bool = False
     quads_format: str = "obj"
     psnr: bool = True
+    min_psnr: float = POOR_PSNR_DB
+    max_hausdorff: float = POOR_HAUSDORFF
 
     def __post_init__(self):
         # numpy's scalars are numbers too: kept as Python's, so that equal options hash alike
-        for name in ("resolution", "n", "component", "s", "tol", "nsr"):
+        for name in ("resolution", "n", "component", "s", "tol", "nsr", "min_psnr", "max_hausdorff"):
             value = getattr(self, name)
             if isinstance(value, np.generic) and isinstance(value, numbers.Number):
                 object.__setattr__(self, name, value.item())
@@ -76,12 +81,19 @@ class ConvertOptions:
             raise InputError(f"resolution: expected a whole number of pixels of at least 2, got {self.resolution!r}")
         for name in ("s", "tol", "nsr"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
+            if (name != "s" or value is not None) and (isinstance(value, bool) or not isinstance(value, (int, float))):
                 raise InputTypeError(f"{name}: expected a number, got {type(value).__name__}")
-        if not (math.isfinite(self.s) and S_RANGE[0] <= self.s <= S_RANGE[1]):
-            raise InputError(f"s: expected a number from {S_RANGE[0]:g} to {S_RANGE[1]:g}, got {self.s!r}")
+        lo, hi = COVERAGE_S_RANGE if self.weights == "coverage" else S_RANGE
+        if self.s is not None and not (math.isfinite(self.s) and lo <= self.s <= hi):
+            raise InputError(f"s: expected a number from {lo:g} to {hi:g}, got {self.s!r}")
         if not (math.isfinite(self.tol) and 0 <= self.tol < 1):
             raise InputError(f"tol: expected a number from 0 (exact) to below 1, got {self.tol!r}")
+        for name in ("min_psnr", "max_hausdorff"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise InputError(f"{name}: expected a finite number, got {value!r}")
+        if not self.max_hausdorff > 0:
+            raise InputError(f"max_hausdorff: expected a fraction of the diagonal above 0, got {self.max_hausdorff!r}")
         if not (math.isfinite(self.nsr) and self.nsr > 0):
             raise InputError(f"nsr: expected a positive number, got {self.nsr!r}")
         if isinstance(self.n, bool) or not isinstance(self.n, int) or self.n < 1:
@@ -103,9 +115,9 @@ class ConvertOptions:
 
     def image_options(self) -> dict:
         """The keyword arguments of :func:`geoimg.mesh_to_images`."""
-        return dict(resolution=self.resolution, s=float(self.s), method=self.method, component=self.component,
-                    axis=self.axis, boundary=self.boundary, balance=self.balance, weights=self.weights, n=self.n,
-                    tol=float(self.tol), sliver_rule=self.sliver_rule, normals=self.normals,
+        return dict(resolution=self.resolution, s=None if self.s is None else float(self.s), method=self.method,
+                    component=self.component, axis=self.axis, boundary=self.boundary, balance=self.balance, weights=self.weights, n=self.n,
+                    tol=float(self.tol), sliver_rule=self.sliver_rule, normals=self.normals, fidelity=False,
                     colors=self.colors)
 
     def digest(self, *extra: object) -> str:

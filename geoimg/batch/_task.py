@@ -14,7 +14,7 @@ import numba
 import numpy as np
 
 from .._atomic import write_all
-from .._convert import _timed, mesh_to_images
+from .._convert import _timed, mesh_to_images, poor_reason
 from .._steps import apply_steps
 from ..errors import GeoimgError
 from ..mesh import Mesh, load_mesh, mesh_file_jobs, surface_distance, topology
@@ -110,8 +110,7 @@ def run_job(job: Job) -> dict:
             if opts.psnr and (opts.component == "all" or row["pieces"] == 1):
                 with _timed(timings, "psnr"):
                     dist = surface_distance(mesh, _joined([img.to_mesh() for img in images]), n=PSNR_SAMPLES)
-                row.update(psnr_db=round(dist["psnr_db"], 2),
-                           hausdorff=float(f"{dist['hausdorff'] / dist['diagonal']:.4g}"))
+                row.update(psnr_db=round(dist["psnr_db"], 2), hausdorff=float(f"{dist['hausdorff_rel']:.4g}"))
             if job.store is not None:
                 row["record"] = {"source": job.input, "shape": list(images[0].shape),
                                  "domain": images[0].domain.kind,
@@ -119,7 +118,9 @@ def run_job(job: Job) -> dict:
                                  "colors": images[0].colors is not None,
                                  "psnr_db": row.get("psnr_db"), "options_hash": job.options_hash,
                                  "timings": {k: round(v, 4) for k, v in timings.items()}}
-            row.update(status="ok", message="")
+            poor = poor_reason(row["psnr_db"], row["hausdorff"], opts.min_psnr, opts.max_hausdorff) \
+                if "psnr_db" in row else ""
+            row.update(status="poor" if poor else "ok", message=f"far from the input: {poor}" if poor else "")
         except GeoimgError as e:
             row.update(status="refused", message=_one_line(e))
         except Exception as e:               # a bug or a system error: recorded, and the batch goes on

@@ -11,9 +11,11 @@ from ._base import Surface
 from ._planar import PlanarSurface
 from ._sphere import SphereSurface
 from ._fit import S_RANGE, WEIGHTS, fit_surface
+from ._coverage import PREFILTER, CoverageSurface, PlanarCoverageSurface, SphereCoverageSurface, prefilter_s
 from ._face_maps import SLIVER_RULES
 from ._curvature import shape_operator_curvatures, surface_curvature
 from ._smoothness import SmoothnessMap, smoothness_field, uv_smoothness
 
 __all__ = ["Surface", "PlanarSurface", "SphereSurface", "WEIGHTS", "S_RANGE", "fit_surface", "SLIVER_RULES",
-           "shape_operator_curvatures", "surface_curvature", "SmoothnessMap", "smoothness_field", "uv_smoothness"]
+           "shape_operator_curvatures", "surface_curvature", "SmoothnessMap", "smoothness_field", "uv_smoothness",
+           "CoverageSurface", "PlanarCoverageSurface", "SphereCoverageSurface", "PREFILTER", "prefilter_s"]

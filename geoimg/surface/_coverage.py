@@ -51,7 +51,8 @@ from ._sphere_kernels import build_cells_3d, tangent_frames
 __all__ = ["CoverageSurface", "PlanarCoverageSurface", "SphereCoverageSurface", "fit_coverage_surface",
            "PREFILTER", "prefilter_s", "check_s"]
 
-PREFILTER = 0.5     # sigma in pixel spacings of the default image: see benchmarks/bench_fidelity.py
+PREFILTER = 0.4     # sigma in pixel spacings of the default image (0.2 to 0.5 measured: benchmarks/README.md)
+THIN = 4.0          # a triangle whose enclosing circle is THIN times its incircle or more is thin
 FLOOR_OVER_TOL = 1e4    # a sum of weights below FLOOR_OVER_TOL * tol is outside the triangles: recomputed exactly
 
 
@@ -98,11 +99,14 @@ class CoverageSurface(Surface):
     size: Any = field(repr=False)           # (T,) largest distance of a corner from the centroid
     spread: Any = field(repr=False)         # (T,) 1 / sin(smallest angle / 2)
     fallback: Any = field(repr=False)       # triangles a point outside them is summed over
+    narrow: Any = field(repr=False)         # (T,) each triangle's width over sigma: min(1, median slope / its slope)
+    thin: Any = field(repr=False)           # (T,) the inradius of a thin triangle (aspect beyond THIN), else inf
     polygons: Any = field(repr=False, default=None)    # (T, 3, 2) planar triangles, for the mask
     weights: str = "coverage"
     n: int = 0
     sliver_rule: str = "exact"
     _cells: Any = field(repr=False, default=None)
+    _edges: Any = field(repr=False, default=None)
 
     @property
     def sigma(self) -> float:
@@ -115,7 +119,21 @@ class CoverageSurface(Surface):
 
     def with_s(self, s: float) -> "CoverageSurface":
         """The same surface at another ``s`` (nothing refitted)."""
-        return type(self)(**{**self.__dict__, "s": check_s(s), "_cells": None})
+        return type(self)(**{**self.__dict__, "s": check_s(s), "_cells": None, "_edges": None})
+
+    def widths(self) -> np.ndarray:
+        """Each triangle's own width: ``sigma``, narrowed where its map is steeper than the median (so that
+        its plane, carried a width beyond it, stays as close as a typical one's) and, for a thin triangle, at
+        most its inradius (a blurred needle would reach far beyond itself: the product of its edges' terms
+        overstates a sharp corner's share)."""
+        return np.minimum(self.sigma * self.narrow, self.thin)
+
+    def edges(self) -> np.ndarray:
+        """Each triangle's edge rows divided by its own width: ``z = E . p`` (made once)."""
+        if self._edges is None:
+            E = self.tables[0] / self.widths()[:, None, None]
+            object.__setattr__(self, "_edges", np.ascontiguousarray(E))
+        return self._edges
 
     def _zmin(self) -> float:
         return float(ndtri(self.tol)) if self.tol > 0 else -math.inf
@@ -123,7 +141,7 @@ class CoverageSurface(Surface):
     def cells(self):
         """Triangles binned by their reach (made once, on first use)."""
         if self._cells is None:
-            reach = self.size + 1.05 * (-self._zmin()) * self.sigma * self.spread if self.tol > 0 else \
+            reach = self.size + 1.05 * (-self._zmin()) * self.widths() * self.spread if self.tol > 0 else \
                 np.full(len(self.size), 4.0)
             object.__setattr__(self, "_cells", build_cells_3d(self.centres, np.minimum(reach, 4.0)))
         return self._cells
@@ -131,7 +149,8 @@ class CoverageSurface(Surface):
     def _evaluate(self, pts, t1, t2, derivatives=True, exact=False):
         exact = exact or self.tol == 0
         fallback = np.arange(len(self.size)) if exact else self.fallback
-        return ck.evaluate_coverage(pts, t1, t2, self.tables, self.cells(), fallback, sigma=self.sigma,
+        return ck.evaluate_coverage(pts, t1, t2, (self.edges(),) + tuple(self.tables[1:]), self.cells(), fallback,
+                                    sigma=1.0,
                                     zmin=self._zmin(), floor=FLOOR_OVER_TOL * self.tol, derivatives=derivatives,
                                     exact=exact)
 
@@ -290,11 +309,11 @@ def _triangle_tables(corners: np.ndarray, xyz: np.ndarray, planar: bool):
     E = Minv / np.where(norm > 0, norm, 1.0)[..., None]
     K = np.einsum("tic,tcj->tij", np.transpose(xyz, (0, 2, 1)), Minv)   # positions by barycentric coordinates
     w = Minv.sum(axis=1)
-    at_centroid = np.einsum("tc,tc->t", w, corners.mean(axis=1))        # 1 on the plane; scaled to 1 on the sphere
-    at_centroid = np.where(keep & (np.abs(at_centroid) > 0), at_centroid, 1.0)
-    if not planar:
-        at_centroid /= np.linalg.norm(corners.mean(axis=1), axis=1)
-    return E, K / at_centroid[:, None, None], w / at_centroid[:, None], keep
+    if not planar:      # scaled so that w . q = 1 at the corner nearest the plane's parallel great circle
+        level = np.einsum("tc,tkc->tk", w, corners / np.linalg.norm(corners, axis=2, keepdims=True)).min(axis=1)
+        level = np.where(keep & (level > 0), level, 1.0)
+        K, w = K / level[:, None, None], w / level[:, None]
+    return E, K, w, keep
 
 
 def _shape(corners: np.ndarray):
@@ -343,10 +362,36 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
     tris, corners, E, K, w = tris[keep], corners[keep], E[keep], K[keep], w[keep]
     dbar = float((enclosing_circle_radius(corners[:, :, :2]) if planar else _sphere_sizes(corners)).mean())
     centres, size, spread = _shape(corners)
+    slope = _slopes(corners, tri_mesh.vertices[tris], planar)
+    narrow = np.minimum(1.0, float(np.median(slope)) / np.maximum(slope, 1e-300))
+    flat = corners[:, :, :2] if planar else corners
+    inradius = _inradius(flat)
+    enclosing = enclosing_circle_radius(corners[:, :, :2]) if planar else _sphere_sizes(corners)
+    thin = np.where(enclosing > THIN * inradius, inradius, np.inf)
     tables = tuple(np.ascontiguousarray(a, np.float64) for a in (E, K, w))
     kind = PlanarCoverageSurface if planar else SphereCoverageSurface
     return kind(domain, float(s), float(tol), dbar, tables, np.ascontiguousarray(centres), size, spread,
-                _border_triangles(tris) if planar else np.arange(len(tris)), polygons)
+                _border_triangles(tris) if planar else np.arange(len(tris)), narrow, thin, polygons)
+
+
+def _inradius(corners: np.ndarray) -> np.ndarray:
+    """Inradius of triangles (T, 3, d): twice the area over the perimeter."""
+    a = np.linalg.norm(corners[:, 1] - corners[:, 2], axis=1)
+    b = np.linalg.norm(corners[:, 2] - corners[:, 0], axis=1)
+    c = np.linalg.norm(corners[:, 0] - corners[:, 1], axis=1)
+    e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    g = np.einsum("tc,tc->t", e1, e1) * np.einsum("tc,tc->t", e2, e2) - np.einsum("tc,tc->t", e1, e2) ** 2
+    return np.sqrt(np.maximum(g, 0.0)) / np.maximum(a + b + c, 1e-300)
+
+
+def _slopes(corners: np.ndarray, xyz: np.ndarray, planar: bool) -> np.ndarray:
+    """Each triangle's largest stretch from the parameter domain into space: the largest singular value of
+    the map taking its parameter edges (chord edges on the sphere) to its edges in space."""
+    flat = corners[:, :, :2] if planar else corners
+    B = np.stack([flat[:, 1] - flat[:, 0], flat[:, 2] - flat[:, 0]], axis=2)       # (T, d, 2)
+    A = np.stack([xyz[:, 1] - xyz[:, 0], xyz[:, 2] - xyz[:, 0]], axis=2)           # (T, 3, 2)
+    J = A @ np.linalg.pinv(B)                                                      # (T, 3, d)
+    return np.linalg.norm(J, ord=2, axis=(1, 2))
 
 
 def _sphere_sizes(corners: np.ndarray) -> np.ndarray:

@@ -31,6 +31,7 @@ from ._sphere_kernels import _cell_of
 __all__ = ["evaluate_coverage", "log_ndtr", "TRUNCATED", "EXACT"]
 
 TRUNCATED, EXACT = 0, 1
+WMIN = 0.5          # w . p at or below it: the triangle is skipped (see _add)
 _SQRT1_2 = 1.0 / math.sqrt(2.0)
 _LOG_SQRT_2PI = 0.5 * math.log(2.0 * math.pi)
 
@@ -67,11 +68,11 @@ def _log_edge(z):
 
 
 @njit(cache=True, inline="always")
-def _add(t, p, t1, t2, E, K, w, inv_sigma, zmin, zmax, deriv, shift, log_domain, acc):
+def _add(t, p, t1, t2, E, K, w, inv_sigma, zmin, zmax, deriv, shift, log_domain, wmin, acc):
     """Add triangle ``t``'s terms at ``p`` into ``acc`` (``S, N[3], S_1, N_1[3], S_2, N_2[3]``); in the log
     domain its weight is ``exp(log F - shift)``. Returns False when it is skipped: an edge function below
-    ``zmin``, or a direction more than about 60 degrees from the triangle (``w . p < 1/2``, ``w`` scaled to
-    1 at its centroid: there the central projection would grow without bound)."""
+    ``zmin``, or a direction far from the triangle (``w . p <= wmin``, ``w`` scaled to 1 at its lowest
+    corner: the central projection grows without bound towards ``w . p = 0``)."""
     z0 = (E[t, 0, 0] * p[0] + E[t, 0, 1] * p[1] + E[t, 0, 2] * p[2]) * inv_sigma
     if not log_domain and z0 < zmin:
         return False
@@ -82,7 +83,7 @@ def _add(t, p, t1, t2, E, K, w, inv_sigma, zmin, zmax, deriv, shift, log_domain,
     if not log_domain and z2 < zmin:
         return False
     wp = w[t, 0] * p[0] + w[t, 1] * p[1] + w[t, 2] * p[2]
-    if not wp > 0.5:
+    if not wp > wmin:
         return False
     if log_domain:
         c0, r0 = _log_edge(z0)
@@ -123,12 +124,12 @@ def _add(t, p, t1, t2, E, K, w, inv_sigma, zmin, zmax, deriv, shift, log_domain,
 
 
 @njit(cache=True)
-def _largest_log_weight(p, cand, E, w, inv_sigma):
+def _largest_log_weight(p, cand, E, w, inv_sigma, wmin):
     m = -np.inf
     for k in range(cand.shape[0]):
         t = cand[k]
         wp = w[t, 0] * p[0] + w[t, 1] * p[1] + w[t, 2] * p[2]
-        if not wp > 0.5:
+        if not wp > wmin:
             continue
         lf = 0.0
         for e in range(3):
@@ -148,15 +149,19 @@ def _kernel(pts, t1, t2, E, K, w, inv_sigma, zmin, zmax, floor, h, n, ptr, cells
         if not force_exact:
             c = _cell_of(p[0], p[1], p[2], h, n)
             for k in range(ptr[c], ptr[c + 1]):
-                _add(cells[k], p, t1[i], t2[i], E, K, w, inv_sigma, zmin, zmax, deriv, 0.0, False, acc)
+                _add(cells[k], p, t1[i], t2[i], E, K, w, inv_sigma, zmin, zmax, deriv, 0.0, False, WMIN, acc)
             ok = acc[0] >= floor
         status[i] = TRUNCATED
         if not ok:
             for q in range(12):
                 acc[q] = 0.0
-            m = _largest_log_weight(p, fallback, E, w, inv_sigma)
+            wmin = WMIN
+            m = _largest_log_weight(p, fallback, E, w, inv_sigma, wmin)
+            if m == -np.inf:            # no triangle near: any in front (a coarse mesh's far side)
+                wmin = 0.0
+                m = _largest_log_weight(p, fallback, E, w, inv_sigma, wmin)
             for k in range(fallback.shape[0]):
-                _add(fallback[k], p, t1[i], t2[i], E, K, w, inv_sigma, zmin, zmax, deriv, m, True, acc)
+                _add(fallback[k], p, t1[i], t2[i], E, K, w, inv_sigma, zmin, zmax, deriv, m, True, wmin, acc)
             status[i] = EXACT
         s = acc[0]
         for c in range(3):

@@ -159,7 +159,7 @@ def test_the_kernel_equals_its_numpy_twin(ball):
                        np.random.default_rng(9).normal(size=(200, 3)))):
         if pts[0, 2] != 1.0:
             pts /= np.linalg.norm(pts, axis=1, keepdims=True)
-        E, K, w = surf.tables
-        ref = coverage_numpy(pts, E, K, w, surf.sigma)
+        _, K, w = surf.tables
+        ref = coverage_numpy(pts, surf.edges(), K, w, 1.0)          # edges over each triangle's own width
         got = surf._evaluate(pts, pts * 0, pts * 0, derivatives=False)[0]
         assert np.abs(got - ref).max() < 1e-9 * np.abs(ref).max()
