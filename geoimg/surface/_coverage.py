@@ -138,7 +138,7 @@ class CoverageSurface(Surface):
     def _zmin(self) -> float:
         return float(ndtri(self.tol)) if self.tol > 0 else -math.inf
 
-    def cells(self):
+    def cells(self) -> tuple:
         """Triangles binned by their reach (made once, on first use)."""
         if self._cells is None:
             reach = self.size + 1.05 * (-self._zmin()) * self.widths() * self.spread if self.tol > 0 else \
