@@ -217,13 +217,23 @@ class PlanarCoverageSurface(CoverageSurface):
         if backend != "cpu":
             raise InputError(f"backend {backend!r}: coverage weights are sampled on the CPU only; use backend='cpu'")
         u, v = self.domain.pixel_uv(shape)
-        uu, vv = np.meshgrid(u, v)
-        P, Pu, Pv, st = self._points(np.stack([uu.ravel(), vv.ravel()], axis=1), False)
         H, W = shape
+        if self.tol > 0:            # triangle by triangle over the grid; the uncertified pixels point by point
+            P, Pu, Pv, ok = ck.sample_grid_coverage(u, v, (self.edges(),) + tuple(self.tables[1:]), zmin=self._zmin(),
+                                                    floor=FLOOR_OVER_TOL * self.tol, derivatives=True)
+            ii, jj = np.nonzero(~ok)
+            if len(ii):
+                P[ii, jj], Pu[ii, jj], Pv[ii, jj], _ = self._points(np.stack([u[jj], v[ii]], axis=1), False)
+            n_exact = len(ii)
+        else:
+            uu, vv = np.meshgrid(u, v)
+            p, pu, pv, st = self._points(np.stack([uu.ravel(), vv.ravel()], axis=1), False)
+            P, Pu, Pv = p.reshape(H, W, 3), pu.reshape(H, W, 3), pv.reshape(H, W, 3)
+            n_exact = int((st == ck.EXACT).sum())
         eps = 0.5 * max(u[1] - u[0], v[1] - v[0])  # within half a pixel of a triangle
         mask = kernels.face_coverage(u, v, self.polygons, np.full(len(self.polygons), 3), eps)
-        nrm = kernels.unit_normals(Pu.reshape(H, W, 3), Pv.reshape(H, W, 3), self.orientation) if normals else None
-        return P.reshape(H, W, 3), nrm, mask, int((st == ck.EXACT).sum()), 0
+        nrm = kernels.unit_normals(Pu, Pv, self.orientation) if normals else None
+        return P, nrm, mask, n_exact, 0
 
 
 @dataclass(frozen=True, eq=False)
