@@ -8,7 +8,8 @@ a point sampler reaches.
                                         [--reference DIR_WITH_MPL_BINARIES] [--samples 200000]
 
 The reference binaries are built as ../shared/tools/praun-hoppe.md says; without them (or with
---no-reference) only geoimg's figures are printed. A mesh with quads is split along its shorter diagonals for
+--no-reference) only geoimg's figures are printed. Disk and cut-open meshes have no reference: there the bound
+is the linear resampling through the same map. A mesh with quads is split along its shorter diagonals for
 both (the reference reads triangles). PSNR = 20 log10(bounding-box diagonal / RMS), RMS of exact
 closest-point distances, both directions pooled, quads of the images split along their shorter diagonal.
 """
@@ -34,7 +35,10 @@ from geoimg.surface import _coverage
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "meshes"
 DEFAULT_MESHES = ["closed_genus0/bunny.off", "closed_genus0/bunny.obj", "closed_genus0/armadillo.obj",
-                  "polygonal/horse_quad.obj", "closed_genus0/spot.obj", "closed_genus0/bumpy.off"]
+                  "polygonal/horse_quad.obj", "closed_genus0/spot.obj", "closed_genus0/bumpy.off",
+                  "closed_genus0/human_man.obj", "polygonal/sword-quad-dominant.obj",
+                  "open_disk/camelhead.off", "open_disk/hemisphere.off", "closed_higher_genus/bob_tri.obj",
+                  "closed_higher_genus/torus.obj"]
 
 
 def write_m(mesh: geoimg.Mesh, path: Path) -> None:
@@ -112,8 +116,8 @@ def main(argv=None) -> int:
         name = path.stem + "_" + path.suffix[1:]
         tris, _ = mesh.triangulate(quads="shorter")
         tri_mesh = geoimg.Mesh(mesh.vertices, tris)
-        ref = reference(tri_mesh, name, args.res, bindir, work) if use_ref else {}
         param = geoimg.parametrize(mesh)
+        ref = reference(tri_mesh, name, args.res, bindir, work) if use_ref and param.method == "sphere" else {}
         for res in args.res:
             row = [path.name, str(mesh.n_faces), str(res)]
             if ref:

@@ -37,11 +37,11 @@ from scipy.special import ndtri
 from ..errors import InputError, ParametrizationError
 from ..image import Domain
 from ..mesh import Mesh
-from ..parametrization import square_jacobian, square_to_sphere
 from ..parametrization._octahedral import directions
 from . import _coverage_kernels as ck
 from . import _kernels as kernels
-from ._base import Surface, unit
+from ._addressing import PlanarAddressing, SphereAddressing
+from ._base import Surface
 from ._curvature import planar_curvature, sphere_curvature
 from ._face_maps import enclosing_circle_radius
 from ._planar import MAX_AUTO_RESOLUTION, _with_ghosts
@@ -160,7 +160,7 @@ class CoverageSurface(Surface):
 
 
 @dataclass(frozen=True, eq=False)
-class PlanarCoverageSurface(CoverageSurface):
+class PlanarCoverageSurface(PlanarAddressing, CoverageSurface):
     """The coverage-weighted surface over a parameter rectangle."""
 
     def pixel_spacing(self, resolution: int) -> float:
@@ -181,29 +181,6 @@ class PlanarCoverageSurface(CoverageSurface):
             raise InputError(f"uv: {int(bad.sum())} points (the first {pts[bad][0].tolist()}) lie so far outside the "
                              "parameter domain that the surface overflows there")
         return P, Pu, Pv, st
-
-    def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
-        """Surface points (k, 3) at parameter points ``uv`` (k, 2).
-
-        Examples
-        --------
-        >>> import geoimg
-        >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 1], [1, 1, 2], [0, 1, 1]], [[0, 1, 2], [0, 2, 3]])
-        >>> p = geoimg.Parametrization(m.vertices[:, :2], (1, 1))
-        >>> geoimg.fit_surface(m, p, s=0.1, weights="coverage").evaluate([[0.5, 0.25]]).round(9).tolist()
-        [[0.5, 0.25, 0.75]]
-        """
-        return self._points(uv, exact)[0]
-
-    def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
-        """Analytic first derivatives ``(P_u, P_v)``, each of shape (k, 3)."""
-        _, pu, pv, _ = self._points(uv, exact)
-        return pu, pv
-
-    def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
-        """Unit normals ``orientation * (P_u x P_v) / |P_u x P_v|``, shape (k, 3)."""
-        pu, pv = self.derivatives(uv, exact=exact)
-        return unit(np.cross(pu, pv) * self.orientation)
 
     def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         return planar_curvature(self, resolution)
@@ -237,7 +214,7 @@ class PlanarCoverageSurface(CoverageSurface):
 
 
 @dataclass(frozen=True, eq=False)
-class SphereCoverageSurface(CoverageSurface):
+class SphereCoverageSurface(SphereAddressing, CoverageSurface):
     """The coverage-weighted surface over the sphere (octahedral images)."""
 
     def pixel_spacing(self, resolution: int) -> float:
@@ -254,32 +231,6 @@ class SphereCoverageSurface(CoverageSurface):
         t1, t2 = tangent_frames(d)
         P, P1, P2, st = self._evaluate(d, t1, t2, derivatives=derivatives, exact=exact)
         return P, P1, P2, t1, t2, st
-
-    def _uv(self, uv):
-        pts = np.asarray(uv, dtype=np.float64)
-        if pts.ndim != 2 or pts.shape[1] != 2:
-            raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
-        if not np.isfinite(pts).all() or pts.min() < 0 or pts.max() > 1:
-            raise InputError("uv: octahedral image coordinates must lie in [0, 1]")
-        return pts
-
-    def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
-        """Surface points at octahedral image coordinates ``uv`` (k, 2); shape (k, 3)."""
-        return self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact, derivatives=False)[0]
-
-    def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
-        """``(P_u, P_v)`` at image coordinates (one-sided on the octahedron's creases)."""
-        pts = self._uv(uv)
-        _, P1, P2, t1, t2, _ = self.evaluate_directions(square_to_sphere(pts), exact=exact)
-        du, dv = square_jacobian(pts)
-        pu = P1 * (du * t1).sum(1, keepdims=True) + P2 * (du * t2).sum(1, keepdims=True)
-        pv = P1 * (dv * t1).sum(1, keepdims=True) + P2 * (dv * t2).sum(1, keepdims=True)
-        return pu, pv
-
-    def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
-        """Unit normals from the analytic derivatives (smooth across the creases), shape (k, 3)."""
-        _, P1, P2, _, _, _ = self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)
-        return unit(np.cross(P1, P2) * self.orientation)
 
     def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         return sphere_curvature(self, resolution)

@@ -13,14 +13,14 @@ from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import numpy as np
-from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
 from ..errors import InputError
 from ..image import Domain
 from ..mesh import Mesh
 from . import _kernels as kernels
-from ._base import Surface, truncation_radius, unit
+from ._addressing import PlanarAddressing
+from ._base import Surface, truncation_radius
 from ._curvature import planar_curvature
 from ._face_maps import FaceMaps, face_maps
 
@@ -30,7 +30,7 @@ MAX_AUTO_RESOLUTION = 4096
 
 
 @dataclass(frozen=True, eq=False)
-class PlanarSurface(Surface):
+class PlanarSurface(PlanarAddressing, Surface):
     """A fitted weighted-mean surface over a planar parameter rectangle; build it with
     :func:`geoimg.fit_surface`.
 
@@ -92,39 +92,6 @@ class PlanarSurface(Surface):
                                  f"outside the parameter domain (extent {list(self.extent)}) that the surface "
                                  "overflows there")
         return out
-
-    def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
-        """Surface points at parameter points.
-
-        Parameters
-        ----------
-        uv : array_like, shape (k, 2)
-        exact : bool, default False
-            Sum over every face instead of the truncated neighbourhood.
-
-        Returns
-        -------
-        numpy.ndarray, shape (k, 3) float64
-
-        Examples
-        --------
-        >>> import geoimg
-        >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 1], [1, 1, 2], [0, 1, 1]], [[0, 1, 2], [0, 2, 3]])
-        >>> p = geoimg.Parametrization(m.vertices[:, :2], (1, 1))
-        >>> geoimg.fit_surface(m, p, s=1).evaluate([[0.5, 0.25]]).round(12).tolist()
-        [[0.5, 0.25, 0.75]]
-        """
-        return self._points(uv, exact)[0]
-
-    def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
-        """Analytic first derivatives ``(P_u, P_v)``, each of shape (k, 3)."""
-        _, pu, pv, _ = self._points(uv, exact)
-        return pu, pv
-
-    def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
-        """Unit normals ``orientation * (P_u x P_v) / |P_u x P_v|`` from the analytic derivatives, shape (k, 3)."""
-        pu, pv = self.derivatives(uv, exact=exact)
-        return unit(np.cross(pu, pv) * self.orientation)
 
     # ---------------------------------------------------------------- sampling
     def auto_resolution(self) -> int:

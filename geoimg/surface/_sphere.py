@@ -20,10 +20,10 @@ from numpy.typing import ArrayLike
 from ..errors import InputError, ParametrizationError
 from ..image import Domain
 from ..mesh import Mesh
-from ..parametrization import square_jacobian, square_to_sphere
 from ..parametrization._octahedral import directions
 from . import _sphere_kernels as sphere_kernels
-from ._base import Surface, truncation_radius, unit
+from ._addressing import SphereAddressing
+from ._base import Surface, truncation_radius
 from ._curvature import sphere_curvature
 from ._face_maps import SphereFaceMaps, enclosing_circle_radius, fit_planes, robust_sliver_planes
 from ._kernels import unit_normals
@@ -93,7 +93,7 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str) -> SphereFace
 
 
 @dataclass(frozen=True, eq=False)
-class SphereSurface(Surface):
+class SphereSurface(SphereAddressing, Surface):
     """A fitted weighted-mean surface over the sphere; build it with :func:`geoimg.fit_surface` on a
     ``sphere`` parametrization. Points are addressed by octahedral image coordinates ``(u, v)`` in
     ``[0, 1]^2`` (or by unit directions, see :meth:`evaluate_directions`)."""
@@ -125,32 +125,6 @@ class SphereSurface(Surface):
         P, P1, P2, st = sphere_kernels.evaluate_sphere(d, t1, t2, self._faces, self._cells, log_g_ref=self.log_g_ref,
                                                        exact=exact or self.tol == 0, derivatives=derivatives)
         return P, P1, P2, t1, t2, st
-
-    def _uv(self, uv):
-        pts = np.asarray(uv, dtype=np.float64)
-        if pts.ndim != 2 or pts.shape[1] != 2:
-            raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
-        if not np.isfinite(pts).all() or pts.min() < 0 or pts.max() > 1:
-            raise InputError("uv: octahedral image coordinates must lie in [0, 1]")
-        return pts
-
-    def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
-        """Surface points at octahedral image coordinates ``uv`` (k, 2); shape (k, 3)."""
-        return self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact, derivatives=False)[0]
-
-    def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
-        """``(P_u, P_v)`` at image coordinates (one-sided on the octahedron's creases)."""
-        pts = self._uv(uv)
-        _, P1, P2, t1, t2, _ = self.evaluate_directions(square_to_sphere(pts), exact=exact)
-        du, dv = square_jacobian(pts)
-        pu = P1 * (du * t1).sum(1, keepdims=True) + P2 * (du * t2).sum(1, keepdims=True)
-        pv = P1 * (dv * t1).sum(1, keepdims=True) + P2 * (dv * t2).sum(1, keepdims=True)
-        return pu, pv
-
-    def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
-        """Unit normals from the analytic derivatives (smooth across the creases), shape (k, 3)."""
-        _, P1, P2, _, _, _ = self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)
-        return unit(np.cross(P1, P2) * self.orientation)
 
     def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         return sphere_curvature(self, resolution)
