@@ -1,4 +1,5 @@
-"""Coverage weights (``weights="coverage"``): linear precision, the mesh itself as the limit when s -> 0
+"""Coverage weights (``weights="coverage"``; linear precision is tested with the other weights in test_surface.py):
+the mesh itself as the limit when s -> 0
 (monotonically), truncated = exact, analytic derivatives = finite differences, on the plane and the sphere;
 glued octahedral pixels; bad settings."""
 import numpy as np
@@ -24,19 +25,6 @@ def affine_mesh():
 def ball():
     mesh = meshes.icosphere(3, 0.3)
     return mesh, parametrize(mesh)
-
-
-@pytest.mark.parametrize("s", [0.05, 0.5, 3.0])
-def test_linear_precision_on_triangles_quads_and_hexagons(s):
-    mesh, param = affine_mesh()
-    surf = fit_surface(mesh, param, s, weights="coverage")
-    rng = np.random.default_rng(2)
-    pts = np.concatenate([rng.uniform(0, 1, (300, 2)), [[0, 0], [1, 1], [0.5, -0.1]]])
-    assert np.allclose(surf.evaluate(pts), pts @ AFFINE + OFFSET, rtol=0, atol=1e-10)
-    pu, pv = surf.derivatives(pts)
-    assert np.allclose(pu, AFFINE[0], atol=1e-9) and np.allclose(pv, AFFINE[1], atol=1e-9)
-    img = surf.sample(33)
-    assert img.mask.all() and img.metadata["weights"] == "coverage"
 
 
 def test_the_plane_surface_tends_to_the_mesh_itself_as_s_falls(mountain):

@@ -23,7 +23,8 @@ def test_mixed_mesh_has_triangles_quads_and_hexagons():
     assert set(mesh.face_sizes.tolist()) == {3, 4, 6}
 
 
-@pytest.mark.parametrize("weights, s", [("gaussian", 0.5), ("gaussian", 1.0), ("gaussian", 3.0), ("local", 1.0)])
+@pytest.mark.parametrize("weights, s", [("gaussian", 0.5), ("gaussian", 1.0), ("gaussian", 3.0), ("local", 1.0),
+                                       ("coverage", 0.05), ("coverage", 0.5), ("coverage", 3.0)])
 @pytest.mark.parametrize("sliver_rule", ["robust", "paper"])
 def test_linear_precision_on_irregular_polygon_mesh(weights, s, sliver_rule):
     mesh, param = affine_mesh()
