@@ -22,6 +22,14 @@ class PlanarAddressing:
     def _points(self, uv, exact):    # pragma: no cover - each surface has its own
         raise NotImplementedError
 
+    def _uv(self, uv) -> np.ndarray:
+        pts = np.asarray(uv, dtype=np.float64)
+        if pts.ndim != 2 or pts.shape[1] != 2:
+            raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
+        if not np.isfinite(pts).all():
+            raise InputError("uv: contains NaN or infinite values")
+        return pts
+
     def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Surface points at parameter points.
 
@@ -66,13 +74,18 @@ class SphereAddressing:
                             derivatives: bool = True) -> tuple:    # pragma: no cover - each surface has its own
         raise NotImplementedError
 
-    def _uv(self, uv):
+    def _uv(self, uv) -> np.ndarray:
         pts = np.asarray(uv, dtype=np.float64)
         if pts.ndim != 2 or pts.shape[1] != 2:
             raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
         if not np.isfinite(pts).all() or pts.min() < 0 or pts.max() > 1:
             raise InputError("uv: octahedral image coordinates must lie in [0, 1]")
         return pts
+
+    def _glue(self, P: np.ndarray, nrm: np.ndarray | None):
+        """Nothing to average: glued boundary pixels are evaluated at bit-identical directions, with the
+        same faces summed in the same order, so they already hold identical values (tested)."""
+        return P, nrm, 0.0
 
     def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Surface points at octahedral image coordinates ``uv`` (k, 2); shape (k, 3)."""

@@ -167,11 +167,7 @@ class PlanarCoverageSurface(PlanarAddressing, CoverageSurface):
         return max(self.extent) / (int(resolution) - 1)
 
     def _points(self, uv, exact):
-        pts = np.asarray(uv, dtype=np.float64)
-        if pts.ndim != 2 or pts.shape[1] != 2:
-            raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
-        if not np.isfinite(pts).all():
-            raise InputError("uv: contains NaN or infinite values")
+        pts = self._uv(uv)
         k = len(pts)
         hom = np.column_stack([pts, np.ones(k)])
         P, Pu, Pv, st = self._evaluate(hom, np.tile([1.0, 0.0, 0.0], (k, 1)), np.tile([0.0, 1.0, 0.0], (k, 1)),
@@ -239,10 +235,6 @@ class SphereCoverageSurface(SphereAddressing, CoverageSurface):
         """Odd side whose pixels are ``s * dbar`` apart on the sphere, on average."""
         side = int(math.ceil(math.sqrt(4.0 * math.pi) / (self.s * self.dbar))) + 1
         return max(3, self._capped(side, MAX_SPHERE_RESOLUTION))
-
-    def _glue(self, P: np.ndarray, nrm: np.ndarray | None):
-        """Nothing to average: glued boundary pixels are evaluated at bit-identical directions."""
-        return P, nrm, 0.0
 
     def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
         if backend != "cpu":

@@ -71,11 +71,7 @@ class PlanarSurface(PlanarAddressing, Surface):
 
     # ---------------------------------------------------------------- evaluation
     def _points(self, uv, exact):
-        pts = np.asarray(uv, dtype=np.float64)
-        if pts.ndim != 2 or pts.shape[1] != 2:
-            raise InputError(f"uv: expected parameter points of shape (k, 2), got {pts.shape}")
-        if not np.isfinite(pts).all():
-            raise InputError("uv: contains NaN or infinite values")
+        pts = self._uv(uv)
         kind = kernels.GAUSSIAN if self.weights == "gaussian" else kernels.LOCAL
         fm = self.faces
         factor = None

@@ -138,11 +138,6 @@ class SphereSurface(SphereAddressing, Surface):
     def _s_max(self):
         return None if self.s_face is None else float(self.s_face.max())
 
-    def _glue(self, P: np.ndarray, nrm: np.ndarray | None):
-        """Nothing to average: glued boundary pixels are evaluated at bit-identical directions, with the
-        same faces summed in the same order, so they already hold identical values (tested)."""
-        return P, nrm, 0.0
-
     def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
         """Glued boundary pixels are evaluated at bit-identical directions, so they hold identical values."""
         if backend != "cpu":
