@@ -32,6 +32,7 @@ from ._balance import DEFAULT_STEPS, balance
 from ._laplacian import (corner_angles, cotangent_weights, factor_symmetric, laplacian, mean_value_weights, solve_free,
                          triangle_areas, vertex_areas)
 from ._multilevel import multilevel_start
+from ._octahedral import sampling_rotation
 from ._orientation import chord_orientation, facing_out
 from ._progressive import progressive_sphere
 from .._types import Progress
@@ -326,6 +327,9 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
         info.update(conformal_area_ratio_min=first["area_ratio_min"], conformal_area_ratio_max=first["area_ratio_max"])
     s, done, energy = balance(s, x, tris, lap, vertex_area, used, float(beta), steps, progress)
     s[idx] = _align(s[idx], x[idx], vertex_area[idx])
+    turn, gain = sampling_rotation(s, x, tris)           # the octahedral image's best sampling of the mesh
+    s[idx] = s[idx] @ turn.T
+    info["sampling_gain_db"] = gain
     det = chord_orientation(s, tris)
     info.update({"flipped_triangles": int(np.sum(det <= 0)), "balance_steps": done, "removed_face": f0,
                  "start": start, "start_area_log_rms": first["area_log_rms"], "balance_energy": energy})
