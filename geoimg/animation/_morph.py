@@ -163,7 +163,7 @@ def _as_images(shapes, resolution, progress):
         made[k] = param
         if progress:
             progress(f"shape {k}: {used_param[-1]} parametrization, sampling {resolution} pixels")
-        images.append(mesh_to_image(shape, resolution, parametrization=param))
+        images.append(mesh_to_image(shape, resolution, parametrization=param, fidelity=False))
         last = (shape, param, k)
     return images, used_param, made
 
