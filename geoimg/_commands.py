@@ -21,7 +21,7 @@ from .animation import RenderError, Renderer, frame_jobs, label_points, morph, s
 from .errors import InputError
 from .image import (IMAGE_FORMATS, grid_normals, image_curvature, image_region,
                     load_image, load_mask, save_colormap, save_normal_map, save_scalar, uv_region)
-from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh, suggest_landmarks, surface_distance, topology
+from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh, suggest_landmarks, topology
 
 SAMPLE_MESH = Path(__file__).resolve().parent / "data" / "mountain.obj"    # package data: works from a wheel
 DEMO_MARKER = ".geoimg-demo"
@@ -254,16 +254,15 @@ def cmd_demo(args) -> int:
     quads = load_image(files[0]).to_mesh()
     files.append(save_mesh(quads, out / f"{stem}_quads.obj", overwrite=True))
     files += _demo_pictures(image, out / stem, progress)
-    progress("measuring the quad mesh against the input")
-    dist = surface_distance(mesh, quads, n=50000)       # how far the result lies from what it approximates
     H, W = image.shape
     if args.quiet:
         return 0
+    m = image.metadata                                  # how far the result lies from what it approximates
     print(f"geoimg demo on {src.name}: {mesh.n_vertices} vertices, {mesh.n_faces} faces")
-    print(f"  surface s={args.s}: {W} x {H} geometry image in {t1 - t0:.2f} s "
+    print(f"  surface ({m['weights']} weights, s = {m['s']:.3g}): {W} x {H} geometry image in {t1 - t0:.2f} s "
           f"(first run includes numba compilation, cached afterwards)")
-    print(f"  quad mesh to input mesh: PSNR {dist['psnr_db']:.1f} dB, Hausdorff "
-          f"{dist['hausdorff'] / dist['diagonal']:.2e} of the bounding-box diagonal")
+    print(f"  quad mesh to input mesh: PSNR {m['psnr_db']:.1f} dB, Hausdorff {m['hausdorff']:.2e} of the "
+          "bounding-box diagonal")
     print(f"  quad mesh: {quads.n_vertices} vertices, {quads.n_faces} quads")
     for f in files:
         print(f"  wrote {f}")
