@@ -19,9 +19,11 @@ few ``sigma``. So ``P -> `` the piecewise-linear mesh as ``sigma -> 0``, ``P`` i
 Each polygon is split into triangles (quads along their shorter diagonal in space), and each triangle
 maps by its own corners (barycentric interpolation; on the sphere, of the central projection of the
 direction onto its chord triangle), so the limit is the triangulated mesh exactly. ``sigma = s * dbar``,
-``dbar`` the triangles' mean enclosing-circle radius in the parameter domain, one width for every triangle
-(the prefilter of a regular grid is the same everywhere). :func:`prefilter_s` gives the ``s`` that serves a
-resolution.
+``dbar`` the triangles' mean enclosing-circle radius in the parameter domain, the same for every triangle
+(the prefilter of a regular grid is the same everywhere) but two kinds: a triangle whose map is steeper than
+the median narrows its width in proportion, and a thin one (enclosing circle :data:`THIN` times its incircle)
+to at most its inradius (see :meth:`CoverageSurface.widths`). :func:`prefilter_s` gives the ``s`` that
+serves a resolution.
 """
 from __future__ import annotations
 
@@ -150,9 +152,8 @@ class CoverageSurface(Surface):
         exact = exact or self.tol == 0
         fallback = np.arange(len(self.size)) if exact else self.fallback
         return ck.evaluate_coverage(pts, t1, t2, (self.edges(),) + tuple(self.tables[1:]), self.cells(), fallback,
-                                    sigma=1.0,
-                                    zmin=self._zmin(), floor=FLOOR_OVER_TOL * self.tol, derivatives=derivatives,
-                                    exact=exact)
+                                    sigma=1.0, zmin=self._zmin(), floor=FLOOR_OVER_TOL * self.tol,
+                                    derivatives=derivatives, exact=exact)       # edges already over each width
 
     def pixel_spacing(self, resolution: int) -> float:
         """The distance between neighbouring pixels of a ``resolution`` image, in parameter units."""
