@@ -117,7 +117,7 @@ class ConvertOptions:
         """The keyword arguments of :func:`geoimg.mesh_to_images`."""
         return dict(resolution=self.resolution, s=None if self.s is None else float(self.s), method=self.method,
                     component=self.component, axis=self.axis, boundary=self.boundary, balance=self.balance, weights=self.weights, n=self.n,
-                    tol=float(self.tol), sliver_rule=self.sliver_rule, normals=self.normals, fidelity=False,
+                    tol=float(self.tol), sliver_rule=self.sliver_rule, normals=self.normals,
                     colors=self.colors)
 
     def digest(self, *extra: object) -> str:
