@@ -166,9 +166,7 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
     check_backend(backend)
     if s is not None and weights == "coverage":
         check_s(s)                                      # before the work
-    if resolution is not None and (isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral)
-                                   or resolution < 2):                  # before the work, not after it
-        raise InputError(f"resolution: expected a whole number of pixels of at least 2, got {resolution!r}")
+    check_resolution(resolution)                        # before the work, not after it
     say = progress or (lambda message: None)
     with _timed(timings, "load"):
         mesh, source = _load(mesh_or_path, say)
@@ -220,6 +218,13 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
 
 def _distance(image: GeometryImage, mesh: Mesh) -> dict:
     return surface_distance(mesh, image.to_mesh(), n=FIDELITY_SAMPLES)
+
+
+def check_resolution(resolution) -> None:
+    """Refuse a resolution that is not None or a whole number of pixels of at least 2."""
+    if resolution is not None and (isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral)
+                                   or resolution < 2):
+        raise InputError(f"resolution: expected a whole number of pixels of at least 2, got {resolution!r}")
 
 
 def measure_fidelity(image: GeometryImage, mesh: Mesh, measured: dict | None = None) -> dict:

@@ -12,7 +12,7 @@ import numpy as np
 import filters
 
 from .._choices import DEFAULT_DISK_BALANCE, QUAD_FORMATS
-from .._convert import POOR_HAUSDORFF, POOR_PSNR_DB
+from .._convert import POOR_HAUSDORFF, POOR_PSNR_DB, check_resolution
 from .. import __version__
 from .._steps import check_steps
 from ..errors import InputError, InputTypeError
@@ -76,9 +76,7 @@ class ConvertOptions:
             value = getattr(self, name)
             if isinstance(value, np.generic) and isinstance(value, numbers.Number):
                 object.__setattr__(self, name, value.item())
-        if self.resolution is not None and (isinstance(self.resolution, bool) or not isinstance(self.resolution, int)
-                                            or self.resolution < 2):
-            raise InputError(f"resolution: expected a whole number of pixels of at least 2, got {self.resolution!r}")
+        check_resolution(self.resolution)
         for name in ("s", "tol", "nsr"):
             value = getattr(self, name)
             if (name != "s" or value is not None) and (isinstance(value, bool) or not isinstance(value, (int, float))):

@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ._kernels import _band_lists, _band_rows
+from ._kernels import grid_bands
 from ._sphere_kernels import _cell_of
 
 __all__ = ["evaluate_coverage", "sample_grid_coverage", "offset_boxes", "log_ndtr", "TRUNCATED", "EXACT"]
@@ -304,7 +304,7 @@ def sample_grid_coverage(u, v, tables, *, zmin, floor, derivatives=True):
     """The coverage-weighted surface on the planar grid ``u`` (columns) x ``v`` (rows), triangle by triangle
     over each one's box (see :func:`_grid_kernel`). ``tables`` are ``(E, K, w)`` with ``E`` divided by each
     triangle's width. Returns ``P, Pu, Pv`` (H, W, 3) and ``ok`` (H, W): pixels whose sum is certified (the
-    others need the points kernel)."""
+    others are left unwritten: the points kernel's to fill)."""
     E, K, w = tables
     u = np.ascontiguousarray(u, np.float64)
     v = np.ascontiguousarray(v, np.float64)
@@ -314,13 +314,7 @@ def sample_grid_coverage(u, v, tables, *, zmin, floor, derivatives=True):
     r0 = np.searchsorted(v, vmin, "left").astype(np.int64)
     r1 = np.searchsorted(v, vmax, "right").astype(np.int64)
     live = np.flatnonzero((c1 > c0) & (r1 > r0)).astype(np.int64)
-    H, W = len(v), len(u)
-    band = _band_rows(W)
-    band_ptr, band_faces = _band_lists(-(-H // band), band, live, r0, r1)
-    P = np.zeros((H, W, 3))
-    Pu = np.zeros((H, W, 3) if derivatives else (1, 1, 3))
-    Pv = np.zeros_like(Pu)
-    ok = np.empty((H, W), np.bool_)
+    band, band_ptr, band_faces, P, Pu, Pv, ok = grid_bands(u, v, live, r0, r1, derivatives)
     _grid_kernel(u, v, E, K, w, c0, c1, r0, r1, band, band_ptr, band_faces, float(zmin), float(-zmin), float(floor),
                  bool(derivatives), TABLE, P, Pu, Pv, ok)
     return P, (Pu if derivatives else None), (Pv if derivatives else None), ok

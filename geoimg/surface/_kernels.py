@@ -195,6 +195,19 @@ def _band_rows(width: int) -> int:
     return max(1, min(16, 4096 // max(width, 1)))
 
 
+def grid_bands(u, v, live, r0, r1, derivatives: bool):
+    """What a face-by-face grid kernel runs on: the rows a band holds, the faces ``live`` listed by the bands
+    their rows ``r0..r1-1`` reach, and its outputs (not zeroed: the kernels write every pixel, or say which they
+    left): ``band, band_ptr, band_faces, P, Pu, Pv, ok``."""
+    H, W = v.shape[0], u.shape[0]
+    band = _band_rows(W)
+    band_ptr, band_faces = _band_lists(-(-H // band), band, live, r0, r1)
+    P = np.empty((H, W, 3))
+    Pu = np.empty((H, W, 3) if derivatives else (1, 1, 3))
+    Pv = np.empty_like(Pu)
+    return band, band_ptr, band_faces, P, Pu, Pv, np.empty((H, W), np.bool_)
+
+
 def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, log_g_ref):
     """Truncated rational-Gaussian surface on the grid ``u`` (columns) x ``v`` (rows).
 
@@ -224,13 +237,7 @@ def sample_grid_gaussian(u, v, centres, sigma, radius, C, A, B, *, derivatives, 
     gv = np.empty(rptr[-1])
     _gauss_tables(u, c0, cptr, centres[:, 0].copy(), inv2s, gu)
     _gauss_tables(v, r0, rptr, centres[:, 1].copy(), inv2s, gv)
-    H, W = v.shape[0], u.shape[0]
-    band = _band_rows(W)
-    band_ptr, band_faces = _band_lists(-(-H // band), band, live, r0, r1)
-    P = np.empty((H, W, 3))
-    Pu = np.empty((H, W, 3) if derivatives else (1, 1, 3))
-    Pv = np.empty_like(Pu)
-    ok = np.empty((H, W), np.bool_)
+    band, band_ptr, band_faces, P, Pu, Pv, ok = grid_bands(u, v, live, r0, r1, derivatives)
     _grid_kernel(u, v, centres[:, 0].copy(), centres[:, 1].copy(), inv2s, C, A, B, c0, cptr, gu, r0, r1, rptr,
                  gv, band, band_ptr, band_faces, bool(derivatives), plain_sum_floor(log_g_ref),
                  P, Pu, Pv, ok)
