@@ -152,8 +152,8 @@ class CoverageSurface(Surface):
         exact = exact or self.tol == 0
         fallback = np.arange(len(self.size)) if exact else self.fallback
         return ck.evaluate_coverage(pts, t1, t2, (self.edges(),) + tuple(self.tables[1:]), self.cells(), fallback,
-                                    sigma=1.0, zmin=self._zmin(), floor=FLOOR_OVER_TOL * self.tol,
-                                    derivatives=derivatives, exact=exact)       # edges already over each width
+                                    zmin=self._zmin(), floor=FLOOR_OVER_TOL * self.tol, derivatives=derivatives,
+                                    exact=exact)
 
     def pixel_spacing(self, resolution: int) -> float:
         """The distance between neighbouring pixels of a ``resolution`` image, in parameter units."""
@@ -314,13 +314,12 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
         warnings.warn(f"fit_surface: {int((~keep).sum())} triangles of zero area in the parameter domain were left "
                       "out", stacklevel=4)
     tris, corners, E, K, w = tris[keep], corners[keep], E[keep], K[keep], w[keep]
-    dbar = float((enclosing_circle_radius(corners[:, :, :2]) if planar else _sphere_sizes(corners)).mean())
+    enclosing = enclosing_circle_radius(corners[:, :, :2]) if planar else _sphere_sizes(corners)
+    dbar = float(enclosing.mean())
     centres, size, spread = _shape(corners)
     slope = _slopes(corners, tri_mesh.vertices[tris], planar)
     narrow = np.minimum(1.0, float(np.median(slope)) / np.maximum(slope, 1e-300))
-    flat = corners[:, :, :2] if planar else corners
-    inradius = _inradius(flat)
-    enclosing = enclosing_circle_radius(corners[:, :, :2]) if planar else _sphere_sizes(corners)
+    inradius = _inradius(corners[:, :, :2] if planar else corners)
     thin = np.where(enclosing > THIN * inradius, inradius, np.inf)
     tables = tuple(np.ascontiguousarray(a, np.float64) for a in (E, K, w))
     kind = PlanarCoverageSurface if planar else SphereCoverageSurface

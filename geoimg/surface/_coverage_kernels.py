@@ -4,8 +4,8 @@ Every triangle ``t`` is given in homogeneous point coordinates ``p`` (``(u, v, 1
 direction ``q`` on the sphere): its barycentric coordinates are ``M_t^-1 p`` (divided by their sum on the
 sphere: the central projection onto its chord plane), so
 
-- its edge functions ``z_k = E_tk . p / sigma`` are signed distances to its three edges (to their great
-  circles, as sines, on the sphere), positive inside;
+- its edge functions ``z_k = E_tk . p`` are signed distances to its three edges (to their great circles, as
+  sines, on the sphere) in units of the triangle's own width (the rows come divided by it), positive inside;
 - its map ``P_t(p) = K_t p / (w_t . p)`` interpolates its corners' positions (affine on the plane, where
   ``w_t . p = 1``);
 - its weight ``F_t = Phi(z_0) Phi(z_1) Phi(z_2)`` (``Phi`` the normal distribution function) is the
@@ -35,12 +35,6 @@ TRUNCATED, EXACT = 0, 1
 WMIN = 0.5          # w . p at or below it: the triangle is skipped (see _add)
 _SQRT1_2 = 1.0 / math.sqrt(2.0)
 _LOG_SQRT_2PI = 0.5 * math.log(2.0 * math.pi)
-
-
-@njit(cache=True, inline="always")
-def _phi_cdf(z):
-    """``Phi(z)``, the standard normal distribution function."""
-    return 0.5 * math.erfc(-z * _SQRT1_2)
 
 
 @njit(cache=True)
@@ -97,18 +91,18 @@ def _log_edge(z):
 
 
 @njit(cache=True, inline="always")
-def _add(t, p, t1, t2, E, K, w, inv_sigma, zmin, zmax, deriv, shift, log_domain, wmin, table, acc):
+def _add(t, p, t1, t2, E, K, w, zmin, zmax, deriv, shift, log_domain, wmin, table, acc):
     """Add triangle ``t``'s terms at ``p`` into ``acc`` (``S, N[3], S_1, N_1[3], S_2, N_2[3]``); in the log
     domain its weight is ``exp(log F - shift)``. Returns False when it is skipped: an edge function below
     ``zmin``, or a direction far from the triangle (``w . p <= wmin``, ``w`` scaled to 1 at its lowest
     corner: the central projection grows without bound towards ``w . p = 0``)."""
-    z0 = (E[t, 0, 0] * p[0] + E[t, 0, 1] * p[1] + E[t, 0, 2] * p[2]) * inv_sigma
+    z0 = (E[t, 0, 0] * p[0] + E[t, 0, 1] * p[1] + E[t, 0, 2] * p[2])
     if not log_domain and z0 < zmin:
         return False
-    z1 = (E[t, 1, 0] * p[0] + E[t, 1, 1] * p[1] + E[t, 1, 2] * p[2]) * inv_sigma
+    z1 = (E[t, 1, 0] * p[0] + E[t, 1, 1] * p[1] + E[t, 1, 2] * p[2])
     if not log_domain and z1 < zmin:
         return False
-    z2 = (E[t, 2, 0] * p[0] + E[t, 2, 1] * p[1] + E[t, 2, 2] * p[2]) * inv_sigma
+    z2 = (E[t, 2, 0] * p[0] + E[t, 2, 1] * p[1] + E[t, 2, 2] * p[2])
     if not log_domain and z2 < zmin:
         return False
     wp = w[t, 0] * p[0] + w[t, 1] * p[1] + w[t, 2] * p[2]
@@ -139,7 +133,7 @@ def _add(t, p, t1, t2, E, K, w, inv_sigma, zmin, zmax, deriv, shift, log_domain,
         g = (r0 * (E[t, 0, 0] * tau[0] + E[t, 0, 1] * tau[1] + E[t, 0, 2] * tau[2])
              + r1 * (E[t, 1, 0] * tau[0] + E[t, 1, 1] * tau[1] + E[t, 1, 2] * tau[2])
              + r2 * (E[t, 2, 0] * tau[0] + E[t, 2, 1] * tau[1] + E[t, 2, 2] * tau[2]))
-        dF = F * g * inv_sigma
+        dF = F * g
         wt = w[t, 0] * tau[0] + w[t, 1] * tau[1] + w[t, 2] * tau[2]
         d0 = ((K[t, 0, 0] * tau[0] + K[t, 0, 1] * tau[1] + K[t, 0, 2] * tau[2]) - P0 * wt) * inv_wp
         d1 = ((K[t, 1, 0] * tau[0] + K[t, 1, 1] * tau[1] + K[t, 1, 2] * tau[2]) - P1 * wt) * inv_wp
@@ -153,7 +147,7 @@ def _add(t, p, t1, t2, E, K, w, inv_sigma, zmin, zmax, deriv, shift, log_domain,
 
 
 @njit(cache=True)
-def _largest_log_weight(p, cand, E, w, inv_sigma, wmin):
+def _largest_log_weight(p, cand, E, w, wmin):
     m = -np.inf
     for k in range(cand.shape[0]):
         t = cand[k]
@@ -162,14 +156,14 @@ def _largest_log_weight(p, cand, E, w, inv_sigma, wmin):
             continue
         lf = 0.0
         for e in range(3):
-            lf += log_ndtr((E[t, e, 0] * p[0] + E[t, e, 1] * p[1] + E[t, e, 2] * p[2]) * inv_sigma)
+            lf += log_ndtr(E[t, e, 0] * p[0] + E[t, e, 1] * p[1] + E[t, e, 2] * p[2])
         if lf > m:
             m = lf
     return m
 
 
 @njit(parallel=True, cache=True)
-def _kernel(pts, t1, t2, E, K, w, inv_sigma, zmin, zmax, floor, h, n, ptr, cells, fallback, deriv, force_exact,
+def _kernel(pts, t1, t2, E, K, w, zmin, zmax, floor, h, n, ptr, cells, fallback, deriv, force_exact,
             table, P, D1, D2, status):
     for i in prange(pts.shape[0]):
         acc = np.zeros(12)
@@ -178,19 +172,19 @@ def _kernel(pts, t1, t2, E, K, w, inv_sigma, zmin, zmax, floor, h, n, ptr, cells
         if not force_exact:
             c = _cell_of(p[0], p[1], p[2], h, n)
             for k in range(ptr[c], ptr[c + 1]):
-                _add(cells[k], p, t1[i], t2[i], E, K, w, inv_sigma, zmin, zmax, deriv, 0.0, False, WMIN, table, acc)
+                _add(cells[k], p, t1[i], t2[i], E, K, w, zmin, zmax, deriv, 0.0, False, WMIN, table, acc)
             ok = acc[0] >= floor
         status[i] = TRUNCATED
         if not ok:
             for q in range(12):
                 acc[q] = 0.0
             wmin = WMIN
-            m = _largest_log_weight(p, fallback, E, w, inv_sigma, wmin)
+            m = _largest_log_weight(p, fallback, E, w, wmin)
             if m == -np.inf:            # no triangle near: any in front (a coarse mesh's far side)
                 wmin = 0.0
-                m = _largest_log_weight(p, fallback, E, w, inv_sigma, wmin)
+                m = _largest_log_weight(p, fallback, E, w, wmin)
             for k in range(fallback.shape[0]):
-                _add(fallback[k], p, t1[i], t2[i], E, K, w, inv_sigma, zmin, zmax, deriv, m, True, wmin, table, acc)
+                _add(fallback[k], p, t1[i], t2[i], E, K, w, zmin, zmax, deriv, m, True, wmin, table, acc)
             status[i] = EXACT
         s = acc[0]
         for c in range(3):
@@ -200,10 +194,10 @@ def _kernel(pts, t1, t2, E, K, w, inv_sigma, zmin, zmax, floor, h, n, ptr, cells
             D2[i, c] = (acc[9 + c] - val * acc[8]) / s
 
 
-def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, sigma, zmin, floor, derivatives=True, exact=False):
+def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, zmin, floor, derivatives=True, exact=False):
     """The coverage-weighted surface and its derivatives along ``t1, t2`` at points ``pts`` (k, 3) given in
-    homogeneous coordinates (see the module's text). ``tables`` is ``(E, K, w)``: (T, 3, 3) edge rows,
-    (T, 3, 3) maps and (T, 3) denominators; ``cells`` from :func:`~._sphere_kernels.build_cells_3d` over the
+    homogeneous coordinates (see the module's text). ``tables`` is ``(E, K, w)``: (T, 3, 3) edge rows over
+    each triangle's width, (T, 3, 3) maps and (T, 3) denominators; ``cells`` from :func:`~._sphere_kernels.build_cells_3d` over the
     triangles' reach; ``fallback`` the triangles a point outside them is summed over (all of them with
     ``exact``). Returns ``P, P_t1, P_t2`` (k, 3) and a status per point."""
     pts = np.ascontiguousarray(pts, np.float64)
@@ -214,7 +208,7 @@ def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, sigma, zmin, floo
     status = np.empty(k, np.int8)
     E, K, w = tables
     h, n, ptr, cf = cells
-    _kernel(pts, t1, t2, E, K, w, 1.0 / float(sigma), float(zmin), float(-zmin), float(floor), float(h), int(n), ptr,
+    _kernel(pts, t1, t2, E, K, w, float(zmin), float(-zmin), float(floor), float(h), int(n), ptr,
             cf, np.ascontiguousarray(fallback, np.int64), bool(derivatives), bool(exact), TABLE, P, D1, D2, status)
     return P, D1, D2, status
 
