@@ -8,7 +8,7 @@ import numpy as np
 __all__ = ["MESH_FORMATS", "COMPONENT_CHOICES", "ASSUMABLE_DOMAINS", "IMAGE_FORMATS", "EXR_LAYOUTS",
            "PARAMETRIZATION_METHODS", "AXES", "DISK_BOUNDARIES", "DISK_BALANCES", "DEFAULT_DISK_BALANCE", "EASINGS", "ALIGNMENTS",
            "FRAME_FORMATS", "UP_AXES", "QUAD_FORMATS", "WEIGHTS", "SLIVER_RULES", "FILTER_STEPS",
-           "BACKENDS"]
+           "BACKENDS", "POOR_PSNR_DB", "POOR_HAUSDORFF"]
 
 MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")
 QUAD_FORMATS = tuple(f.lstrip(".") for f in MESH_FORMATS if f in (".obj", ".ply", ".off"))    # formats that keep quads
@@ -51,3 +51,6 @@ FILTER_STEPS: dict[str, tuple[str, tuple[type, ...], str | tuple[str, ...], str]
     "lowpass": ("lowpass", (float,), "CUTOFF", "Fourier low-pass, CUTOFF cycles per pixel (0.5 = Nyquist)"),
     "bandpass": ("bandpass", (float, float), ("LOW", "HIGH"), "Fourier band-pass (the detail between two cutoffs)"),
 }
+
+POOR_PSNR_DB = 30.0          # an image below this PSNR, or with a Hausdorff distance above POOR_HAUSDORFF of
+POOR_HAUSDORFF = 0.10        # the diagonal, is far from its mesh: a warning, and 'poor' in a batch

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ._choices import COMPONENT_CHOICES, DEFAULT_DISK_BALANCE
+from ._choices import COMPONENT_CHOICES, DEFAULT_DISK_BALANCE, POOR_HAUSDORFF, POOR_PSNR_DB
 from .errors import InputError, InputTypeError, MeshError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair, surface_distance
@@ -26,8 +26,6 @@ __all__ = ["mesh_to_image", "mesh_to_images", "measure_fidelity", "poor_reason",
 
 FIDELITY_SAMPLES = 20000     # area samples a side for the fidelity every conversion reports (about 0.1 dB)
 LIMIT_S = 1e-4               # coverage weights this narrow: the mesh resampled as it is (the limit s -> 0)
-POOR_PSNR_DB = 30.0          # an image below this PSNR, or with a Hausdorff distance above POOR_HAUSDORFF of
-POOR_HAUSDORFF = 0.10        # the diagonal, is far from its mesh: a warning, and 'poor' in a batch
 
 
 

@@ -17,7 +17,7 @@ from filters.padding import PAD_MODES
 from . import __version__
 from ._atomic import OutputExists
 from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, BACKENDS, DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
-                       FILTER_STEPS, FRAME_FORMATS, IMAGE_FORMATS, MESH_FORMATS, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
+                       FILTER_STEPS, FRAME_FORMATS, IMAGE_FORMATS, MESH_FORMATS, POOR_HAUSDORFF, POOR_PSNR_DB, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
                        UP_AXES, WEIGHTS)
 from .errors import GeoimgError
 
@@ -260,11 +260,12 @@ def build_parser() -> argparse.ArgumentParser:
                     help="also write the quad mesh, NAME_quads.obj (or .ply, .off)")
     ba.add_argument("--no-normals", action="store_true", help="leave out the exact normals")
     ba.add_argument("--no-psnr", action="store_true", help="do not measure the quad mesh against the input")
-    ba.add_argument("--min-psnr", type=float, default=30.0, metavar="DB",
-                    help="below this PSNR to the input an image is marked poor, and the exit status is 1 (default 30)")
-    ba.add_argument("--max-hausdorff", type=float, default=0.10, metavar="FRACTION",
+    ba.add_argument("--min-psnr", type=float, default=POOR_PSNR_DB, metavar="DB",
+                    help="below this PSNR to the input an image is marked poor, and the exit status is 1 "
+                         f"(default {POOR_PSNR_DB:g})")
+    ba.add_argument("--max-hausdorff", type=float, default=POOR_HAUSDORFF, metavar="FRACTION",
                     help="above this Hausdorff distance to the input, as a fraction of its bounding-box diagonal, an "
-                         "image is marked poor (default 0.1)")
+                         f"image is marked poor (default {POOR_HAUSDORFF:g})")
     ba.add_argument("--manifest", default=None, metavar="CSV", help="manifest CSV (default OUTPUT/manifest.csv)")
     ba.add_argument("--workers", type=_positive(int), default=None, metavar="N",
                     help="local worker processes (default: one per core)")
