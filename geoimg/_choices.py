@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MESH_FORMATS", "COMPONENT_CHOICES", "ASSUMABLE_DOMAINS", "IMAGE_FORMATS", "EXR_LAYOUTS",
+__all__ = ["MESH_FORMATS", "MESH_READ_FORMATS", "COMPONENT_CHOICES", "ASSUMABLE_DOMAINS", "IMAGE_FORMATS", "EXR_LAYOUTS",
            "PARAMETRIZATION_METHODS", "AXES", "DISK_BOUNDARIES", "DISK_BALANCES", "DEFAULT_DISK_BALANCE", "EASINGS", "ALIGNMENTS",
            "FRAME_FORMATS", "UP_AXES", "QUAD_FORMATS", "WEIGHTS", "SLIVER_RULES", "FILTER_STEPS",
            "BACKENDS", "POOR_PSNR_DB", "POOR_HAUSDORFF"]
 
-MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")
+MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")                 # read and written
+MESH_READ_FORMATS = MESH_FORMATS + (".gltf",)                          # read only (its buffers beside it)
 QUAD_FORMATS = tuple(f.lstrip(".") for f in MESH_FORMATS if f in (".obj", ".ply", ".off"))    # formats that keep quads
 COMPONENT_CHOICES = ("all", "largest")
 IMAGE_FORMATS = (".exr", ".npz", ".tif", ".tiff", ".npy")

@@ -17,7 +17,7 @@ from filters.padding import PAD_MODES
 from . import __version__
 from ._atomic import OutputExists
 from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, BACKENDS, DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
-                       FILTER_STEPS, FRAME_FORMATS, IMAGE_FORMATS, MESH_FORMATS, POOR_HAUSDORFF, POOR_PSNR_DB, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
+                       FILTER_STEPS, FRAME_FORMATS, IMAGE_FORMATS, MESH_FORMATS, MESH_READ_FORMATS, POOR_HAUSDORFF, POOR_PSNR_DB, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
                        UP_AXES, WEIGHTS)
 from .errors import GeoimgError
 
@@ -161,7 +161,7 @@ def build_parser() -> argparse.ArgumentParser:
                               "(rgba: alpha for compositing tools)")
 
     im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)", parents=[common, conversion, writing])
-    im.add_argument("mesh", help=f"input mesh ({', '.join(MESH_FORMATS)})")
+    im.add_argument("mesh", help=f"input mesh ({', '.join(MESH_READ_FORMATS)})")
     im.add_argument("-o", "--output", required=True,
                     help=f"output geometry image ({_IMAGES}: OpenEXR, NumPy arrays, float TIFF, one NumPy array)")
     im.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")

@@ -8,7 +8,7 @@ from pathlib import Path, PurePath
 from typing import Any
 
 from ..errors import InputError
-from ..mesh import MESH_FORMATS
+from ..mesh import MESH_READ_FORMATS
 
 __all__ = ["find_inputs", "output_stems"]
 
@@ -19,7 +19,7 @@ def _mesh_files(folder: Path) -> list[Path]:
     for root, dirs, files in os.walk(folder):
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
         found += [Path(root, f) for f in sorted(files)
-                  if not f.startswith(".") and Path(f).suffix.lower() in MESH_FORMATS]
+                  if not f.startswith(".") and Path(f).suffix.lower() in MESH_READ_FORMATS]
     return found
 
 
@@ -66,7 +66,7 @@ def find_inputs(specs: Any) -> list[Path]:
                 seen.add(key)
                 found.append(m)
     if not found:
-        raise InputError(f"no mesh files ({', '.join(MESH_FORMATS)}) in {', '.join(map(str, specs)) or 'the inputs'}")
+        raise InputError(f"no mesh files ({', '.join(MESH_READ_FORMATS)}) in {', '.join(map(str, specs)) or 'the inputs'}")
     return found
 
 

@@ -21,7 +21,7 @@ from ..mesh import Mesh, load_mesh, mesh_file_jobs, surface_distance, topology
 from ._options import ConvertOptions
 from ._store import write_item
 
-__all__ = ["Job", "run_job", "PSNR_SAMPLES"]
+__all__ = ["Job", "run_job", "warnings_cell", "PSNR_SAMPLES", "WARNINGS_CELL"]
 
 PSNR_SAMPLES = 10000          # area samples on each surface for the quad mesh's distance to the input (±0.2 dB)
 
@@ -48,6 +48,39 @@ def _share_threads(threads: int | None) -> None:
     because a worker may have imported numba, and so read NUMBA_NUM_THREADS, before its environment was set."""
     if threads:
         numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))   # type: ignore[attr-defined]
+
+
+WARNINGS_CELL = 2000          # characters of warnings a manifest row keeps
+
+
+def warnings_cell(messages, limit: int = WARNINGS_CELL) -> str:
+    """The warnings of one input as one manifest cell: each once (with how many times it came when more than
+    once), each on one line, cut at ``limit`` characters with a count of what was left out.
+
+    Examples
+    --------
+    >>> warnings_cell(["far from its mesh", "joined 3\\n vertices", "far from its mesh"])
+    'far from its mesh (x2) | joined 3 vertices'
+    >>> warnings_cell(["a" * 30, "b" * 30, "c"], limit=40)
+    'aaaaaaaaaaaaaaaaaaaaaaaaaaaaaa | ... (2 more warnings)'
+    """
+    counts: dict[str, int] = {}
+    for m in messages:
+        text = " ".join(m.split())
+        counts[text] = counts.get(text, 0) + 1
+    parts = [t if n == 1 else f"{t} (x{n})" for t, n in counts.items()]
+    out: list[str] = []
+    for k, part in enumerate(parts):
+        if len(" | ".join(out + [part])) > limit:
+            if not out:          # the first one alone is too long: its start
+                out.append(part[:limit - 30] + "...")
+                k += 1
+            left = len(parts) - k
+            if left:
+                out.append(f"... ({left} more warning{'s' if left > 1 else ''})")
+            break
+        out.append(part)
+    return " | ".join(out)
 
 
 def _one_line(error: BaseException) -> str:
@@ -104,7 +137,7 @@ def run_job(job: Job) -> dict:
                 files = write_all(outputs, overwrite=True)             # all of this input's files, or none
                 if job.store is not None:
                     write_item(job.store, job.index, images[0])
-            row.update(pieces=images[0].metadata.get("components", 1), domain=images[0].domain.kind,
+            row.update(pieces=images[0].metadata.get("components", 1), domain=" ".join(img.domain.kind for img in images),
                        image_size=" ".join(f"{img.shape[1]}x{img.shape[0]}" for img in images))
             row["outputs"] = ";".join([str(f) for f in files] + ([f"{job.store}#{job.index}"] if job.store else []))
             if opts.psnr and (opts.component == "all" or row["pieces"] == 1):
@@ -125,7 +158,7 @@ def run_job(job: Job) -> dict:
             row.update(status="refused", message=_one_line(e))
         except Exception as e:               # a bug or a system error: recorded, and the batch goes on
             row.update(status="failed", message=_one_line(e))
-    row["warnings"] = " | ".join(dict.fromkeys(" ".join(str(w.message).split()) for w in caught))
+    row["warnings"] = warnings_cell(str(w.message) for w in caught)
     for stage, seconds in timings.items():
         row[f"t_{stage}"] = round(seconds, 4)
     row["t_total"] = round(time.perf_counter() - t0, 4)

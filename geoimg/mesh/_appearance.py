@@ -14,7 +14,7 @@ import numpy as np
 from .._raster import UINT8, read_raster, write_raster
 from ..errors import GeoimgError
 
-__all__ = ["obj_colors", "read_mtl_texture", "read_texture", "write_texture", "ply_colors", "split_corners",
+__all__ = ["obj_colors", "map_file_name", "read_mtl_texture", "read_texture", "write_texture", "ply_colors", "split_corners",
            "TEXTURE_SUFFIX"]
 
 TEXTURE_SUFFIX = ".png"
@@ -65,6 +65,42 @@ def write_texture(texture: np.ndarray, path: Path) -> None:
     write_raster(path, texture, names, UINT8)
 
 
+_MAP_OPTIONS = {"-blendu": 1, "-blendv": 1, "-bm": 1, "-boost": 1, "-cc": 1, "-clamp": 1, "-imfchan": 1,
+                "-mm": 2, "-texres": 1, "-type": 1, "-o": 3, "-s": 3, "-t": 3}
+
+
+def map_file_name(tokens: list) -> str:
+    """The file name of an MTL ``map_*`` statement's arguments: its options (``-s 1 1``, ``-clamp on``) left
+    out, the rest joined by spaces (file names may hold them).
+
+    Examples
+    --------
+    >>> map_file_name(["-s", "2", "2", "-clamp", "on", "fuze", "uv.jpg"])
+    'fuze uv.jpg'
+    >>> map_file_name(["-o", "0.5", "tex.png"])
+    'tex.png'
+    """
+    i = 0
+    while i < len(tokens) - 1 and tokens[i].lower() in _MAP_OPTIONS:
+        most = _MAP_OPTIONS[tokens[i].lower()]
+        i += 1
+        if most == 3:                         # -o -s -t: one to three numbers
+            taken = 0
+            while taken < 3 and i < len(tokens) - 1 and _is_number(tokens[i]):
+                i, taken = i + 1, taken + 1
+        else:
+            i += most
+    return " ".join(tokens[i:])
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
 def read_mtl_texture(obj_path: Path, libraries: list, used: list) -> np.ndarray | None:
     """The one diffuse texture (``map_Kd``) that the OBJ's used materials name, or None (with a warning
     when they name several, or when the library or image cannot be read)."""
@@ -80,7 +116,7 @@ def read_mtl_texture(obj_path: Path, libraries: list, used: list) -> np.ndarray 
             if len(parts) >= 2 and parts[0] == "newmtl":
                 current = " ".join(parts[1:])
             elif len(parts) >= 2 and parts[0] == "map_Kd" and current is not None:
-                maps[current] = mtl.parent / parts[-1]     # options (-s, -o ...) come before the file name
+                maps[current] = mtl.parent / map_file_name(parts[1:])
     files = sorted({maps[m] for m in used if m in maps})
     if not files:
         return None

@@ -1,11 +1,13 @@
 """Reading and writing polygon meshes without triangulating, merging or reordering.
 
 OBJ, OFF (ASCII and binary) and PLY (ASCII and binary, ``face`` lists or ``tristrips``) are read and
-written here, so quads and n-gons survive. STL and GLB go through trimesh (``process=False``); they
-hold triangles only, and an STL's triangle soup has its exactly coincident corners joined (reported).
+written here, so quads and n-gons survive. STL, GLB and glTF go through trimesh (``process=False``); they
+hold triangles only. Every format has its exactly coincident positions joined on reading (reported; see
+:mod:`geoimg.mesh._weld`).
 """
 from __future__ import annotations
 
+import re
 import struct
 import warnings
 from pathlib import Path
@@ -14,32 +16,40 @@ from typing import Any
 import numpy as np
 from PIL import Image               # comes with scikit-image
 
-from .._choices import MESH_FORMATS
+from .._choices import MESH_FORMATS, MESH_READ_FORMATS
 from .._atomic import write_all
-from ..errors import InputTypeError, MeshError, MeshFileError
-from ._appearance import (TEXTURE_SUFFIX, obj_colors, ply_colors, read_mtl_texture, split_corners,
-                          write_texture)
+from ..errors import GeoimgError, InputTypeError, MeshError, MeshFileError
+from ._appearance import (TEXTURE_SUFFIX, obj_colors, ply_colors, read_mtl_texture, read_texture,
+                          split_corners, write_texture)
 from ._mesh import Mesh, pad_faces
+from ._weld import weld_vertices
 from .._types import PathLike, as_path
 
-__all__ = ["load_mesh", "save_mesh", "mesh_file_jobs", "MESH_FORMATS"]
+__all__ = ["load_mesh", "save_mesh", "mesh_file_jobs", "MESH_FORMATS", "MESH_READ_FORMATS"]
 
 BOM = b"\xef\xbb\xbf"
 
 
-def load_mesh(path: PathLike) -> Mesh:
-    """Read a mesh file as stored: faces of any size, vertex order kept.
+def load_mesh(path: PathLike, *, weld: bool = True) -> Mesh:
+    """Read a mesh file: faces of any size and order kept, copies of one position joined.
 
     Parameters
     ----------
     path : str or path-like
-        An ``.obj``, ``.off``, ``.ply``, ``.stl`` or ``.glb`` file.
+        An ``.obj``, ``.off``, ``.ply``, ``.stl``, ``.glb`` or ``.gltf`` file (a glTF's buffers and images
+        beside it).
+    weld : bool, default True
+        Join copies of a position along seams (see :func:`geoimg.mesh.weld_vertices`; in an STL, a triangle
+        soup, every copy), with a warning that says how many: files that store attributes per vertex (PLY,
+        glTF, many OBJ exporters) repeat a position along every UV seam and hard edge, and read as stored
+        their meshes fall apart into pieces. The vertices keep the order in which their positions first appear; texture coordinates
+        that differ between copies are kept per face corner. ``False`` reads the vertices as stored.
 
     Returns
     -------
     Mesh
-        With ``uv`` when an OBJ's ``vt`` map one-to-one onto its positions (a position used with
-        several ``vt``, i.e. a UV seam, leaves ``uv`` as None and warns).
+        With ``uv`` when the texture coordinates map one-to-one onto the positions; a position used with
+        several (a UV seam) has them per face corner (``face_uv``) instead.
 
     Raises
     ------
@@ -60,17 +70,24 @@ def load_mesh(path: PathLike) -> Mesh:
     if not path.is_file():
         raise FileNotFoundError(f"no mesh file at {path}")
     ext = path.suffix.lower()
-    readers = {".obj": _read_obj, ".off": _read_off, ".ply": _read_ply, ".stl": _read_trimesh, ".glb": _read_trimesh}
+    readers = {".obj": _read_obj, ".off": _read_off, ".ply": _read_ply, ".stl": _read_trimesh, ".glb": _read_trimesh,
+               ".gltf": _read_trimesh}
     if ext not in readers:
-        raise MeshFileError(f"{path}: unknown mesh format {ext!r}; expected one of {', '.join(MESH_FORMATS)}")
+        raise MeshFileError(f"{path}: unknown mesh format {ext!r}; expected one of {', '.join(MESH_READ_FORMATS)}")
     if path.stat().st_size == 0:
         raise MeshFileError(f"{path}: the file is empty")
     try:
-        return readers[ext](path)
+        mesh = readers[ext](path)
     except MeshError as e:  # a malformed mesh inside a file is a bad file: name it
         raise MeshFileError(f"{path}: {e}") from None
     except (ValueError, IndexError, struct.error, UnicodeDecodeError) as e:
         raise MeshFileError(f"{path}: corrupt or truncated {ext[1:].upper()} file ({e})") from None
+    if not weld:
+        return mesh
+    welded = weld_vertices(mesh, seams_only=ext != ".stl")     # an STL cannot say two faces share a corner
+    if welded.joined:
+        warnings.warn(f"{path}: {welded.describe()}", stacklevel=2)
+    return welded.mesh
 
 
 def save_mesh(mesh: Mesh, path: PathLike, *, overwrite: bool = False) -> Path:
@@ -140,10 +157,24 @@ def _obj_index(tok: str, count: int) -> int:
     return i - 1
 
 
+def _obj_lines(fh):
+    """The logical lines of an OBJ file: a line that ends with a backslash goes on in the next one."""
+    held = ""
+    for line in fh:
+        stripped = line.rstrip("\r\n")
+        if stripped.rstrip().endswith("\\"):
+            held += stripped.rstrip()[:-1] + " "
+            continue
+        yield held + line
+        held = ""
+    if held:
+        yield held
+
+
 def _read_obj(path: Path) -> Mesh:
     verts, tex, faces, face_vt, libraries, used = [], [], [], [], [], []
     with open(path, "r", encoding="utf-8-sig", errors="replace") as fh:    # -sig: a byte-order mark is dropped
-        for line in fh:
+        for line in _obj_lines(fh):
             line = line.lstrip()                                            # indented lines count too
             if not line or line[0] not in "vfmu":
                 continue
@@ -172,6 +203,15 @@ def _read_obj(path: Path) -> Mesh:
         raise MeshFileError("no vertices ('v' lines) found")
     if not faces:
         raise MeshFileError("no faces ('f' lines) found")
+    short = [i for i, fv in enumerate(faces) if len(fv) < 3]
+    if short:                                 # an 'f' of one or two corners is a point or a line, not a face
+        if len(short) == len(faces):
+            raise MeshFileError(f"no faces: all {len(faces)} 'f' lines have fewer than 3 corners")
+        warnings.warn(f"{path}: left out {len(short)} 'f' lines of fewer than 3 corners (points or lines, not "
+                      f"faces; the first is face {short[0] + 1})", stacklevel=4)
+        drop = set(short)
+        faces = [fv for i, fv in enumerate(faces) if i not in drop]
+        face_vt = [ft for i, ft in enumerate(face_vt) if i not in drop]
     if any(len(v) < 3 for v in verts):
         raise MeshFileError("a 'v' line has fewer than 3 coordinates")
     vertices = np.array([v[:3] for v in verts], dtype=np.float64)
@@ -254,8 +294,8 @@ def _read_off(path: Path) -> Mesh:
     lines = [ln for ln in lines if ln]
     if not lines or not lines[0].startswith(("OFF", "COFF", "NOFF", "CNOFF", "STOFF")):
         raise MeshFileError("missing OFF header")
-    header = lines[0].split()
-    rest = header[1:]
+    keyword = re.match(r"[A-Z]*OFF", lines[0])
+    rest = lines[0][keyword.end() if keyword else 0:].split()     # counts may follow the keyword at once (OFF8 6 12)
     i = 1
     if not rest:
         rest, i = lines[1].split(), 2
@@ -380,8 +420,11 @@ def _parse_ply_header(data: bytes):
     body = data.index(b"\n", end) + 1
     fmt = None
     elements: list[tuple[str, int, list]] = []       # (name, count, [(name, kind, count type, item type)])
+    textures = []
     for line in data[:end].decode("ascii", errors="replace").splitlines()[1:]:
         p = line.split()
+        if len(p) > 2 and p[0] == "comment" and p[1].lower() == "texturefile":
+            textures.append(" ".join(p[2:]))            # MeshLab's texture file; its name may hold spaces
         if not p or p[0] in ("comment", "obj_info"):
             continue
         if p[0] == "format":
@@ -411,30 +454,15 @@ def _parse_ply_header(data: bytes):
         if count * least > room:
             raise MeshFileError(f"PLY element {name!r} declares {count} items, more than the file's "
                                 f"{room} bytes of data can hold")
-    return fmt, elements, body
+    return fmt, elements, body, textures
 
 
 def _read_ply(path: Path) -> Mesh:
     data = path.read_bytes()
-    fmt, elements, body = _parse_ply_header(data)
+    fmt, elements, body, textures = _parse_ply_header(data)
     values = {}
     if fmt == "ascii":
-        tokens = data[body:].split()
-        pos = 0
-        for name, count, props in elements:
-            cols: dict[str, list] = {p[0]: [] for p in props}
-            for _ in range(count):
-                for pname, kind, ctype, itype in props:
-                    if kind == "list":
-                        k = int(tokens[pos])
-                        cols[pname].append([int(t) for t in tokens[pos + 1:pos + 1 + k]])
-                        pos += 1 + k
-                    else:
-                        cols[pname].append(float(tokens[pos]))
-                        pos += 1
-            if pos > len(tokens):
-                raise MeshFileError("the file ends before all elements were read")
-            values[name] = cols
+        values = _read_ply_ascii(path, data[body:], elements)
     else:
         order = "<" if fmt == "binary_little_endian" else ">"
         pos = body
@@ -456,6 +484,8 @@ def _read_ply(path: Path) -> Mesh:
         faces = _strips_to_triangles(values["tristrips"]["vertex_indices"])
     if len(faces) == 0:
         raise MeshFileError("no faces")
+    faces = faces if isinstance(faces, np.ndarray) else pad_faces(faces)
+    face_uv, texture = _ply_face_uv(path, values.get("face", {}), faces, textures)
     uv = None
     for a, b in (("u", "v"), ("s", "t"), ("texture_u", "texture_v")):
         if a in vx and b in vx:
@@ -463,8 +493,86 @@ def _read_ply(path: Path) -> Mesh:
     normals = None
     if all(k in vx for k in ("nx", "ny", "nz")):
         normals = np.stack([np.asarray(vx[k], float) for k in ("nx", "ny", "nz")], axis=1)
-    return Mesh(vertices, faces if isinstance(faces, np.ndarray) else pad_faces(faces), uv=uv, normals=normals,
-                colors=ply_colors(vx))
+    return Mesh(vertices, faces, uv=uv, normals=normals, colors=ply_colors(vx), face_uv=face_uv, texture=texture)
+
+
+def _ply_face_uv(path: Path, face: dict, faces: np.ndarray, textures: list):
+    """``(face_uv, texture)`` from a face element's ``texcoord`` list (MeshLab: u, v per corner) and the
+    header's ``TextureFile`` comment; (None, None) when there are none, or with a warning when they do not
+    fit the faces."""
+    name = next((n for n in ("texcoord", "texcoords", "texture_coordinates") if n in face), None)
+    if name is None:
+        return None, None
+    sizes = (faces >= 0).sum(axis=1)
+    rows = face[name]
+    if len(rows) != len(faces) or any(len(r) != 2 * k for r, k in zip(rows, sizes.tolist())):
+        warnings.warn(f"{path}: the faces' {name} lists do not hold a (u, v) per corner; not read", stacklevel=5)
+        return None, None
+    face_uv = np.zeros(faces.shape + (2,))
+    for k in np.unique(sizes).tolist():
+        chosen = np.flatnonzero(sizes == k)
+        face_uv[chosen, :k] = np.array([rows[i] for i in chosen.tolist()], np.float64).reshape(-1, k, 2)
+    if not np.isfinite(face_uv).all():
+        warnings.warn(f"{path}: the faces' {name} hold NaN or infinite values; not read", stacklevel=5)
+        return None, None
+    texture = None
+    if textures:
+        file = path.parent / textures[0]
+        try:
+            texture = read_texture(file) if file.is_file() else None
+        except GeoimgError as e:
+            warnings.warn(f"{path}: texture {textures[0]} cannot be read ({e}); not read", stacklevel=5)
+        else:
+            if texture is None:
+                warnings.warn(f"{path}: texture {textures[0]} not found; not read", stacklevel=5)
+    return face_uv, texture
+
+
+def _ascii_item(tokens: list, pos: int, props: list, cols: dict) -> int:
+    """One element item's properties from ``tokens`` at ``pos`` into ``cols``; the position after them."""
+    for pname, kind, _ctype, itype in props:
+        if kind == "list":
+            k = int(tokens[pos])
+            item = float if itype[0] == "f" else int
+            if pos + 1 + k > len(tokens):
+                raise MeshFileError("the file ends before all elements were read")
+            cols[pname].append([item(t) for t in tokens[pos + 1:pos + 1 + k]])
+            pos += 1 + k
+        else:
+            cols[pname].append(float(tokens[pos]))
+            pos += 1
+    return pos
+
+
+def _read_ply_ascii(path: Path, body: bytes, elements: list) -> dict:
+    """The elements of an ASCII PLY body. Writers put one item a line, so when the lines are as many as the
+    items, each item is read from its own line, and values a line holds beyond what the header declares
+    are left out (with a warning: MeshLab writes some); otherwise the values are read as one stream."""
+    lines = [ln for ln in body.split(b"\n") if ln.strip()]
+    total = sum(count for _, count, _ in elements)
+    values = {}
+    if len(lines) == total:
+        at, extra = 0, 0
+        for name, count, props in elements:
+            cols: dict[str, list] = {p[0]: [] for p in props}
+            for row in lines[at:at + count]:
+                tokens = row.split()
+                end = _ascii_item(tokens, 0, props, cols)
+                extra += end < len(tokens)
+            at += count
+            values[name] = cols
+        if extra:
+            warnings.warn(f"{path}: {extra} PLY lines hold more values than the header declares; the extra ones "
+                          "are left out", stacklevel=5)
+        return values
+    tokens = body.split()
+    pos = 0
+    for name, count, props in elements:
+        cols = {p[0]: [] for p in props}
+        for _ in range(count):
+            pos = _ascii_item(tokens, pos, props, cols)
+        values[name] = cols
+    return values
 
 
 def _read_ply_binary_element(data, pos, count, props, order):
@@ -578,16 +686,7 @@ def _read_trimesh(path: Path) -> Mesh:
     if len(v) == 0 or len(f) == 0:
         raise MeshFileError("no triangles found")
     if path.suffix.lower() == ".stl":
-        # STL has no shared vertices: join exactly coincident corners, keeping first-seen order
-        uniq, first, inverse = np.unique(v, axis=0, return_index=True, return_inverse=True)
-        order = np.argsort(first)
-        rank = np.empty_like(order)
-        rank[order] = np.arange(len(order))
-        if len(uniq) < len(v):
-            warnings.warn(f"{path}: STL stores no shared vertices; joined {len(v) - len(uniq)} exactly "
-                          "coincident corners", stacklevel=4)
-        v, f = uniq[order], rank[inverse.ravel()][f]
-        return Mesh(v, f)
+        return Mesh(v, f)                   # a triangle soup: load_mesh joins its coincident corners
     return Mesh(v, f, **_trimesh_look(loaded, len(v), f))
 
 

@@ -85,6 +85,15 @@ def reverse_corners(table: np.ndarray, sizes: np.ndarray, rows: np.ndarray) -> n
     return out
 
 
+def _frozen(a: np.ndarray) -> bool:
+    """Whether nobody can write ``a``'s data: it and every array it is a view of are read-only."""
+    while isinstance(a, np.ndarray):
+        if a.flags.writeable:
+            return False
+        a = a.base
+    return True
+
+
 @dataclass(frozen=True, eq=False)
 class Mesh:
     """A polygon mesh with optional per-vertex UVs, normals and colours, per-corner UVs and a texture.
@@ -196,13 +205,18 @@ class Mesh:
             t.setflags(write=False)
             object.__setattr__(self, "face_uv", t)
         if self.texture is not None:
-            img = np.array(self.texture, copy=True)
+            # a read-only 8-bit texture (another mesh's: every piece of a repaired mesh, every derived mesh)
+            # is shared, not copied: a texture can be far larger than its mesh
+            t0 = self.texture
+            shared = isinstance(t0, np.ndarray) and t0.dtype == np.uint8 and _frozen(t0)
+            img = t0 if shared else np.array(t0, copy=True)
             if img.dtype != np.uint8 or img.ndim != 3 or img.shape[2] not in (3, 4) or min(img.shape[:2]) < 1:
                 raise MeshError(f"texture: expected an 8-bit (h, w, 3) or (h, w, 4) image, got {img.dtype} "
                                 f"{img.shape}")
             if self.face_uv is None:
                 raise MeshError("texture: a texture needs face_uv (texture coordinates per face corner)")
-            img.setflags(write=False)
+            if not shared:
+                img.setflags(write=False)
             object.__setattr__(self, "texture", img)
 
     def derived(self, faces: Any, *, vertex_source: Any = None, face_source: Any = None,

@@ -1,6 +1,7 @@
 """Repairs that make a mesh a set of manifold, consistently oriented pieces, each reported, never silent.
 
-- Faces of zero area (a repeated vertex, corners on a line) are left out.
+- Faces of zero area (a repeated vertex, corners on a line) are left out, and so are faces that repeat
+  another face's corners (a surface stored twice).
 - A pinch vertex (faces meeting there in two or more separate fans) becomes one vertex per fan.
 - An edge shared by more than two faces is separated: the faces there no longer join across it.
 - Faces of a piece that run against their neighbours are turned to agree with the piece's majority; a
@@ -22,7 +23,7 @@ from ..errors import MeshError
 from ._mesh import Mesh, reverse_corners
 from ._topology import corner_fans
 
-__all__ = ["Repair", "drop_degenerate_faces", "split_fans", "orient_faces", "split_components", "repair"]
+__all__ = ["Repair", "drop_degenerate_faces", "drop_duplicate_faces", "split_fans", "orient_faces", "split_components", "repair"]
 
 
 @dataclass(frozen=True)
@@ -70,6 +71,27 @@ def drop_degenerate_faces(mesh: Mesh) -> tuple[Mesh, int]:
         return mesh, 0
     if not keep.any():
         raise MeshError(f"mesh: all {mesh.n_faces} faces have zero area")
+    return mesh.derived(f[keep], face_source=np.flatnonzero(keep)), int((~keep).sum())
+
+
+def drop_duplicate_faces(mesh: Mesh) -> tuple[Mesh, int]:
+    """The mesh without faces that repeat an earlier face's corners (in any order or winding: a surface
+    stored twice, or two-sided). Returns the mesh and how many faces were left out.
+
+    Examples
+    --------
+    >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], [[0, 1, 2], [0, 2, 1], [0, 1, 3], [1, 2, 0]])
+    >>> kept, dropped = drop_duplicate_faces(m)
+    >>> kept.faces.tolist(), dropped
+    ([[0, 1, 2], [0, 1, 3]], 2)
+    """
+    f = mesh.faces
+    key = np.sort(np.where(f >= 0, f, np.iinfo(np.int64).max), axis=1)     # the corners as a set (padding last)
+    _, first = np.unique(key, axis=0, return_index=True)
+    if len(first) == len(f):
+        return mesh, 0
+    keep = np.zeros(len(f), bool)
+    keep[first] = True
     return mesh.derived(f[keep], face_source=np.flatnonzero(keep)), int((~keep).sum())
 
 
@@ -184,6 +206,10 @@ def repair(mesh: Mesh) -> list[Repair]:
     mesh, dropped = drop_degenerate_faces(mesh)
     if dropped:
         warnings.warn(f"repair: left out {dropped} faces of zero area", stacklevel=2)
+    mesh, doubled = drop_duplicate_faces(mesh)
+    if doubled:
+        warnings.warn(f"repair: left out {doubled} faces that repeat another face's corners (a surface stored "
+                      "twice, or two-sided)", stacklevel=2)
     split, source, pinches, edges = split_fans(mesh)
     if pinches:
         warnings.warn(f"repair: split {pinches} pinch vertices (faces meeting in separate fans) into one vertex "
@@ -192,8 +218,10 @@ def repair(mesh: Mesh) -> list[Repair]:
         warnings.warn(f"repair: separated the faces at {edges} edges shared by more than two faces", stacklevel=2)
     pieces = split_components(split)
     if len(pieces) > 1:
+        sizes = ", ".join(str(p.n_faces) for p, _ in pieces[:12]) + (f" and {len(pieces) - 12} more"
+                                                                      if len(pieces) > 12 else "")
         warnings.warn(f"repair: the mesh has {len(pieces)} separate pieces; each becomes a mesh of its own "
-                      f"(faces: {', '.join(str(p.n_faces) for p, _ in pieces)})", stacklevel=2)
+                      f"(faces: {sizes})", stacklevel=2)
     out = []
     for piece, used in pieces:
         oriented, flipped = orient_faces(piece)

@@ -6,11 +6,11 @@ the octahedral map that unfolds the sphere onto a square.
 [[0.0, 0.0, 1.0]]
 """
 from ._parametrize import AXES, PARAMETRIZATION_METHODS, Parametrization, parametrize, signed_face_areas
-from ._cut import QUANTA_PER_SIDE, cut_coords, perimeter_point
+from ._cut import QUANTA_PER_SIDE, cut_coords, layout_quanta, perimeter_point
 from ._disk import DISK_BALANCES, DISK_BOUNDARIES, disk_coords
 from ._sphere import sphere_coords
 from ._octahedral import area_ratio, grid_directions, sphere_to_square, square_jacobian, square_to_sphere
 
-__all__ = ["QUANTA_PER_SIDE", "cut_coords", "perimeter_point", "AXES", "DISK_BALANCES", "DISK_BOUNDARIES", "PARAMETRIZATION_METHODS", "Parametrization", "parametrize", "signed_face_areas", "disk_coords",
+__all__ = ["QUANTA_PER_SIDE", "cut_coords", "layout_quanta", "perimeter_point", "AXES", "DISK_BALANCES", "DISK_BOUNDARIES", "PARAMETRIZATION_METHODS", "Parametrization", "parametrize", "signed_face_areas", "disk_coords",
            "sphere_coords", "area_ratio", "grid_directions", "sphere_to_square", "square_jacobian",
            "square_to_sphere"]

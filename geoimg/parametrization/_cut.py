@@ -32,7 +32,7 @@ from ..mesh import Mesh, boundary_loops, topology
 from ._disk import relax_planar
 from ._laplacian import mean_value_weights, solve_free
 
-__all__ = ["cut_coords", "perimeter_point", "QUANTA_PER_SIDE"]
+__all__ = ["cut_coords", "layout_quanta", "perimeter_point", "QUANTA_PER_SIDE"]
 
 QUANTA_PER_SIDE = 64
 
@@ -255,9 +255,31 @@ def perimeter_point(t: ArrayLike, quanta_per_side: int) -> np.ndarray:
     return np.stack([u, v], axis=1)
 
 
-def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE, balance: str = DEFAULT_DISK_BALANCE,
+def layout_quanta(segments: int, quanta_per_side: int | None = None) -> int:
+    """Quanta per side of the square for a boundary of ``segments`` segments: ``quanta_per_side`` when given,
+    else :data:`QUANTA_PER_SIDE` doubled until the perimeter's four sides hold a quantum per segment (a mesh
+    of high genus or many holes has hundreds of segments; its image then needs N - 1 a multiple of the
+    larger quantum).
+
+    Examples
+    --------
+    >>> layout_quanta(200), layout_quanta(288), layout_quanta(600)
+    (64, 128, 256)
+    """
+    if quanta_per_side is not None:
+        return int(quanta_per_side)
+    q = QUANTA_PER_SIDE
+    while 4 * q < segments:
+        q *= 2
+    return q
+
+
+def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str = DEFAULT_DISK_BALANCE,
                progress: Progress | None = None) -> tuple:
     """Cut a manifold, oriented, connected mesh into a disk and map it onto the unit square.
+
+    ``quanta_per_side`` is the boundary layout's unit (see :func:`layout_quanta`; default: the smallest of
+    64, 128, 256, ... that holds the boundary's segments).
 
     Returns
     -------
@@ -311,6 +333,7 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int = QUANTA_PER_SIDE, balance: s
     weight = np.where(source[:, 0] == source[:, 1], 0.0, 0.5)
     lengths = np.linalg.norm(v[np.roll(loop, -1)] - v[loop], axis=1)
     starts, twin, seg_len, seg_of_edge = _segments(loop, source[:, 0], lengths)
+    quanta_per_side = layout_quanta(len(starts), quanta_per_side)
     quanta = _quantize(seg_len, twin, 4 * quanta_per_side)
     seg_start = np.concatenate([[0], np.cumsum(quanta)[:-1]])
     # positions along each segment by arc length; a segment and its twin share them, reversed

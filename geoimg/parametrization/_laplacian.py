@@ -10,6 +10,8 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse import linalg as splinalg
 
+from ..errors import ParametrizationError
+
 __all__ = ["factor_symmetric", "laplacian", "triangle_areas", "vertex_areas", "vertex_shares", "mean_value_weights", "cotangent_weights", "corner_angles", "corner_cotangents", "solve_free"]
 
 _TINY = 1e-300
@@ -135,4 +137,10 @@ def solve_free(weights: sparse.spmatrix, fixed: np.ndarray, fixed_pos: np.ndarra
     lap = laplacian(weights.tocsr()).tocsr()
     a = lap[free][:, free].tocsc()
     rhs = -(lap[free][:, fixed] @ fixed_pos)
-    return np.column_stack([np.asarray(col) for col in splinalg.splu(a).solve(np.asarray(rhs)).T])
+    try:
+        lu = splinalg.splu(a)
+    except RuntimeError as e:           # SuperLU: "Factor is exactly singular"
+        raise ParametrizationError(f"the mesh's weights leave {len(free)} free vertices without a unique place "
+                                   f"({e}): faces of zero area or polygons that overlap themselves when split into "
+                                   "triangles") from None
+    return np.column_stack([np.asarray(col) for col in lu.solve(np.asarray(rhs)).T])

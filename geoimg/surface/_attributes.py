@@ -14,6 +14,7 @@ import cv2
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .._budget import check_memory
 from ..image import Domain
 from ..mesh import Mesh
 from ..parametrization import Parametrization
@@ -113,6 +114,15 @@ def _texture_lookup(texture: np.ndarray, uv: np.ndarray) -> np.ndarray:
     y = np.zeros(rows * width, np.float32)
     x[:n] = uv[:, 0] * w - 0.5
     y[:n] = (1.0 - uv[:, 1]) * h - 0.5
+    # only the part of the texture the lookups reach (a piece of a model reads a corner of its atlas), when
+    # they need no wrapping: shifted by whole pixels, the same colours from a fraction of the memory
+    x0, x1 = int(np.floor(x[:n].min())) - 1, int(np.ceil(x[:n].max())) + 2
+    y0, y1 = int(np.floor(y[:n].min())) - 1, int(np.ceil(y[:n].max())) + 2
+    if x0 >= 0 and y0 >= 0 and x1 <= w and y1 <= h:
+        texture = texture[y0:y1, x0:x1]
+        x[:n] -= x0
+        y[:n] -= y0
+    check_memory(texture.size * 4.0, f"a float copy of the {w} x {h} texture's part that the colours read")
     out = cv2.remap(texture.astype(np.float32), x.reshape(rows, width), y.reshape(rows, width),  # float: unrounded
                     cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP).reshape(rows * width, -1)[:n]
     return out.astype(np.float32) / 255.0

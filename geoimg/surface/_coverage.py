@@ -54,6 +54,7 @@ __all__ = ["CoverageSurface", "PlanarCoverageSurface", "SphereCoverageSurface", 
            "PREFILTER", "prefilter_s", "check_s"]
 
 PREFILTER = 0.4     # sigma in pixel spacings of the default image (0.2 to 0.5 measured: benchmarks/README.md)
+DEGENERATE = 1e-12  # a triangle whose inradius is this share of the domain's size or less has no width
 THIN = 4.0          # a triangle whose enclosing circle is THIN times its incircle or more is thin
 FLOOR_OVER_TOL = 1e4    # a sum of weights below FLOOR_OVER_TOL * tol is outside the triangles: recomputed exactly
 
@@ -308,6 +309,9 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
             tris = tri_mesh.faces
     corners = np.concatenate([coords[tris], np.ones(tris.shape + (1,))], axis=2) if planar else coords[tris]
     E, K, w, keep = _triangle_tables(corners, tri_mesh.vertices[tris], planar)
+    # a triangle thinner than rounding in the parameter domain has no width to weigh it by: left out too
+    extent = float(np.ptp(corners[keep][:, :, :2].reshape(-1, 2), axis=0).max()) if planar and keep.any() else 1.0
+    keep[keep] &= _inradius(corners[keep][:, :, :2] if planar else corners[keep]) > DEGENERATE * extent
     if not keep.any():
         raise ParametrizationError("every face has zero area in the parameter domain")
     if not keep.all():
@@ -318,7 +322,7 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
     dbar = float(enclosing.mean())
     centres, size, spread = _shape(corners)
     slope = _slopes(corners, tri_mesh.vertices[tris], planar)
-    narrow = np.minimum(1.0, float(np.median(slope)) / np.maximum(slope, 1e-300))
+    narrow = np.clip(float(np.median(slope)) / np.maximum(slope, 1e-300), DEGENERATE, 1.0)
     inradius = _inradius(corners[:, :, :2] if planar else corners)
     thin = np.where(enclosing > THIN * inradius, inradius, np.inf)
     tables = tuple(np.ascontiguousarray(a, np.float64) for a in (E, K, w))

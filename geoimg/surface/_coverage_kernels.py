@@ -118,6 +118,8 @@ def _add(t, p, t1, t2, E, K, w, zmin, zmax, deriv, shift, log_domain, wmin, tabl
         c1, r1 = _edge(z1, zmax, deriv, table)
         c2, r2 = _edge(z2, zmax, deriv, table)
         F = c0 * c1 * c2
+    if F == 0.0:                # nothing to add; a near-degenerate triangle's map may be huge there (0 * inf)
+        return True
     inv_wp = 1.0 / wp
     P0 = (K[t, 0, 0] * p[0] + K[t, 0, 1] * p[1] + K[t, 0, 2] * p[2]) * inv_wp
     P1 = (K[t, 1, 0] * p[0] + K[t, 1, 1] * p[1] + K[t, 1, 2] * p[2]) * inv_wp
@@ -246,6 +248,8 @@ def _grid_kernel(u, v, E, K, w, c0, c1, r0, r1, band, band_ptr, band_faces, zmin
                     c_1, g1 = _edge(z1, zmax, deriv, table)
                     c_2, g2 = _edge(z2, zmax, deriv, table)
                     F = c_0 * c_1 * c_2
+                    if F == 0.0:
+                        continue
                     inv_wp = 1.0 / (w[t, 0] * p[0] + w[t, 1] * p[1] + w[t, 2])
                     X = (K[t, 0, 0] * p[0] + K[t, 0, 1] * p[1] + K[t, 0, 2]) * inv_wp
                     Y = (K[t, 1, 0] * p[0] + K[t, 1, 1] * p[1] + K[t, 1, 2]) * inv_wp

@@ -8,7 +8,7 @@ import filters
 import geoimg
 from geoimg import CutDomain, ImageError, ParametrizationError
 from geoimg.mesh import boundary_loops, surface_distance, topology
-from geoimg.parametrization import perimeter_point
+from geoimg.parametrization import cut_coords, perimeter_point
 
 import meshes
 from helpers import glue_spread, load_data
@@ -171,3 +171,38 @@ def test_meshes_with_the_same_faces_morph_through_one_cut_layout():
     other = geoimg.mesh_to_image(load_data("torus.obj"), 65)
     with pytest.raises(ValueError, match="cut layouts"):
         morph(m.keys[0], other, frames=3, align="none")
+
+
+def _plate_with_holes(n: int = 30, step: int = 3) -> geoimg.Mesh:
+    """A bumpy grid of n x n quads with every ``step``-th quad away from the rim removed: 101 boundary loops,
+    as a CAD plate with many holes or a scan with many gaps has."""
+    i, j = np.meshgrid(np.arange(n + 1), np.arange(n + 1), indexing="ij")
+    v = np.stack([i, j, 0.1 * np.sin(i) * np.cos(j)], -1).reshape(-1, 3).astype(float)
+    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
+    faces = [[idx[a, b], idx[a + 1, b], idx[a + 1, b + 1], idx[a, b + 1]] for a in range(n) for b in range(n)
+             if not (0 < a < n - 1 and 0 < b < n - 1 and a % step == 1 and b % step == 1)]
+    return geoimg.Mesh(v, faces)
+
+
+def test_a_boundary_of_more_segments_than_the_layout_holds_gets_a_finer_quantum():
+    from geoimg.parametrization import layout_quanta
+    plate = _plate_with_holes()
+    assert topology(plate).boundary_loops == 101
+    param = geoimg.parametrize(plate, "cut")
+    assert param.info["segments"] > 4 * 64 and param.domain_fields["quantum"] == 128
+    with pytest.warns(UserWarning, match="sampled at 129"):
+        image = geoimg.mesh_to_image(plate, 65, parametrization=param, fidelity=False)
+    assert image.shape == (129, 129) and image.domain.quantum == 128
+    assert np.isfinite(image.pixels).all()
+    # a quantum given is kept, and refused when too coarse for the boundary
+    assert layout_quanta(300, 64) == 64
+    with pytest.raises(ParametrizationError, match="more than the 256 the layout holds"):
+        cut_coords(plate, quanta_per_side=64)
+
+
+def test_a_singular_placement_is_a_parametrization_error():
+    from scipy import sparse
+    from geoimg.parametrization._laplacian import solve_free
+    w = sparse.csr_matrix(np.array([[0, 1, 0, 0], [1, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0.0]]))
+    with pytest.raises(ParametrizationError, match="without a unique place"):
+        solve_free(w, np.array([0]), np.zeros((1, 2)), np.array([1, 2, 3]))

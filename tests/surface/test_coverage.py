@@ -151,3 +151,30 @@ def test_the_kernel_equals_its_numpy_twin(ball):
         ref = coverage_numpy(pts, surf.edges(), K, w, 1.0)          # edges over each triangle's own width
         got = surf._evaluate(pts, pts * 0, pts * 0, derivatives=False)[0]
         assert np.abs(got - ref).max() < 1e-9 * np.abs(ref).max()
+
+
+def test_triangles_thinner_than_rounding_are_left_out_and_nothing_overflows():
+    # a sliver whose third corner lies 1e-13 off its base in (u, v), but far off it in space: its map is
+    # huge, its inradius rounds to 0 (a width of nothing); beside it an ordinary triangle
+    v = np.array([[0, 0, 0], [1, 0, 0], [0.5, 0, 1.0], [0.5, -1, 0]])
+    uv = np.array([[0, 0.5], [1, 0.5], [0.5, 0.5 + 1e-13], [0.5, 0.0]])
+    mesh = geoimg.Mesh(v, [[0, 1, 2], [1, 0, 3]])
+    param = geoimg.Parametrization(uv, (1.0, 1.0))
+    with pytest.warns(UserWarning, match="1 triangles of zero area"):
+        surf = fit_surface(mesh, param, 0.05, weights="coverage")
+    P = surf.evaluate(np.array([[0.5, 0.25], [0.5, 0.5], [0.2, 0.9]]))
+    assert np.isfinite(P).all()
+    assert np.allclose(P[0], [0.5, -0.5, 0.0], atol=1e-6)            # inside the ordinary triangle: its plane
+
+
+def test_a_texture_is_read_from_the_part_its_coordinates_reach():
+    import cv2
+    from geoimg.surface._attributes import _texture_lookup
+    rng = np.random.default_rng(0)
+    tex = rng.integers(0, 256, (30, 50, 3), dtype=np.uint8)
+    for lo, hi in [(0.2, 0.4), (0.0, 1.0), (-0.2, 0.3)]:              # cropped, whole, wrapped
+        uv = rng.uniform(lo, hi, (3000, 2))
+        x = (uv[:, 0] * 50 - 0.5).astype(np.float32)[None]
+        y = ((1 - uv[:, 1]) * 30 - 0.5).astype(np.float32)[None]
+        whole = cv2.remap(tex.astype(np.float32), x, y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)[0] / 255.0
+        np.testing.assert_array_equal(_texture_lookup(tex, uv), whole.astype(np.float32))
