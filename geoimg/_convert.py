@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from ._choices import COMPONENT_CHOICES, DEFAULT_DISK_BALANCE, POOR_HAUSDORFF, POOR_PSNR_DB
-from .errors import InputError, InputTypeError, MeshError
+from .errors import InputError, InputTypeError, MeshError, ParametrizationError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair, surface_distance
 from .parametrization import Parametrization, parametrize
@@ -57,6 +57,8 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
     announced with a warning): one image per piece, or only the ``"largest"`` or the ``K``-th
     (``component``). The options (and ``timings``) are :func:`mesh_to_image`'s; for a mesh of several pieces,
     ``metadata["component"]`` is the piece's number and ``metadata["components"]`` how many there were.
+    A piece whose map is refused (a lone triangle has no four corners for a square) is left out with a
+    warning, the others converted; when every piece is refused, the first refusal is raised.
 
     Examples
     --------
@@ -83,15 +85,28 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
     else:
         raise MeshError(f"component: expected 'all', 'largest' or a piece number from 0 to {len(pieces) - 1}, "
                         f"got {component!r}")
-    images = []
+    images, refused = [], []
     for k in chosen:
         if len(pieces) > 1:
             say(f"piece {k} of {len(pieces)}: {pieces[k].mesh.n_faces} faces")
-        image = mesh_to_image(pieces[k].mesh, resolution, s, method, progress=progress, timings=timings, **options)
+        try:
+            image = mesh_to_image(pieces[k].mesh, resolution, s, method, progress=progress, timings=timings,
+                                  **options)
+        except ParametrizationError as e:
+            if len(chosen) == 1:
+                raise
+            refused.append((k, e))          # one piece that cannot be mapped (a lone triangle) spoils no other
+            continue
         image.metadata["source"] = source
         if len(pieces) > 1:
             image.metadata.update(component=k, components=len(pieces))
         images.append(image)
+    if refused and not images:
+        raise refused[0][1]
+    if refused:
+        k, e = refused[0]
+        warnings.warn(f"{len(refused)} of {len(pieces)} pieces left out, their map refused (piece {k}, "
+                      f"{pieces[k].mesh.n_faces} faces: {e})", stacklevel=2)
     return images
 
 

@@ -77,3 +77,33 @@ def test_a_missing_optional_dependency_names_the_install_command(monkeypatch, tm
     with pytest.raises(MissingDependency, match="pygltflib"):
         save_glb(m, tmp_path / "m.glb")
     assert not (tmp_path / "m.glb").exists()
+
+
+def _long_strip() -> geoimg.Mesh:
+    """A 10 x 1 rectangle whose boundary is its four corners alone, filled with triangles through a row of
+    interior points (no boundary vertex near the quarter points of its outline)."""
+    from scipy.spatial import Delaunay
+    xy = np.array([[0, 0], [10, 0], [10, 1], [0, 1]] + [[x, 0.5] for x in np.linspace(1, 9, 9)], float)
+    tri = Delaunay(xy).simplices
+    area = np.cross(xy[tri[:, 1]] - xy[tri[:, 0]], xy[tri[:, 2]] - xy[tri[:, 0]])
+    tri[area < 0] = tri[area < 0][:, ::-1]
+    return geoimg.Mesh(np.column_stack([xy, 0.1 * xy[:, 0] ** 2]), tri)
+
+
+def test_a_boundary_of_four_vertices_far_from_the_quarters_gets_its_corners():
+    strip = _long_strip()
+    param = geoimg.parametrize(strip, "disk")
+    corners = {tuple(np.round(param.coords[i], 9)) for i in range(4)}
+    assert corners == {(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)}
+    assert param.flipped_faces == 0
+
+
+def test_a_piece_whose_map_is_refused_is_left_out_of_the_others():
+    strip = _long_strip()
+    lone = geoimg.Mesh([[20, 0, 0], [21, 0, 0], [20, 1, 0]], [[0, 1, 2]])       # three corners: no square
+    both = geoimg.Mesh(np.vstack([strip.vertices, lone.vertices]), np.vstack([strip.faces, lone.faces + 13]))
+    with pytest.warns(UserWarning, match=r"1 of 2 pieces left out, their map refused \(piece 1, 1 faces"):
+        images = geoimg.mesh_to_images(both, 17, method="disk")
+    assert len(images) == 1 and images[0].metadata["component"] == 0
+    with pytest.raises(geoimg.ParametrizationError, match="four are needed"):
+        geoimg.mesh_to_images(both, 17, method="disk", component=1)

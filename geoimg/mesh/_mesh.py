@@ -308,7 +308,10 @@ class Mesh:
     def triangulate(self, quads: str = "fan") -> tuple[np.ndarray, np.ndarray]:
         """Split every face into triangles: a fan from its first corner, or with ``quads="shorter"`` each
         quad along its shorter diagonal in space (as geometry images are drawn and measured: the split
-        that bends a non-planar quad least), larger polygons fanned.
+        that bends a non-planar quad least), larger polygons fanned. A polygon of 5 corners or more that is
+        not convex (in the plane that fits it best), or whose fan would have a triangle of zero area (corners
+        on a line beside the first), is split by ear clipping instead, so that no triangle lies outside it
+        or is flat.
 
         Returns
         -------
@@ -323,13 +326,27 @@ class Mesh:
         [[0, 1, 2], [0, 2, 3]]
         >>> Mesh([[0, 0, 0], [2, 0, 0], [3, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]]).triangulate("shorter")[0].tolist()
         [[1, 2, 3], [1, 3, 0]]
+
+        An L-shaped hexagon: fanned from its first corner, vertex 1, the triangle (1, 3, 4) would cover the
+        square the L lacks; ear clipping keeps every triangle inside:
+
+        >>> L = Mesh([[1, 1, 0], [1, 2, 0], [0, 2, 0], [0, 0, 0], [2, 0, 0], [2, 1, 0]], [[1, 2, 3, 4, 5, 0]])
+        >>> L.triangulate()[0].tolist()
+        [[0, 1, 2], [0, 2, 3], [0, 3, 4], [4, 5, 0]]
         """
+        tris, owner, _ = self.triangle_corners(quads)
+        return tris, owner
+
+    def triangle_corners(self, quads: str = "fan") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`triangulate`'s triangles and faces, and each triangle's corners as positions within its
+        face (T, 3): ``triangles[t, k] == faces[face_index[t], corners[t, k]]``."""
         if quads not in ("fan", "shorter"):
             raise MeshError(f"quads: expected 'fan' or 'shorter', got {quads!r}")
         per_face = self.face_sizes - 2                                 # linear time, any polygon size
         owner = np.repeat(np.arange(self.n_faces), per_face)
         start = np.repeat(np.cumsum(per_face) - per_face, per_face)
         j = np.arange(len(owner)) - start + 1                          # 1 .. k - 2 within each face
+        corners = np.stack([np.zeros_like(j), j, j + 1], axis=1)
         f = self.faces
         quad = self.face_sizes == 4
         if quads == "shorter" and quad.any():  # a quad whose 1-3 diagonal is shorter is fanned from corner 1
@@ -338,11 +355,39 @@ class Mesh:
             turn = np.zeros(self.n_faces, bool)
             turn[quad] = np.einsum("ij,ij->i", v[q[:, 1]] - v[q[:, 3]], v[q[:, 1]] - v[q[:, 3]]) < \
                 np.einsum("ij,ij->i", v[q[:, 0]] - v[q[:, 2]], v[q[:, 0]] - v[q[:, 2]])
-            if turn.any():
-                f = f.copy()
-                f[turn, :4] = np.roll(f[turn, :4], -1, axis=1)
-        t = np.stack([f[owner, 0], f[owner, j], f[owner, j + 1]], axis=1)
-        return t, owner
+            rows = turn[owner]
+            corners[rows] = (corners[rows] + 1) % 4
+        for face in np.flatnonzero(self._reflex_faces()).tolist():
+            k = int(self.face_sizes[face])
+            ears = _ear_clip(_plane_coordinates(self.vertices[f[face, :k]]))
+            if ears is not None:
+                corners[start[np.searchsorted(owner, face)] + np.arange(k - 2)] = ears
+        t = f[owner[:, None], corners]
+        return t, owner, corners
+
+    def _reflex_faces(self) -> np.ndarray:
+        """Faces of 5 corners or more (quads keep their diagonal) that a fan from the first corner would not
+        split well, in the plane that fits them best (Newell's normal): with a reflex corner (turning against it by more than
+        rounding), or a corner on a line next to the first one (a fan triangle of zero area); only faces
+        within 5 % of their size of that plane (a polygon far from flat keeps its fan)."""
+        out = np.zeros(self.n_faces, bool)
+        for k in np.unique(self.face_sizes[self.face_sizes >= 5]).tolist():
+            rows = np.flatnonzero(self.face_sizes == k)
+            p = self.vertices[self.faces[rows, :k]]                     # (R, k, 3)
+            nxt = np.roll(p, -1, axis=1)
+            normal = np.cross(p, nxt).sum(axis=1)                     # Newell: twice the vector area
+            edge = nxt - p
+            turn = np.einsum("rkc,rc->rk", np.cross(edge, np.roll(edge, -1, axis=1)), normal)
+            scale = np.einsum("rkc,rkc->rk", edge, edge) * np.linalg.norm(normal, axis=1)[:, None]
+            flat = np.abs(turn) <= 1e-12 * scale          # a corner on a line: the fan's triangle there is flat
+            flat_at_fan = flat[:, 0] | flat[:, k - 2]     # corners 1 and k - 1 (turn i is at corner i + 1)
+            # a polygon far from flat has no plane to clip it in: it keeps its fan
+            unit = normal / np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+            q = p - p.mean(axis=1, keepdims=True)
+            height = np.abs(np.einsum("rkc,rc->rk", q, unit)).max(axis=1)
+            flat_enough = height <= 0.05 * np.linalg.norm(q, axis=2).max(axis=1)
+            out[rows] = ((turn < -1e-12 * scale).any(axis=1) | flat_at_fan) & flat_enough
+        return out
 
     def vertex_normals(self) -> np.ndarray:
         """Area-weighted unit vertex normals from the faces' orientation (zero for unused vertices).
@@ -392,3 +437,45 @@ class Mesh:
             raise MeshError(f"mesh: coordinates of size {scale:.3g} are beyond what geometry images (float32) "
                             "and the surface's arithmetic hold; scale the mesh first")
         return scale
+
+
+def _plane_coordinates(p: np.ndarray) -> np.ndarray:
+    """A polygon's corners (k, 3) in 2-D coordinates of the plane normal to its Newell normal, so that the
+    polygon runs counter-clockwise."""
+    normal = np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)
+    normal = normal / max(float(np.linalg.norm(normal)), 1e-300)
+    a = np.eye(3)[int(np.argmin(np.abs(normal)))]
+    x = np.cross(normal, a)
+    x /= max(float(np.linalg.norm(x)), 1e-300)
+    y = np.cross(normal, x)
+    q = p - p.mean(axis=0)
+    return np.stack([q @ x, q @ y], axis=1)
+
+
+def _ear_clip(xy: np.ndarray) -> np.ndarray | None:
+    """Triangles (k - 2, 3) of corner positions that split the counter-clockwise polygon ``xy`` (k, 2), by
+    clipping ears (a convex corner whose triangle holds no other corner); None when none is found (a polygon
+    that crosses itself), and the caller keeps its fan."""
+    left = list(range(len(xy)))
+    out = []
+
+    def cross(a, b, c):
+        return (xy[b, 0] - xy[a, 0]) * (xy[c, 1] - xy[a, 1]) - (xy[b, 1] - xy[a, 1]) * (xy[c, 0] - xy[a, 0])
+
+    while len(left) > 3:
+        n = len(left)
+        for i in range(n):
+            a, b, c = left[i - 1], left[i], left[(i + 1) % n]
+            if cross(a, b, c) <= 0:
+                continue
+            if any(cross(a, b, d) >= 0 and cross(b, c, d) >= 0 and cross(c, a, d) >= 0
+                   for d in left if d not in (a, b, c) and not np.array_equal(xy[d], xy[b])):
+                continue
+            out.append((a, b, c))
+            del left[i]
+            break
+        else:
+            return None
+    out.append(tuple(left))
+    return np.array(out, np.int64)
+

@@ -106,6 +106,19 @@ def _choose_corners(mesh: Mesh, loop: np.ndarray, arc: np.ndarray, total: float,
         key = (_flat_faces(faces_b, t_of, corners), -float(sharp[idx].sum()))
         if best is None or key < best[0]:
             best = (key, t_of, corners, idx)
+    if best is None and n >= 4:     # no sharp vertex near each quarter (a short loop): the nearest ones, in order
+        t_of = (arc - arc[0]) % total
+        idx = []
+        for q in total * np.arange(4) / 4.0:
+            dist = np.abs((t_of - q + total / 2) % total - total / 2)
+            dist[idx] = np.inf
+            idx.append(int(np.argmin(dist)))
+        idx = sorted(idx, key=lambda i: t_of[i])
+        shift = t_of[idx[0]]
+        t_of = (t_of - shift) % total
+        corners = np.sort(t_of[idx])
+        if np.all(np.diff(np.append(corners, total)) > 0):
+            best = ((_flat_faces(faces_b, t_of, corners), -float(sharp[idx].sum())), t_of, corners, idx)
     if best is None:
         raise ParametrizationError("method='disk': could not place four distinct corners on the boundary")
     return best

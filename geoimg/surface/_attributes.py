@@ -97,10 +97,7 @@ def locate(points: np.ndarray, corners: np.ndarray, candidates: int = CANDIDATES
 
 def _fan_corners(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Each fan triangle's vertices, its face and its corners' positions within the face."""
-    tris, owner = mesh.triangulate()
-    per_face = mesh.face_sizes - 2
-    j = np.arange(len(owner)) - np.repeat(np.cumsum(per_face) - per_face, per_face) + 1
-    return tris, owner, np.stack([np.zeros_like(j), j, j + 1], axis=1)
+    return mesh.triangle_corners()
 
 
 def _texture_lookup(texture: np.ndarray, uv: np.ndarray) -> np.ndarray:

@@ -223,3 +223,53 @@ def test_pieces_that_touch_at_a_point_stay_apart_but_a_soup_is_joined(tmp_path):
     assert stl.n_vertices == 7
     with pytest.warns(UserWarning, match="split 1 pinch"):
         assert len(repair(stl)) == 2
+
+
+def _areas(m: Mesh) -> np.ndarray:
+    tris, _ = m.triangulate()
+    p = m.vertices[tris]
+    return np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])[:, 2] / 2     # signed, polygons in z = 0
+
+
+@pytest.mark.parametrize("start", range(8))
+def test_polygons_that_a_fan_cannot_split_are_ear_clipped(start):
+    # a notched octagon (a wall with a slot), each corner first in turn; and a rectangle with midpoints
+    notch = [[0, 0, 0], [4, 0, 0], [4, 3, 0], [3, 3, 0], [3, 1, 0], [1, 1, 0], [1, 3, 0], [0, 3, 0]]
+    order = np.roll(np.arange(8), -start)
+    m = Mesh(notch, [order])
+    a = _areas(m)
+    assert (a > 0).all() and np.isclose(a.sum(), 4 * 3 - 2 * 2)        # inside it, covering it once
+    mid = [[0, 0, 0], [1, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0], [0, 1, 0], [0, 0.5, 0], [2, 0.5, 0]]
+    rect = Mesh(mid, [np.roll([0, 1, 2, 7, 3, 4, 5, 6], -start)])
+    a = _areas(rect)
+    assert (a > 1e-9).all() and np.isclose(a.sum(), 2.0)               # no triangle of zero area
+
+
+def test_convex_and_far_from_flat_polygons_keep_their_fan():
+    hexagon = [[np.cos(t), np.sin(t), 0] for t in np.linspace(0, 2 * np.pi, 6, endpoint=False)]
+    m = Mesh(hexagon, [[0, 1, 2, 3, 4, 5]])
+    assert m.triangulate()[0].tolist() == [[0, 1, 2], [0, 2, 3], [0, 3, 4], [0, 4, 5]]
+    # trimesh's polygonfaces.obj: a pentagon bent far out of any plane
+    bent = Mesh([[-5, 0, 5], [5, 0, 5], [5, 0, -5], [-5, 0, -5], [0, 5, -5]], [[0, 1, 2, 3, 4]])
+    assert bent.triangulate()[0].tolist() == [[0, 1, 2], [0, 2, 3], [0, 3, 4]]
+    tris, owner, corners = bent.triangle_corners()
+    assert (bent.faces[owner[:, None], corners] == tris).all()
+
+
+def test_a_house_of_planar_polygons_with_collinear_corners_converts(tmp_path):
+    # wallhole.obj's kind of model: faces of 6 to 11 corners, several on one line (a fan gives flat
+    # triangles and the sphere map's solve had no unique answer)
+    box = [[0, 0, 0], [2, 0, 0], [2, 2, 0], [0, 2, 0], [0, 0, 2], [2, 0, 2], [2, 2, 2], [0, 2, 2]]
+    mids = [[1, 0, 0], [1, 2, 0], [1, 0, 2], [1, 2, 2]]                      # 8 .. 11, on four edges
+    v = box + mids
+    faces = [[0, 3, 9, 2, 1, 8], [4, 10, 5, 6, 11, 7], [0, 8, 1, 5, 10, 4], [2, 9, 3, 7, 11, 6],
+             [1, 2, 6, 5], [0, 4, 7, 3]]
+    m = Mesh(v, faces)
+    assert topology(m).closed and topology(m).genus == 0
+    tris, _ = m.triangulate()
+    p = np.asarray(v, float)[tris]
+    assert (np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1) > 1e-9).all()
+    with warnings.catch_warnings(record=True):
+        warnings.simplefilter("always")
+        image = geoimg.mesh_to_image(m, 33)
+    assert image.metadata["psnr_db"] > 45
