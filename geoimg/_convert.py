@@ -104,9 +104,9 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
     if refused and not images:
         raise refused[0][1]
     if refused:
-        k, e = refused[0]
-        warnings.warn(f"{len(refused)} of {len(pieces)} pieces left out, their map refused (piece {k}, "
-                      f"{pieces[k].mesh.n_faces} faces: {e})", stacklevel=2)
+        first, why = refused[0]
+        warnings.warn(f"{len(refused)} of {len(pieces)} pieces left out, their map refused (piece {first}, "
+                      f"{pieces[first].mesh.n_faces} faces: {why})", stacklevel=2)
     return images
 
 

@@ -343,3 +343,23 @@ def test_an_image_far_from_its_input_is_marked_poor_and_counted(inputs, tmp_path
         run = subprocess.run(_batch_command(inputs / "a", "-o", tmp_path / "o2", *bad), capture_output=True,
                              text=True, timeout=60)
         assert run.returncode == 2 and "Traceback" not in run.stderr and not (tmp_path / "o2").exists()
+
+
+def test_a_row_names_every_pieces_domain_and_keeps_its_warnings_short(tmp_path):
+    from geoimg.batch._task import WARNINGS_CELL
+    # a closed sphere and many loose triangles far from it: pieces of two domains, a long list of warnings
+    sphere = geoimg.load_mesh(DATA / "sphere.obj")
+    tri = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0.2]]) * 0.1
+    loose = [tri + [3 + k, 0, 0] for k in range(40)]
+    v = np.vstack([sphere.vertices] + loose)
+    n = sphere.n_vertices
+    f = np.vstack([sphere.faces] + [np.array([[0, 1, 2]]) + n + 3 * k for k in range(40)])
+    src = write(geoimg.Mesh(v, f), tmp_path / "many.ply")
+    st = os.stat(src)
+    opts = batch.ConvertOptions(resolution=17, psnr=False)
+    row = run_job(Job(str(src), str(tmp_path / "out" / "many"), opts, "h", st.st_size, st.st_mtime_ns))
+    assert row["status"] == "ok" and row["pieces"] == 41
+    domains = row["domain"].split()
+    assert len(domains) == 41 and domains[0] == "octahedral" and set(domains[1:]) == {"planar"}
+    assert len(row["warnings"]) <= WARNINGS_CELL and "41 separate pieces" in row["warnings"]
+    assert "and 29 more" in row["warnings"]

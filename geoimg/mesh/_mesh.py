@@ -87,10 +87,11 @@ def reverse_corners(table: np.ndarray, sizes: np.ndarray, rows: np.ndarray) -> n
 
 def _frozen(a: np.ndarray) -> bool:
     """Whether nobody can write ``a``'s data: it and every array it is a view of are read-only."""
-    while isinstance(a, np.ndarray):
-        if a.flags.writeable:
+    base: Any = a
+    while isinstance(base, np.ndarray):
+        if base.flags.writeable:
             return False
-        a = a.base
+        base = base.base
     return True
 
 
@@ -457,7 +458,7 @@ def _ear_clip(xy: np.ndarray) -> np.ndarray | None:
     clipping ears (a convex corner whose triangle holds no other corner); None when none is found (a polygon
     that crosses itself), and the caller keeps its fan."""
     left = list(range(len(xy)))
-    out = []
+    out: list[tuple[int, ...]] = []
 
     def cross(a, b, c):
         return (xy[b, 0] - xy[a, 0]) * (xy[c, 1] - xy[a, 1]) - (xy[b, 1] - xy[a, 1]) * (xy[c, 0] - xy[a, 0])
