@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from PIL import Image               # comes with scikit-image
+from PIL import Image
 
 from .._choices import MESH_FORMATS, MESH_READ_FORMATS
 from .._atomic import write_all
