@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 from filters._lazy import lazy_names
 
 from .errors import (GeoimgError, ImageError, ImageFileError, InputError, InputTypeError, MeshError, MeshFileError,
-                     ParametrizationError)
+                     MissingDependency, ParametrizationError, RenderError, ResourceError)
 
 if TYPE_CHECKING:
     from .mesh import Mesh, grid_mesh, load_mesh, save_mesh
@@ -33,7 +33,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "GeoimgError", "ImageError", "ImageFileError", "InputError", "InputTypeError", "MeshError", "MeshFileError",
-    "ParametrizationError",
+    "ParametrizationError", "ResourceError", "MissingDependency", "RenderError",
     "Mesh", "grid_mesh", "load_mesh", "save_mesh", "Parametrization", "parametrize",
     "CutDomain", "Domain", "GeometryImage", "OctahedralDomain", "PlanarDomain", "grid_normals", "load_image", "save_image",
     "save_preview", "Surface", "fit_surface", "mesh_to_image", "mesh_to_images",

@@ -4,13 +4,9 @@ from __future__ import annotations
 
 import filters
 
-from .errors import GeoimgError
+from .errors import ResourceError
 
 __all__ = ["ResourceError", "check_memory"]
-
-
-class ResourceError(GeoimgError, MemoryError):
-    """Work that would need more memory than the machine (or ``GEOIMG_MAX_MEMORY``) allows."""
 
 
 def check_memory(n_bytes: float, what: str) -> None:
@@ -21,6 +17,6 @@ def check_memory(n_bytes: float, what: str) -> None:
     >>> check_memory(1e30, "a galaxy")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    geoimg._budget.ResourceError: a galaxy would need about 931322574615478534144.0 GiB; the limit is ...
+    geoimg.errors.ResourceError: a galaxy would need about 931322574615478534144.0 GiB; the limit is ...
     """
     filters.check_memory(n_bytes, what, error=ResourceError)

@@ -3,16 +3,12 @@ from __future__ import annotations
 
 import importlib
 
-from .errors import GeoimgError
+from .errors import MissingDependency
 
 __all__ = ["require", "MissingDependency"]
 
 EXTRAS = {"moderngl": "render", "imageio": "render", "pygltflib": "render", "imageio_ffmpeg": "video",
           "dask": "batch", "distributed": "batch", "zarr": "batch", "pandas": "batch", "psutil": "batch"}
-
-
-class MissingDependency(GeoimgError, ImportError):
-    """An optional package that a feature needs is not installed."""
 
 
 def require(module: str, what: str):
@@ -26,7 +22,7 @@ def require(module: str, what: str):
     >>> require("no_such_module_here", "flying")
     Traceback (most recent call last):
     ...
-    geoimg._optional.MissingDependency: flying needs the no_such_module_here package: pip install no_such_module_here
+    geoimg.errors.MissingDependency: flying needs the no_such_module_here package: pip install no_such_module_here
     """
     try:
         return importlib.import_module(module)

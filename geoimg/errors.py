@@ -1,4 +1,6 @@
-"""Exception types raised by geoimg; all derive from :class:`GeoimgError`."""
+"""Exception types raised by geoimg; all derive from :class:`GeoimgError`, so that one ``except`` catches
+every refusal, and each also derives from the built-in kind it is (``ValueError``, ``TypeError``,
+``MemoryError``, ``ImportError``)."""
 
 
 class GeoimgError(Exception):
@@ -31,3 +33,16 @@ class InputError(GeoimgError, ValueError):
 
 class InputTypeError(GeoimgError, TypeError):
     """An argument is of the wrong type."""
+
+
+class ResourceError(GeoimgError, MemoryError):
+    """Work that would need more memory than the machine (or ``GEOIMG_MAX_MEMORY``) allows, refused before
+    it starts."""
+
+
+class MissingDependency(GeoimgError, ImportError):
+    """An optional package that a feature needs is not installed (the message names the install command)."""
+
+
+class RenderError(GeoimgError):
+    """No OpenGL context could be made, or the scene cannot be drawn."""

@@ -107,3 +107,15 @@ def test_a_piece_whose_map_is_refused_is_left_out_of_the_others():
     assert len(images) == 1 and images[0].metadata["component"] == 0
     with pytest.raises(geoimg.ParametrizationError, match="four are needed"):
         geoimg.mesh_to_images(both, 17, method="disk", component=1)
+
+
+def test_every_error_users_catch_is_in_geoimg_errors():
+    from geoimg import errors
+    from geoimg._budget import ResourceError
+    from geoimg.animation import RenderError
+    for name in ("ResourceError", "MissingDependency", "RenderError"):
+        cls = getattr(errors, name)
+        assert issubclass(cls, geoimg.GeoimgError) and getattr(geoimg, name) is cls
+    assert ResourceError is errors.ResourceError and RenderError is errors.RenderError
+    assert MissingDependency is errors.MissingDependency
+    assert issubclass(errors.ResourceError, MemoryError) and issubclass(errors.MissingDependency, ImportError)

@@ -20,7 +20,7 @@ from PIL import Image
 from .._choices import UP_AXES
 from .._atomic import atomic_path
 from .._optional import require
-from ..errors import GeoimgError, InputError, InputTypeError
+from ..errors import InputError, InputTypeError, RenderError
 from ..image import GeometryImage
 from ..mesh import Mesh
 from ..mesh._appearance import split_corners
@@ -82,10 +82,6 @@ uniform vec3 line_color;
 out vec4 color;
 void main() { color = vec4(line_color, 1.0); }
 """
-
-
-class RenderError(GeoimgError):
-    """No OpenGL context could be made, or the scene cannot be drawn."""
 
 
 @dataclass(frozen=True)
