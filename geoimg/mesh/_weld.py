@@ -43,12 +43,42 @@ def _disagree(values: np.ndarray, rep: np.ndarray) -> int:
     return int(np.any(values != values[rep], axis=1).sum())
 
 
+def _seam_representatives(mesh: Mesh, group: np.ndarray) -> np.ndarray:
+    """Each vertex's first copy among those it is joined to along seams: two copies of one position are
+    joined when edges at them coincide (both ends copies of each other: two faces stored apart along one
+    edge), and so on through such joins; copies that only touch at a point are not."""
+    from scipy import sparse
+    from scipy.sparse.csgraph import connected_components
+
+    valid = mesh.faces >= 0
+    a, b = mesh.faces[valid], mesh.next_vertices()[valid]
+    n = mesh.n_vertices
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    glo, ghi = group[lo], group[hi]
+    flip = glo > ghi                                  # the edge's ends ordered by their positions' groups
+    lo, hi = np.where(flip, hi, lo), np.where(flip, lo, hi)
+    place = np.minimum(glo, ghi) * n + np.maximum(glo, ghi)
+    order = np.argsort(place, kind="stable")
+    place, lo, hi = place[order], lo[order], hi[order]
+    first = np.r_[True, place[1:] != place[:-1]]
+    head = np.maximum.accumulate(np.where(first, np.arange(len(place)), 0))   # each edge's first at its place
+    links = (lo != lo[head]) | (hi != hi[head])
+    rows = np.concatenate([lo[links], hi[links]])
+    cols = np.concatenate([lo[head][links], hi[head][links]])
+    _, label = connected_components(sparse.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n)),
+                                    directed=False)
+    smallest = np.full(label.max() + 1, n, np.int64)
+    np.minimum.at(smallest, label, np.arange(n))
+    return smallest[label]
+
+
 def weld_vertices(mesh: Mesh, *, seams_only: bool = True) -> Weld:
     """Join the vertices whose positions are exactly equal (``-0.0`` equal to ``0.0``), keeping the order in
     which positions are first seen; faces keep their rows and corner order. Only copies along seams are
-    joined (an edge whose ends both have copies that make an edge too: two faces stored apart along it);
-    copies that touch at a lone point (two pieces meeting at a corner) stay apart, since joined they would
-    pinch, and so do vertices that no face uses.
+    joined: two copies are joined where edges at them coincide (two faces stored apart along one edge), and
+    so on through such joins; copies that touch at a lone point (two pieces meeting at a corner, even where
+    each has a seam of its own there) stay apart, since joined they would pinch, and so do vertices that no
+    face uses.
 
     Parameters
     ----------
@@ -86,26 +116,11 @@ def weld_vertices(mesh: Mesh, *, seams_only: bool = True) -> Weld:
         return Weld(mesh, np.arange(mesh.n_vertices), 0)
     group = np.arange(mesh.n_vertices)               # each vertex's first copy (unused vertices stay apart)
     group[ids] = ids[first[inverse.ravel()]]
-    # a copy is joined only where it lies on a seam: an edge whose two ends both have copies that make an
-    # edge too (two faces stored apart along it); copies touching at a lone point stay apart
-    valid = mesh.faces >= 0
-    a, b = mesh.faces[valid], mesh.next_vertices()[valid]
     n = mesh.n_vertices
-    ga, gb = group[a], group[b]
-    by_place = np.minimum(ga, gb) * n + np.maximum(ga, gb)
-    by_index = np.minimum(a, b) * n + np.maximum(a, b)
-    pairs = np.unique(np.stack([by_place, by_index], axis=1), axis=0)
-    places, count = np.unique(pairs[:, 0], return_counts=True)
-    seam_edge = np.isin(by_place, places[count > 1])
-    on_seam = np.zeros(n, bool)
-    on_seam[a[seam_edge]] = True
-    on_seam[b[seam_edge]] = True
-    if not seams_only:
-        on_seam[ids] = True
-    # each group's seam copies join the first of them
-    target = np.full(n, n, np.int64)
-    np.minimum.at(target, group[on_seam], np.flatnonzero(on_seam))
-    rep_of_old = np.where(on_seam, target[group], np.arange(n))
+    if seams_only:
+        rep_of_old = _seam_representatives(mesh, group)
+    else:
+        rep_of_old = group                            # every copy joins the first of its position
     keep = rep_of_old == np.arange(n)
     if keep.all():
         return Weld(mesh, np.arange(n), 0)

@@ -217,6 +217,13 @@ def test_pieces_that_touch_at_a_point_stay_apart_but_a_soup_is_joined(tmp_path):
     m = Mesh(v, np.vstack([f, f[:, ::-1] + 4]))
     w = weld_vertices(m)
     assert w.joined == 0 and topology(w.mesh).components == 2          # joined, 0 would pinch
+    # each tetrahedron stored face by face (seams everywhere, tips included): each closes up on its own,
+    # and the two stay two
+    corners = m.faces.ravel()
+    split = Mesh(m.vertices[corners], np.arange(len(corners)).reshape(-1, 3))
+    w = weld_vertices(split)
+    top = topology(w.mesh)
+    assert w.mesh.n_vertices == 8 and top.components == 2 and top.closed and top.nonmanifold_vertices == 0
     # the same two as an STL: every corner a copy; all of them joined, the pinch left to the repairs
     with pytest.warns(UserWarning, match="joined 17 exactly coincident"):       # 24 corners, 7 positions
         stl = load_mesh(save_mesh(m, tmp_path / "t.stl"))
