@@ -15,6 +15,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import sparse
+from scipy.sparse.csgraph import connected_components
 
 from ._mesh import Mesh
 
@@ -47,9 +49,6 @@ def _seam_representatives(mesh: Mesh, group: np.ndarray) -> np.ndarray:
     """Each vertex's first copy among those it is joined to along seams: two copies of one position are
     joined when edges at them coincide (both ends copies of each other: two faces stored apart along one
     edge), and so on through such joins; copies that only touch at a point are not."""
-    from scipy import sparse
-    from scipy.sparse.csgraph import connected_components
-
     valid = mesh.faces >= 0
     a, b = mesh.faces[valid], mesh.next_vertices()[valid]
     n = mesh.n_vertices
