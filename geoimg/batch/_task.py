@@ -70,16 +70,15 @@ def warnings_cell(messages, limit: int = WARNINGS_CELL) -> str:
         counts[text] = counts.get(text, 0) + 1
     parts = [t if n == 1 else f"{t} (x{n})" for t, n in counts.items()]
     out: list[str] = []
-    for k, part in enumerate(parts):
+    for part in parts:
         if len(" | ".join(out + [part])) > limit:
             if not out:          # the first one alone is too long: its start
                 out.append(part[:limit - 30] + "...")
-                k += 1
-            left = len(parts) - k
-            if left:
-                out.append(f"... ({left} more warning{'s' if left > 1 else ''})")
             break
         out.append(part)
+    left = len(parts) - len(out)
+    if left:
+        out.append(f"... ({left} more warning{'s' if left > 1 else ''})")
     return " | ".join(out)
 
 

@@ -14,7 +14,7 @@ import numpy as np
 from .._raster import UINT8, read_raster, write_raster
 from ..errors import GeoimgError
 
-__all__ = ["obj_colors", "map_file_name", "read_mtl_texture", "read_texture", "write_texture", "ply_colors", "split_corners",
+__all__ = ["obj_colors", "map_file_name", "read_mtl_texture", "read_texture", "texture_beside", "write_texture", "ply_colors", "split_corners",
            "TEXTURE_SUFFIX"]
 
 TEXTURE_SUFFIX = ".png"
@@ -124,13 +124,19 @@ def read_mtl_texture(obj_path: Path, libraries: list, used: list) -> np.ndarray 
         warnings.warn(f"{obj_path}: its materials use {len(files)} textures; geoimg carries one texture per mesh, "
                       "so none was read", stacklevel=5)
         return None
-    if not files[0].is_file():
-        warnings.warn(f"{obj_path}: texture {files[0].name} not found; not read", stacklevel=5)
+    return texture_beside(obj_path, files[0])
+
+
+def texture_beside(mesh_path: Path, file: Path) -> np.ndarray | None:
+    """The texture ``file`` that the mesh file ``mesh_path`` names, or None with a warning when it is not
+    there or cannot be read (the mesh is read without it)."""
+    if not file.is_file():
+        warnings.warn(f"{mesh_path}: texture {file.name} not found; not read", stacklevel=6)
         return None
     try:
-        return read_texture(files[0])
+        return read_texture(file)
     except GeoimgError as e:
-        warnings.warn(f"{obj_path}: texture {files[0].name} cannot be read ({e}); not read", stacklevel=5)
+        warnings.warn(f"{mesh_path}: texture {file.name} cannot be read ({e}); not read", stacklevel=6)
         return None
 
 

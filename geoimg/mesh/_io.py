@@ -18,9 +18,9 @@ from PIL import Image
 
 from .._choices import MESH_FORMATS, MESH_READ_FORMATS
 from .._atomic import write_all
-from ..errors import GeoimgError, InputTypeError, MeshError, MeshFileError
-from ._appearance import (TEXTURE_SUFFIX, obj_colors, ply_colors, read_mtl_texture, read_texture,
-                          split_corners, write_texture)
+from ..errors import InputTypeError, MeshError, MeshFileError
+from ._appearance import (TEXTURE_SUFFIX, obj_colors, ply_colors, read_mtl_texture, split_corners,
+                          texture_beside, write_texture)
 from ._mesh import Mesh, pad_faces
 from ._weld import weld_vertices
 from .._types import PathLike, as_path
@@ -42,8 +42,9 @@ def load_mesh(path: PathLike, *, weld: bool = True) -> Mesh:
         Join copies of a position along seams (see :func:`geoimg.mesh.weld_vertices`; in an STL, a triangle
         soup, every copy), with a warning that says how many: files that store attributes per vertex (PLY,
         glTF, many OBJ exporters) repeat a position along every UV seam and hard edge, and read as stored
-        their meshes fall apart into pieces. The vertices keep the order in which their positions first appear; texture coordinates
-        that differ between copies are kept per face corner. ``False`` reads the vertices as stored.
+        their meshes fall apart into pieces. The vertices keep the order in which their positions first
+        appear; texture coordinates that differ between copies are kept per face corner. ``False`` reads the
+        vertices as stored.
 
     Returns
     -------
@@ -515,17 +516,7 @@ def _ply_face_uv(path: Path, face: dict, faces: np.ndarray, textures: list):
     if not np.isfinite(face_uv).all():
         warnings.warn(f"{path}: the faces' {name} hold NaN or infinite values; not read", stacklevel=5)
         return None, None
-    texture = None
-    if textures:
-        file = path.parent / textures[0]
-        try:
-            texture = read_texture(file) if file.is_file() else None
-        except GeoimgError as e:
-            warnings.warn(f"{path}: texture {textures[0]} cannot be read ({e}); not read", stacklevel=5)
-        else:
-            if texture is None:
-                warnings.warn(f"{path}: texture {textures[0]} not found; not read", stacklevel=5)
-    return face_uv, texture
+    return face_uv, texture_beside(path, path.parent / textures[0]) if textures else None
 
 
 def _ascii_item(tokens: list, pos: int, props: list, cols: dict) -> int:

@@ -368,9 +368,9 @@ class Mesh:
 
     def _reflex_faces(self) -> np.ndarray:
         """Faces of 5 corners or more (quads keep their diagonal) that a fan from the first corner would not
-        split well, in the plane that fits them best (Newell's normal): with a reflex corner (turning against it by more than
-        rounding), or a corner on a line next to the first one (a fan triangle of zero area); only faces
-        within 5 % of their size of that plane (a polygon far from flat keeps its fan)."""
+        split well, in the plane that fits them best (Newell's normal): with a reflex corner (turning against
+        it by more than rounding), or a corner on a line next to the first one (a fan triangle of zero area);
+        only faces within 5 % of their size of that plane (a polygon far from flat keeps its fan)."""
         out = np.zeros(self.n_faces, bool)
         for k in np.unique(self.face_sizes[self.face_sizes >= 5]).tolist():
             rows = np.flatnonzero(self.face_sizes == k)
@@ -479,4 +479,3 @@ def _ear_clip(xy: np.ndarray) -> np.ndarray | None:
             return None
     out.append(tuple(left))
     return np.array(out, np.int64)
-

@@ -115,36 +115,32 @@ def weld_vertices(mesh: Mesh, *, seams_only: bool = True) -> Weld:
         return Weld(mesh, np.arange(mesh.n_vertices), 0)
     group = np.arange(mesh.n_vertices)               # each vertex's first copy (unused vertices stay apart)
     group[ids] = ids[first[inverse.ravel()]]
-    n = mesh.n_vertices
-    if seams_only:
-        rep_of_old = _seam_representatives(mesh, group)
-    else:
-        rep_of_old = group                            # every copy joins the first of its position
-    keep = rep_of_old == np.arange(n)
+    rep_of_old = _seam_representatives(mesh, group) if seams_only else group   # else every copy joins the first
+    keep = rep_of_old == np.arange(mesh.n_vertices)
     if keep.all():
-        return Weld(mesh, np.arange(n), 0)
+        return Weld(mesh, np.arange(mesh.n_vertices), 0)
     rep = np.flatnonzero(keep)                        # the input vertex each new vertex is, in input order
     new_of_old = (np.cumsum(keep) - 1)[rep_of_old]
     notes = []
     uv, face_uv = mesh.uv, mesh.face_uv
-    if uv is not None and (n := _disagree(uv, rep_of_old)):
+    if uv is not None and (count := _disagree(uv, rep_of_old)):
         if face_uv is None:
             valid = mesh.faces >= 0
             face_uv = np.where(valid[..., None], uv[np.where(valid, mesh.faces, 0)], 0.0)
         uv = None
-        notes.append(f"texture coordinates differ at {n} of them: kept per face corner")
+        notes.append(f"texture coordinates differ at {count} of them: kept per face corner")
     elif uv is not None:
         uv = uv[rep]
     normals = mesh.normals
-    if normals is not None and (n := _disagree(normals, rep_of_old)):
+    if normals is not None and (count := _disagree(normals, rep_of_old)):
         normals = None
-        notes.append(f"normals differ at {n} of them (hard edges): not kept")
+        notes.append(f"normals differ at {count} of them (hard edges): not kept")
     elif normals is not None:
         normals = normals[rep]
     colors = mesh.colors
     if colors is not None:
-        if n := _disagree(colors, rep_of_old):
-            notes.append(f"colours differ at {n} of them: the first copy's kept")
+        if count := _disagree(colors, rep_of_old):
+            notes.append(f"colours differ at {count} of them: the first copy's kept")
         colors = colors[rep]
     faces = np.where(mesh.faces >= 0, new_of_old[np.where(mesh.faces >= 0, mesh.faces, 0)], -1)
     welded = Mesh(mesh.vertices[rep], faces, uv=uv, normals=normals, colors=colors, face_uv=face_uv,

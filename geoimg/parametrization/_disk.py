@@ -72,6 +72,21 @@ def _flat_faces(faces_b: np.ndarray, t_of: np.ndarray, corners: np.ndarray) -> i
     return bad
 
 
+def _corner_choice(idx: list, arc: np.ndarray, total: float, faces_b: np.ndarray, sharp: np.ndarray):
+    """``(key, t_of, corners, idx)`` for the boundary vertices ``idx`` as the square's corners, in loop order
+    from ``idx[0]``: ``t_of`` each boundary vertex's arc position from the first corner, ``key`` what ranks
+    the choice (flat faces, then the corners' sharpness); None when they are not four distinct places."""
+    if len(set(idx)) < 4:
+        return None
+    order = np.argsort([(arc[i] - arc[idx[0]]) % total for i in idx])
+    idx = [idx[k] for k in order]
+    t_of = (arc - arc[idx[0]]) % total
+    corners = np.sort(t_of[idx])
+    if np.any(np.diff(np.append(corners, total)) <= 0):
+        return None
+    return (_flat_faces(faces_b, t_of, corners), -float(sharp[idx].sum())), t_of, corners, idx
+
+
 def _choose_corners(mesh: Mesh, loop: np.ndarray, arc: np.ndarray, total: float, sharp: np.ndarray):
     n = len(loop)
     if n < 4:
@@ -94,31 +109,17 @@ def _choose_corners(mesh: Mesh, loop: np.ndarray, arc: np.ndarray, total: float,
             score[dist > total / 8] = -np.inf
             score[idx] = -np.inf
             idx.append(int(np.argmax(score)))
-        if len(set(idx)) < 4:
-            continue
-        order = np.argsort([(arc[i] - arc[idx[0]]) % total for i in idx])
-        idx = [idx[k] for k in order]
-        shift = arc[idx[0]]
-        t_of = (arc - shift) % total
-        corners = np.sort(t_of[idx])
-        if np.any(np.diff(np.append(corners, total)) <= 0):
-            continue
-        key = (_flat_faces(faces_b, t_of, corners), -float(sharp[idx].sum()))
-        if best is None or key < best[0]:
-            best = (key, t_of, corners, idx)
-    if best is None and n >= 4:     # no sharp vertex near each quarter (a short loop): the nearest ones, in order
-        t_of = (arc - arc[0]) % total
+        found = _corner_choice(idx, arc, total, faces_b, sharp)
+        if found is not None and (best is None or found[0] < best[0]):
+            best = found
+    if best is None:                # no sharp vertex near each quarter (a short loop): the nearest ones, in order
+        t0 = (arc - arc[0]) % total
         idx = []
         for q in total * np.arange(4) / 4.0:
-            dist = np.abs((t_of - q + total / 2) % total - total / 2)
+            dist = np.abs((t0 - q + total / 2) % total - total / 2)
             dist[idx] = np.inf
             idx.append(int(np.argmin(dist)))
-        idx = sorted(idx, key=lambda i: t_of[i])
-        shift = t_of[idx[0]]
-        t_of = (t_of - shift) % total
-        corners = np.sort(t_of[idx])
-        if np.all(np.diff(np.append(corners, total)) > 0):
-            best = ((_flat_faces(faces_b, t_of, corners), -float(sharp[idx].sum())), t_of, corners, idx)
+        best = _corner_choice(sorted(idx, key=lambda i: t0[i]), arc, total, faces_b, sharp)
     if best is None:
         raise ParametrizationError("method='disk': could not place four distinct corners on the boundary")
     return best

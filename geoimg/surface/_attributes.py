@@ -95,11 +95,6 @@ def locate(points: np.ndarray, corners: np.ndarray, candidates: int = CANDIDATES
     return triangle, chosen / np.maximum(chosen.sum(axis=1, keepdims=True), 1e-300)
 
 
-def _fan_corners(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Each fan triangle's vertices, its face and its corners' positions within the face."""
-    return mesh.triangle_corners()
-
-
 def _texture_lookup(texture: np.ndarray, uv: np.ndarray) -> np.ndarray:
     """Bilinear texture colours in [0, 1] at texture coordinates (P, 2), OBJ's (0, 0) the bottom-left
     corner; coordinates outside [0, 1] repeat the texture."""
@@ -148,7 +143,7 @@ def sample_colors(mesh: Mesh, param: Parametrization, domain: Domain, shape, val
     mesh = _parametrized_mesh(mesh, param)
     if mesh.colors is None and mesh.texture is None:
         return None
-    tris, owner, corner = _fan_corners(mesh)
+    tris, owner, corner = mesh.triangle_corners()
     valid = np.ones(shape, bool) if valid is None else np.asarray(valid, bool)
     tri, bary = locate(domain.parameter_points(shape)[valid.ravel()], param.coords[tris])
     if mesh.texture is not None and mesh.face_uv is not None:

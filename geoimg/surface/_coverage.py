@@ -310,20 +310,20 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
     corners = np.concatenate([coords[tris], np.ones(tris.shape + (1,))], axis=2) if planar else coords[tris]
     E, K, w, keep = _triangle_tables(corners, tri_mesh.vertices[tris], planar)
     # a triangle thinner than rounding in the parameter domain has no width to weigh it by: left out too
+    inradius = _inradius(corners[:, :, :2] if planar else corners)
     extent = float(np.ptp(corners[keep][:, :, :2].reshape(-1, 2), axis=0).max()) if planar and keep.any() else 1.0
-    keep[keep] &= _inradius(corners[keep][:, :, :2] if planar else corners[keep]) > DEGENERATE * extent
+    keep &= inradius > DEGENERATE * extent
     if not keep.any():
         raise ParametrizationError("every face has zero area in the parameter domain")
     if not keep.all():
         warnings.warn(f"fit_surface: {int((~keep).sum())} triangles of zero area in the parameter domain were left "
                       "out", stacklevel=4)
-    tris, corners, E, K, w = tris[keep], corners[keep], E[keep], K[keep], w[keep]
+    tris, corners, E, K, w, inradius = tris[keep], corners[keep], E[keep], K[keep], w[keep], inradius[keep]
     enclosing = enclosing_circle_radius(corners[:, :, :2]) if planar else _sphere_sizes(corners)
     dbar = float(enclosing.mean())
     centres, size, spread = _shape(corners)
     slope = _slopes(corners, tri_mesh.vertices[tris], planar)
     narrow = np.clip(float(np.median(slope)) / np.maximum(slope, 1e-300), DEGENERATE, 1.0)
-    inradius = _inradius(corners[:, :, :2] if planar else corners)
     thin = np.where(enclosing > THIN * inradius, inradius, np.inf)
     tables = tuple(np.ascontiguousarray(a, np.float64) for a in (E, K, w))
     kind = PlanarCoverageSurface if planar else SphereCoverageSurface

@@ -199,8 +199,8 @@ def _kernel(pts, t1, t2, E, K, w, zmin, zmax, floor, h, n, ptr, cells, fallback,
 def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, zmin, floor, derivatives=True, exact=False):
     """The coverage-weighted surface and its derivatives along ``t1, t2`` at points ``pts`` (k, 3) given in
     homogeneous coordinates (see the module's text). ``tables`` is ``(E, K, w)``: (T, 3, 3) edge rows over
-    each triangle's width, (T, 3, 3) maps and (T, 3) denominators; ``cells`` from :func:`~._sphere_kernels.build_cells_3d` over the
-    triangles' reach; ``fallback`` the triangles a point outside them is summed over (all of them with
+    each triangle's width, (T, 3, 3) maps and (T, 3) denominators; ``cells`` from
+    :func:`~._sphere_kernels.build_cells_3d` over the triangles' reach; ``fallback`` the triangles a point outside them is summed over (all of them with
     ``exact``). Returns ``P, P_t1, P_t2`` (k, 3) and a status per point."""
     pts = np.ascontiguousarray(pts, np.float64)
     k = len(pts)
