@@ -7,6 +7,7 @@ hold triangles only. Every format has its exactly coincident positions joined on
 """
 from __future__ import annotations
 
+import json
 import re
 import struct
 import warnings
@@ -645,7 +646,7 @@ def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
                 fh.write(struct.pack("<B", k) + row[:k].astype("<i4").tobytes())
 
 
-# ------------------------------------------------------------------------------ STL, GLB (trimesh)
+# ------------------------------------------------------------------------ STL, GLB, glTF (trimesh)
 def _check_stl(path: Path) -> None:
     """Refuse a file that is neither a binary STL (an 80-byte header, a triangle count n, then 50 n bytes) nor
     an ASCII one (``solid`` ... ``facet``) before trimesh guesses (it then needs packages it does not declare)."""
@@ -661,9 +662,22 @@ def _check_stl(path: Path) -> None:
                         "nor ASCII (starting with 'solid', then 'facet' lines)")
 
 
+def _check_gltf(path: Path) -> None:
+    """Refuse a ``.gltf`` that is not a JSON object with an ``asset`` before trimesh guesses (it then looks for
+    files the glTF never named)."""
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8-sig"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise MeshFileError(f"not a valid glTF: its JSON cannot be read ({e})") from None
+    if not isinstance(doc, dict) or "asset" not in doc:
+        raise MeshFileError("not a valid glTF: a JSON object with an 'asset' is expected")
+
+
 def _read_trimesh(path: Path) -> Mesh:
     if path.suffix.lower() == ".stl":
         _check_stl(path)
+    if path.suffix.lower() == ".gltf":
+        _check_gltf(path)
     import trimesh          # STL and GLB alone: its import costs half a second that OBJ, OFF and PLY never need
     try:
         loaded: Any = trimesh.load(str(path), process=False, force="mesh")

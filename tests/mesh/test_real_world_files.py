@@ -96,8 +96,14 @@ def test_gltf_with_its_buffers_is_read_and_found_in_folders(tmp_path):
     with pytest.raises(MeshFileError, match="model.gltf"):
         load_mesh(tmp_path / "model.gltf")
     (tmp_path / "junk.gltf").write_text("{ not json")
-    with pytest.raises(MeshFileError, match="junk.gltf"):
+    with pytest.raises(MeshFileError, match=r"junk.gltf: not a valid glTF: its JSON cannot be read"):
         load_mesh(tmp_path / "junk.gltf")
+    (tmp_path / "list.gltf").write_text("[1, 2]")
+    with pytest.raises(MeshFileError, match="list.gltf: not a valid glTF: a JSON object with an 'asset'"):
+        load_mesh(tmp_path / "list.gltf")
+    (tmp_path / "bytes.gltf").write_bytes(b"\xff\xfe\x00garbage")
+    with pytest.raises(MeshFileError, match="bytes.gltf: not a valid glTF"):
+        load_mesh(tmp_path / "bytes.gltf")
     with pytest.raises(MeshFileError, match="unknown mesh format"):
         save_mesh(cube, tmp_path / "out.gltf")
 
