@@ -117,9 +117,9 @@ def test_names_imported_when_first_used_are_the_real_ones():
                           cwd=ROOT).stdout.strip() == "True"
     assert set(geoimg.__all__) <= set(dir(geoimg)) and set(filters.__all__) <= set(dir(filters))
     assert geoimg.mesh.topology is importlib.import_module("geoimg.mesh").topology
-    with pytest.raises(AttributeError, match="has no attribute 'nothing'"):
+    with pytest.raises(AttributeError, match="nothing"):
         geoimg.nothing
-    with pytest.raises(AttributeError, match="has no attribute 'nothing'"):
+    with pytest.raises(AttributeError, match="nothing"):
         filters.nothing
 
 
