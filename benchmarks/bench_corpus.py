@@ -9,7 +9,8 @@ OBJ, PLY, STL, GLB, glTF and OFF files with their materials, textures and buffer
     python benchmarks/bench_corpus.py /tmp/trimesh/models --out /tmp/corpus [--res 129] [--workers 2]
 
 The batch's own manifest is read back for the table (``--manifest`` reads an earlier run's instead, to
-tabulate it without converting; ``--before`` adds a table of an earlier run's manifest beside it). ``--renders K`` shades the quad meshes of the K worst converted rows to PNG
+tabulate it without converting; ``--before`` adds a table of an earlier run's manifest beside it). ``--renders K``
+shades the quad meshes of the K worst converted rows to PNG
 beside the table (needs the ``render`` extra).
 """
 from __future__ import annotations
@@ -56,7 +57,8 @@ def table(manifest: Path, root: Path | None) -> tuple[list[str], dict]:
 
 def comparison(before: Path, after: Path, root: Path) -> list[str]:
     """Markdown rows of two manifests side by side, by input path below ``root`` (an input one run did not
-    find, a .gltf before it was read, shows as 'not found')."""
+    find, a .gltf before it was read, shows as 'not found').
+    """
     def rows(path):
         return {r["input"][len(str(root)):].lstrip("/") if r["input"].startswith(str(root)) else r["input"]: r
                 for r in csv.DictReader(open(path, newline="", encoding="utf-8"))}

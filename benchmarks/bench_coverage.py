@@ -12,7 +12,6 @@ import time
 import warnings
 from pathlib import Path
 
-import numpy as np
 
 import geoimg
 from geoimg.surface._coverage import prefilter_s
@@ -38,9 +37,11 @@ def main(argv=None) -> int:
     warnings.simplefilter("ignore")
     sys.path.insert(0, str(ROOT / "tests"))
     from meshes import cap
-    tin = cap(80.0, rings=120, segments=180)                       # irregular: rings of varying triangles
-    cases = [("terrain grid (mountain.obj)", geoimg.load_mesh(ROOT / "geoimg" / "data" / "mountain.obj"), "heightfield"),
-             ("TIN (cap, rings)", geoimg.Mesh(tin.vertices, tin.triangulate()[0]), "heightfield")]
+    tin = cap(80.0, rings=120, segments=180)  # irregular: rings of varying triangles
+    cases = [
+        ("terrain grid (mountain.obj)", geoimg.load_mesh(ROOT / "geoimg" / "data" / "mountain.obj"), "heightfield"),
+        ("TIN (cap, rings)", geoimg.Mesh(tin.vertices, tin.triangulate()[0]), "heightfield"),
+    ]
     for rel in ("closed_genus0/bunny.obj", "closed_genus0/bunny.off"):
         if (SHARED / rel).is_file():
             cases.append((rel.split("/")[1], geoimg.load_mesh(SHARED / rel), "sphere"))

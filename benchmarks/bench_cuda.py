@@ -121,7 +121,8 @@ def bench(cu, n_faces: int, res: int, s_values) -> list[dict]:
 
 def transfer_probe(res: int) -> dict:
     """Seconds to download one (res, res, 3) float64 image into pageable memory, and into page-locked
-    memory (its allocation timed apart)."""
+    memory (its allocation timed apart).
+    """
     from numba import cuda
     d = cuda.to_device(np.random.default_rng(0).random((res, res, 3)))
     out = {"mb": d.nbytes / 2**20}

@@ -57,7 +57,9 @@ def row(name: str, piece: geoimg.Mesh, n_samples: int) -> str:
     if param.domain == "cut":
         tris, _ = piece.triangulate()
         v = piece.vertices
-        area = 0.5 * np.linalg.norm(np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]]), axis=1).sum()
+        area = (
+            0.5 * np.linalg.norm(np.cross(v[tris[:, 1]] - v[tris[:, 0]], v[tris[:, 2]] - v[tris[:, 0]]), axis=1).sum()
+        )
         cut = f"{param.info['cut_length'] / np.sqrt(area):.2f}"
     kept = (topo_out.genus, topo_out.boundary_loops) == (topo_in.genus, topo_in.boundary_loops)
     return (f"| {name} | {piece.n_faces} | {image.domain.kind} | {topo_in.genus} / {topo_in.boundary_loops} | "

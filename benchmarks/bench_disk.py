@@ -1,6 +1,6 @@
-"""Disk maps before and after SLIM and area balancing (issue 18, the disk part): area distortion, folds, PSNR and Hausdorff of the
-quad mesh at 513², and time against one sparse solve, on the open disks of ../shared/data, a quad disk, Spot
-opened at the belly (samples/balanced_disk.py) and a synthetic finger (tests/meshes.py).
+"""Disk maps before and after SLIM and area balancing (issue 18, the disk part): area distortion, folds, PSNR and
+Hausdorff of the quad mesh at 513², and time against one sparse solve, on the open disks of ../shared/data, a quad
+disk, Spot opened at the belly (samples/balanced_disk.py) and a synthetic finger (tests/meshes.py).
 
     python benchmarks/bench_disk.py [--res 513]
 

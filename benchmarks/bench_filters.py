@@ -49,11 +49,17 @@ def speed_table():
         ("low-pass (FFT)", lambda a, m: filters.lowpass(a, 0.1, m)),
         ("inverse filter (FFT)", lambda a, m: filters.inverse_filter(a, mode=m)),
         ("unsharp mask", lambda a, m: filters.unsharp_mask(a, 1.0, 1.0, m)),
-        ("Gaussian, masked, feather 8", lambda a, m: filters.gaussian_filter(a, 2.0, m, mask=mask if a.shape[0] == 1024
-                                                                              else np.pad(mask, ((0, 1), (0, 1))),
-                                                                              feather=8)),
+        (
+            "Gaussian, masked, feather 8",
+            lambda a, m: filters.gaussian_filter(
+                a, 2.0, m, mask=mask if a.shape[0] == 1024 else np.pad(mask, ((0, 1), (0, 1))), feather=8
+            ),
+        ),
         ("blend", lambda a, m: filters.blend(a, a[::-1], 0.3)),
-        ("resize to 513^2", lambda a, m: filters.resize(a, (513, 513), "octahedral" if m == "octahedral" else "linear")),
+        (
+            "resize to 513^2",
+            lambda a, m: filters.resize(a, (513, 513), "octahedral" if m == "octahedral" else "linear"),
+        ),
     ]
     print("| operation | planar 1024^2, reflect (ms) | octahedral 1025^2 (ms) |")
     print("|---|---:|---:|")
@@ -141,7 +147,9 @@ def versus_mesh_smoothing():
         rows.append((f"geometry image: mean 5x5 x {k}, to quads", t, out))
     for k in (1, 3):
         t = timed(lambda: img.apply(filters.gaussian_filter, float(k)).to_mesh(), 3)
-        rows.append((f"geometry image: Gaussian sigma {k}, to quads", t, img.apply(filters.gaussian_filter, float(k)).to_mesh()))
+        rows.append(
+            (f"geometry image: Gaussian sigma {k}, to quads", t, img.apply(filters.gaussian_filter, float(k)).to_mesh())
+        )
     for name, fn, it in (("trimesh Laplacian", trimesh.smoothing.filter_laplacian, 10),
                          ("trimesh Laplacian", trimesh.smoothing.filter_laplacian, 30),
                          ("trimesh Taubin", trimesh.smoothing.filter_taubin, 10),

@@ -57,7 +57,8 @@ def split_in_four(mesh: geoimg.Mesh) -> geoimg.Mesh:
 def joints(mesh: geoimg.Mesh, count: int) -> np.ndarray:
     """Landmarks as an animator might pick them on a figure: the extremities, the centre (least average
     geodesic distance), then the midpoints of the edge paths from the centre to each extremity (knees,
-    elbows, neck), ``count`` in all."""
+    elbows, neck), ``count`` in all.
+    """
     g = _edge_graph(mesh)
     agd = _average_distance(mesh, g, SOURCES)
     ends = suggest_landmarks(mesh, count).tolist()
@@ -75,7 +76,8 @@ def joints(mesh: geoimg.Mesh, count: int) -> np.ndarray:
 
 def pixel_area_log_rms(mesh: geoimg.Mesh, coords: np.ndarray, directions: np.ndarray) -> float:
     """How evenly an octahedral image whose pixels sit at ``directions`` (n, n, 3) samples the mesh (sphere
-    map ``coords``): the area-weighted RMS of the log of each grid triangle's area on the mesh over the mean."""
+    map ``coords``): the area-weighted RMS of the log of each grid triangle's area on the mesh over the mean.
+    """
     n = directions.shape[0]
     tri = mesh.faces[:, :3]
     t, bary = locate(directions.reshape(-1, 3), coords[tri])
@@ -108,14 +110,17 @@ def main(argv=None):
         at_own = _octahedral_sampler(woman_image.pixels, woman_image.domain)
         truth = woman.vertices[: man.n_vertices]
         diag = woman.bounding_box_diagonal()
-        print(f"man {man.n_vertices} vertices; remeshed woman {woman.n_vertices} ({own.method}, {own.flipped_faces} folded "
-              f"faces); {args.res}² images\n")
+        print(
+            f"man {man.n_vertices} vertices; remeshed woman {woman.n_vertices} ({own.method}, "
+            f"{own.flipped_faces} folded faces); {args.res}² images\n"
+        )
         before = pixel_area_log_rms(woman, own.coords, grid_directions(args.res))
         print("| alignment | RMS (% diag) | largest (% diag) | landmarks meet (% diag, largest) | as imaged "
               f"| key 1's pixels: area log-RMS (before: {before:.2f}) | seconds | warp |")
         print("|---|---:|---:|---:|---:|---:|---:|---|")
-        runs = [("rigid turn of the sphere", None)] + [(f"{c} landmarks (spread)", suggest_landmarks(man, c, spread=True))
-                                                         for c in args.counts]
+        runs = [("rigid turn of the sphere", None)] + [
+            (f"{c} landmarks (spread)", suggest_landmarks(man, c, spread=True)) for c in args.counts
+        ]
         runs += [(f"{c} landmarks (extremities, centre, joints)", joints(man, c)) for c in args.counts if 5 < c <= 11]
         for name, marks in runs:
             kw = {} if marks is None else {"landmarks": [(int(i), int(i)) for i in marks]}
@@ -137,8 +142,11 @@ def main(argv=None):
                 meet = f"{(np.linalg.norm(on_mesh - woman.vertices[marks], axis=1) / diag * 100).max():.4f}"
                 shown = _octahedral_sampler(m.keys[1].pixels, m.keys[1].domain)(directions[marks])
                 off = f"{(np.linalg.norm(shown - at_own(own.coords[marks]), axis=1) / diag * 100).max():.3f}"
-            print(f"| {name} | {np.sqrt((err ** 2).mean()):.2f} | {err.max():.1f} | {meet} | {off} | {after} | {dt:.1f} | {warp} |",
-                  flush=True)
+            print(
+                f"| {name} | {np.sqrt((err**2).mean()):.2f} | {err.max():.1f} | {meet} | {off} | {after} "
+                f"| {dt:.1f} | {warp} |",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

@@ -37,7 +37,8 @@ def terrain():
 
 def tin(seed: int = 0):
     """A Delaunay TIN of random points over the terrain's window (as many triangles as the grid, about),
-    heights bilinear in the DEM."""
+    heights bilinear in the DEM.
+    """
     import geoimg
     from scipy.interpolate import RegularGridInterpolator
     from scipy.spatial import Delaunay
@@ -68,7 +69,10 @@ def first_call() -> dict:
 
 def main(with_tin: bool = False):
     if with_tin:
-        print("| mesh | triangles | s | numpy baseline (s) | numba, positions (s) | speed-up | numba, positions + normals (s) | max abs diff |")
+        print(
+            "| mesh | triangles | s | numpy baseline (s) | numba, positions (s) | speed-up "
+            "| numba, positions + normals (s) | max abs diff |"
+        )
         print("|---|---:|---:|---:|---:|---:|---:|---:|")
         for name, (mesh, param) in (("grid", terrain()), ("TIN", tin())):
             compare(mesh, param, (2.0,), f"| {name} | {mesh.n_faces} ")
@@ -83,7 +87,9 @@ def main(with_tin: bool = False):
     mesh, param = terrain()
     print(f"terrain: {mesh.n_vertices} vertices, {mesh.n_faces} triangles, {RES} x {RES} samples")
     print(f"numba: compile {compile_s:.1f} s (fresh cache), cache load {cache_s:.2f} s (second process)")
-    print("| s | numpy baseline (s) | numba, positions (s) | speed-up | numba, positions + normals (s) | max abs diff |")
+    print(
+        "| s | numpy baseline (s) | numba, positions (s) | speed-up | numba, positions + normals (s) | max abs diff |"
+    )
     print("|---:|---:|---:|---:|---:|---:|")
     compare(mesh, param, (1.0, 2.0, 4.0))
 
@@ -112,8 +118,11 @@ def compare(mesh, param, values, row: str = ""):
         P_np, _ = sample_grid_numpy(*args)
         tb = time.perf_counter() - t
         diff = np.abs(P - P_np)[ok].max()
-        print(f"{row}| {s:g} | {tb:.2f} | {np.median(tn):.3f} | {tb / np.median(tn):.0f}x | {np.median(td):.3f} | {diff:.1e} |",
-              flush=True)
+        print(
+            f"{row}| {s:g} | {tb:.2f} | {np.median(tn):.3f} | {tb / np.median(tn):.0f}x | {np.median(td):.3f} "
+            f"| {diff:.1e} |",
+            flush=True,
+        )
 
 
 if __name__ == "__main__":

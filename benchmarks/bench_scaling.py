@@ -67,7 +67,8 @@ def slope(x, y) -> float:
 
 def compare():
     """The octahedral kernel against the planar one at about the same face count, positions alone and with
-    exact normals, best of 3 fresh processes each (this machine's timings vary by tens of per cent)."""
+    exact normals, best of 3 fresh processes each (this machine's timings vary by tens of per cent).
+    """
     print("| image | planar 99,971 faces: positions / with normals | octahedral 81,920: positions / with normals |"
           " octahedral / planar: positions / with normals |")
     print("|---|---:|---:|---:|")
@@ -81,7 +82,8 @@ def compare():
 
 def plot(sweeps: dict, path: Path) -> None:
     """A log-log picture of the two sweeps (seconds against faces at 513², against pixels at a fixed mesh),
-    drawn with OpenCV: one panel each, planar in blue, octahedral in orange, a dashed slope-1 guide."""
+    drawn with OpenCV: one panel each, planar in blue, octahedral in orange, a dashed slope-1 guide.
+    """
     import cv2
     import numpy as np
 
@@ -120,8 +122,14 @@ def plot(sweeps: dict, path: Path) -> None:
                 xa = first[key] * (10.0 ** xhi / first[key]) ** f0
                 xb = first[key] * (10.0 ** xhi / first[key]) ** f1
                 if first["seconds"] * xb / first[key] < 10.0 ** yhi:
-                    cv2.line(img, at(xa, first["seconds"] * xa / first[key]), at(xb, first["seconds"] * xb / first[key]),
-                             tuple(int(0.5 * c + 127) for c in colours[kind]), 1, cv2.LINE_AA)
+                    cv2.line(
+                        img,
+                        at(xa, first["seconds"] * xa / first[key]),
+                        at(xb, first["seconds"] * xb / first[key]),
+                        tuple(int(0.5 * c + 127) for c in colours[kind]),
+                        1,
+                        cv2.LINE_AA,
+                    )
         for k, kind in enumerate(sweeps):
             cv2.putText(img, kind, (x0 + pad + 10, pad + 20 + 18 * k), cv2.FONT_HERSHEY_SIMPLEX, 0.5,
                         colours[kind], 1, cv2.LINE_AA)

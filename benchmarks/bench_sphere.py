@@ -44,7 +44,8 @@ def samples_per_area(mesh, s):
 
 def linear_map_time(mesh) -> float:
     """One linear conformal map with plain scipy: the cotangent Laplacian, one vertex pinned, one sparse LU solve
-    (COLAMD) for a dipole at a face; what issues 14 and 18 compare the parametrization's time with."""
+    (COLAMD) for a dipole at a face; what issues 14 and 18 compare the parametrization's time with.
+    """
     t0 = time.perf_counter()
     tris, _ = mesh.triangulate()
     L = laplacian(cotangent_weights(mesh.vertices, tris))
@@ -67,7 +68,8 @@ def load(name: str):
 
 def ratios(names):
     """The sphere parametrization's time over the linear map's, alternating in one process: best of 2 and
-    of 3, after a warm-up on a small mesh."""
+    of 3, after a warm-up on a small mesh.
+    """
     warnings.simplefilter("ignore")
     geoimg.parametrize(geoimg.load_mesh(DATA / "closed_genus0/spot_low_resolution.obj"), "sphere")
     print("| mesh | faces | linear map s | sphere map s | ratio | start | area log-RMS |")

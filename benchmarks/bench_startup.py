@@ -45,10 +45,25 @@ def main(argv=None):
             "import filters": [py, "-c", "import filters"],
             "geoimg --help": [py, "-m", "geoimg.cli", "--help"],
             "geoimg image --help": [py, "-m", "geoimg.cli", "image", "--help"],
-            "geoimg info sphere.obj": [py, "-m", "geoimg.cli", "info", str(HERE.parent / "tests" / "data" / "sphere.obj")],
-            "geoimg image sphere.obj --res 33": [py, "-m", "geoimg.cli", "image",
-                                                 str(HERE.parent / "tests" / "data" / "sphere.obj"), "-o",
-                                                 str(Path(tmp) / "s.exr"), "--res", "33", "--force"],
+            "geoimg info sphere.obj": [
+                py,
+                "-m",
+                "geoimg.cli",
+                "info",
+                str(HERE.parent / "tests" / "data" / "sphere.obj"),
+            ],
+            "geoimg image sphere.obj --res 33": [
+                py,
+                "-m",
+                "geoimg.cli",
+                "image",
+                str(HERE.parent / "tests" / "data" / "sphere.obj"),
+                "-o",
+                str(Path(tmp) / "s.exr"),
+                "--res",
+                "33",
+                "--force",
+            ],
         }
         print(f"tree {tree}; median of {args.runs} fresh processes\n")
         print("| what | seconds |")

@@ -1,5 +1,6 @@
 """Pictures of the bunny through the octahedral domain: its geometry image, the welded quad mesh, and the
-samples-per-area map of the spherical parametrization. Run by hand: python benchmarks/render_bunny.py"""
+samples-per-area map of the spherical parametrization. Run by hand: python benchmarks/render_bunny.py
+"""
 from pathlib import Path
 
 import matplotlib

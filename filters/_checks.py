@@ -74,7 +74,9 @@ def memory_limit() -> int:
         try:
             return int(float(text[:-1] if unit else text) * _UNITS[unit])
         except ValueError:
-            raise ValueError(f"{MEMORY_ENV}: expected a size such as 8G or 512M, got {os.environ[MEMORY_ENV]!r}") from None
+            raise ValueError(
+                f"{MEMORY_ENV}: expected a size such as 8G or 512M, got {os.environ[MEMORY_ENV]!r}"
+            ) from None
     try:
         return int(0.8 * os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
     except (ValueError, OSError, AttributeError):

@@ -1,5 +1,6 @@
 """Blending and compositing geometry images: the morph's blend, masked composite, cut-and-paste, and
-resampling to a common size."""
+resampling to a common size.
+"""
 from __future__ import annotations
 
 import numbers
@@ -50,7 +51,8 @@ def blend(a: ArrayLike, b: ArrayLike, t: float | ArrayLike = 0.5) -> np.ndarray:
 def composite(base: ArrayLike, overlay: ArrayLike, mask: ArrayLike | None, feather: float = 0.0,
               mode: str = "reflect") -> np.ndarray:
     """``overlay`` inside the mask, ``base`` outside, blended over ``feather`` pixels; far from the mask
-    the result is ``base`` bit for bit."""
+    the result is ``base`` bit for bit.
+    """
     b, o = as_image(base, "base"), as_image(overlay, "overlay")
     _same_shape(b, o, ("base", "overlay"))
     return apply_masked(b, o.astype(b.dtype), feather_mask(as_weights(mask, b.shape[:2]), feather, mode))
@@ -101,7 +103,8 @@ def _cubic_matrix(x: np.ndarray, n: int) -> sparse.csr_matrix:
 
 def resize(image: ArrayLike, shape: tuple[int, int], mode: str = "linear") -> np.ndarray:
     """Resample to ``shape`` (H', W') on the same domain, corners to corners (vertex sampling), by
-    separable cubic convolution (Keys, exact for quadratics) over the image extended with ``mode``: ``linear`` keeps a planar image's linear
+    separable cubic convolution (Keys, exact for quadratics) over the image extended with ``mode``: ``linear`` keeps a
+    planar image's linear
     functions (its X, Y) exact up to the border, ``octahedral`` keeps an octahedral one seamless.
 
     Examples
@@ -117,8 +120,10 @@ def resize(image: ArrayLike, shape: tuple[int, int], mode: str = "linear") -> np
     h, w = a.shape[:2]
     if mode == "octahedral" and (shape[0] != shape[1] or shape[0] % 2 == 0):
         raise ValueError(f"shape: an octahedral image needs an odd square size, got {tuple(shape)}")
-    check_memory(3.0 * shape[0] * shape[1] * a[:1, :1].size * 8 + 3.0 * shape[0] * (w + 2 * _RESIZE_PAD) * a[:1, :1].size * 8,
-                 f"resizing to {shape[1]} x {shape[0]}")
+    check_memory(
+        3.0 * shape[0] * shape[1] * a[:1, :1].size * 8 + 3.0 * shape[0] * (w + 2 * _RESIZE_PAD) * a[:1, :1].size * 8,
+        f"resizing to {shape[1]} x {shape[0]}",
+    )
     r = _RESIZE_PAD
     padded = pad(a, r, mode).astype(np.float64)
     ry = _cubic_matrix(np.linspace(0, h - 1, shape[0]) + r, padded.shape[0])

@@ -4,7 +4,8 @@ regularized) and unsharp masking.
 The blur is a separable kernel (the mean filter's box by default, or a Gaussian) exactly as the
 spatial filters of :mod:`filters.smoothing` apply it; its transfer function on the periodic extension
 is ``H(fy) H(fx)`` with ``H(f) = sum_j k_j cos(2 pi f j)`` (real: the kernels are symmetric). The
-inverse gain is regularized, by Wiener (``H / (H^2 + nsr (1 - H^2))``: exactly 1 at ``H = 1``) or by clamping ``|1/H|`` at
+inverse gain is regularized, by Wiener (``H / (H^2 + nsr (1 - H^2))``: exactly 1 at ``H = 1``) or by clamping
+``|1/H|`` at
 ``max_gain``; the result's real part is kept.
 """
 from __future__ import annotations
@@ -24,7 +25,8 @@ INVERSE_METHODS = ("wiener", "clamp")
 
 def blur_taps(blur: str = "mean", size: int = 3, sigma: float = 1.0) -> np.ndarray:
     """1-D taps of the separable blur: ``mean`` (box of ``size``) or ``gaussian`` (OpenCV's kernel,
-    half-width ``ceil(4 sigma)``), centred."""
+    half-width ``ceil(4 sigma)``), centred.
+    """
     if blur == "mean":
         positive(size, "size", integer=True, odd=True)
         return np.full(size, 1.0 / size)

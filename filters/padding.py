@@ -130,7 +130,8 @@ def _octahedral_pad(a: np.ndarray, width: int) -> np.ndarray:
 
 def _linear_pad(a: np.ndarray, width: int) -> np.ndarray:
     """Odd extension, one axis after the other (so corners keep bilinear functions too), in steps of at
-    most the current size less one, so any width extends linear functions exactly."""
+    most the current size less one, so any width extends linear functions exactly.
+    """
     out = a
     for axis in (0, 1):
         left = width

@@ -22,7 +22,8 @@ __all__ = ["mean_filter", "gaussian_filter", "bilateral_filter", "guided_filter"
 
 def filter_padded(image, radius: int, mode: str, fn, *, mask=None, feather: float = 0.0) -> np.ndarray:
     """Apply ``fn`` (padded array -> array of the same shape) to the image padded by ``radius`` with
-    ``mode`` and crop back: the one way every spatial filter meets the boundary. Then apply the mask."""
+    ``mode`` and crop back: the one way every spatial filter meets the boundary. Then apply the mask.
+    """
     a = as_image(image)
     h, w = a.shape[:2]
     padded = np.ascontiguousarray(pad(a, radius, mode))

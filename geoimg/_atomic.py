@@ -14,7 +14,8 @@ __all__ = ["OutputExists", "atomic_path", "check_writable", "write_all"]
 
 class OutputExists(FileExistsError):
     """An output file exists and may not be replaced; ``filename`` is its path (the command line says
-    ``--force`` where the API says ``overwrite=True``)."""
+    ``--force`` where the API says ``overwrite=True``).
+    """
 
     def __init__(self, path: Path):
         super().__init__(errno.EEXIST, "exists", str(path))

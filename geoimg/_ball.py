@@ -29,7 +29,10 @@ def ball_weights(points: ArrayLike, centre: ArrayLike, radius: float, feather: f
     c = np.asarray(centre, dtype=np.float64)
     if c.shape != p.shape[-1:] or not np.isfinite(c).all():
         raise InputError(f"centre: expected {p.shape[-1]} finite coordinates, got {centre!r}")
-    radius, feather = checked_positive(radius, "radius", allow_zero=True), checked_positive(feather, "feather", allow_zero=True)
+    radius, feather = (
+        checked_positive(radius, "radius", allow_zero=True),
+        checked_positive(feather, "feather", allow_zero=True),
+    )
     d = np.linalg.norm(p - c, axis=-1) - radius
     if feather == 0:
         return (d <= 0).astype(np.float64)

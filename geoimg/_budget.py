@@ -1,5 +1,6 @@
 """A resource budget: large allocations are estimated first and refused with the estimate and the limit
-(``GEOIMG_MAX_MEMORY``, or 80 % of the machine's memory; see :func:`filters.memory_limit`)."""
+(``GEOIMG_MAX_MEMORY``, or 80 % of the machine's memory; see :func:`filters.memory_limit`).
+"""
 from __future__ import annotations
 
 import filters

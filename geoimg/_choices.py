@@ -1,14 +1,35 @@
 """The vocabularies of options: the names each choice of the API and the command line accepts, kept apart
 from the code that acts on them so that the command line's parser (``geoimg --help``) needs none of it.
-Each is re-exported by the module that acts on it (``geoimg.mesh.MESH_FORMATS``, ...)."""
+Each is re-exported by the module that acts on it (``geoimg.mesh.MESH_FORMATS``, ...).
+"""
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MESH_FORMATS", "MESH_READ_FORMATS", "COMPONENT_CHOICES", "ASSUMABLE_DOMAINS", "IMAGE_FORMATS", "EXR_LAYOUTS",
-           "PARAMETRIZATION_METHODS", "AXES", "DISK_BOUNDARIES", "DISK_BALANCES", "DEFAULT_DISK_BALANCE", "EASINGS", "ALIGNMENTS",
-           "FRAME_FORMATS", "UP_AXES", "QUAD_FORMATS", "WEIGHTS", "SLIVER_RULES", "FILTER_STEPS",
-           "BACKENDS", "POOR_PSNR_DB", "POOR_HAUSDORFF"]
+__all__ = [
+    "MESH_FORMATS",
+    "MESH_READ_FORMATS",
+    "COMPONENT_CHOICES",
+    "ASSUMABLE_DOMAINS",
+    "IMAGE_FORMATS",
+    "EXR_LAYOUTS",
+    "PARAMETRIZATION_METHODS",
+    "AXES",
+    "DISK_BOUNDARIES",
+    "DISK_BALANCES",
+    "DEFAULT_DISK_BALANCE",
+    "EASINGS",
+    "ALIGNMENTS",
+    "FRAME_FORMATS",
+    "UP_AXES",
+    "QUAD_FORMATS",
+    "WEIGHTS",
+    "SLIVER_RULES",
+    "FILTER_STEPS",
+    "BACKENDS",
+    "POOR_PSNR_DB",
+    "POOR_HAUSDORFF",
+]
 
 MESH_FORMATS = (".obj", ".off", ".ply", ".stl", ".glb")                 # read and written
 MESH_READ_FORMATS = MESH_FORMATS + (".gltf",)                          # read only (its buffers beside it)

@@ -1,6 +1,7 @@
 """The commands of the ``geoimg`` command line, a function ``cmd_NAME(args)`` per command: :mod:`geoimg.cli`
 parses the arguments (with nothing but the option vocabularies) and imports this module only to run one,
-so that ``geoimg --help`` starts in a fraction of a second."""
+so that ``geoimg --help`` starts in a fraction of a second.
+"""
 from __future__ import annotations
 
 import os
@@ -30,7 +31,8 @@ BATCH_PROBLEMS_SHOWN = 10         # refused or failed inputs listed on stderr af
 
 class Progress:
     """Stage messages with timings on stderr: on a terminal, or anywhere with ``always`` (--progress); never
-    when quiet."""
+    when quiet.
+    """
 
     def __init__(self, quiet: bool = False, stream=None, always: bool = False):
         self.stream = stream or sys.stderr
@@ -44,7 +46,8 @@ class Progress:
 
 class ProgressBar:
     """``[#####.....] 12/30 what`` on stderr, redrawn in place on a terminal; with ``always`` (--progress) off a
-    terminal, a line at each tenth of the way (logs, CI). Nothing when quiet."""
+    terminal, a line at each tenth of the way (logs, CI). Nothing when quiet.
+    """
 
     def __init__(self, what: str, quiet: bool = False, stream=None, width: int = 30, always: bool = False):
         self.stream = stream or sys.stderr
@@ -92,7 +95,8 @@ def _numbered(path, k: int, many: bool) -> Path | None:
 
 def _check_outputs(force: bool, *outputs) -> None:
     """Before any work: each ``(path, suffixes, what)`` with a path given must end in one of ``suffixes``, its
-    folder must exist, and it must not exist unless ``force``."""
+    folder must exist, and it must not exist unless ``force``.
+    """
     for path, suffixes, what in outputs:
         if path is None:
             continue
@@ -119,7 +123,7 @@ def cmd_image(args) -> int:
         if preview:
             jobs.append((preview, lambda tmp, image=image: image.preview(tmp, overwrite=True)))
     write_all(jobs, overwrite=args.force)                  # all or none
-    for image, out, preview in outputs:
+    for image, out, _ in outputs:
         if not args.quiet:
             H, W = image.shape
             piece = f" (piece {image.metadata['component']} of {image.metadata['components']})" if many else ""
@@ -184,8 +188,10 @@ def cmd_info(args) -> int:
     if path.suffix.lower() in IMAGE_FORMATS + (".png",):
         img = _read_image(path, args)
         H, W = img.shape
-        print(f"{path}: geometry image {W} x {H}, domain {img.domain.kind}, {int(img.valid.sum())} valid pixels, "
-              f"normals {'yes' if img.normals is not None else 'no'}, colours {'yes' if img.colors is not None else 'no'}")
+        print(
+            f"{path}: geometry image {W} x {H}, domain {img.domain.kind}, {int(img.valid.sum())} valid pixels, "
+            f"normals {'yes' if img.normals is not None else 'no'}, colours {'yes' if img.colors is not None else 'no'}"
+        )
         lo, hi = img.pixels[img.valid].min(axis=0), img.pixels[img.valid].max(axis=0)
         print(f"  bounding box {_point(lo)} .. {_point(hi)}")
         for key, value in sorted(img.metadata.items()):
@@ -212,7 +218,8 @@ def cmd_info(args) -> int:
 
 def _demo_pictures(image, stem: Path, progress) -> list:
     """A rendering of the quad mesh, of it mean-filtered, and a mean-curvature map; none when there is
-    no headless OpenGL (the reason is printed)."""
+    no headless OpenGL (the reason is printed).
+    """
     written = [save_colormap(image_curvature(image)[1], stem.with_name(stem.name + "_mean_curvature.png"),
                              image.valid, overwrite=True)]
     try:
@@ -339,7 +346,8 @@ def cmd_render(args) -> int:
 
 def read_landmarks(path, keys: int) -> np.ndarray:
     """A landmarks CSV: a row per feature, a vertex index of each key's mesh per column (a first line that
-    is not numbers, a header, is skipped), as an (L, keys) int array."""
+    is not numbers, a header, is skipped), as an (L, keys) int array.
+    """
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such landmarks file")
@@ -438,7 +446,8 @@ def cmd_morph(args) -> int:
 
 class BatchProgress:
     """Counts of a batch on stderr: a bar redrawn in place on a terminal, else a line every ``every`` seconds
-    (logs, CI); nothing when quiet."""
+    (logs, CI); nothing when quiet.
+    """
 
     def __init__(self, quiet: bool = False, every: float = 5.0, stream=None, width: int = 30):
         self.stream = stream or sys.stderr
@@ -489,8 +498,10 @@ def cmd_batch(args) -> int:
     bad = c["poor"] + c["refused"] + c["failed"]
     if not args.quiet:
         skipped = f" ({c['skipped']} of these finished by an earlier run)" if c["skipped"] else ""
-        print(f"{c['total']} inputs: {c['ok'] + c['poor']} converted ({c['poor']} of them poor), {c['refused']} "
-              f"refused, {c['failed']} failed{skipped} in {_duration(c['elapsed'])}; manifest {table.attrs['manifest']}")
+        print(
+            f"{c['total']} inputs: {c['ok'] + c['poor']} converted ({c['poor']} of them poor), {c['refused']} "
+            f"refused, {c['failed']} failed{skipped} in {_duration(c['elapsed'])}; manifest {table.attrs['manifest']}"
+        )
     if bad:
         print(f"geoimg batch: {bad} of {c['total']} inputs were not converted, or converted poorly (all reasons in "
               f"{table.attrs['manifest']}):", file=sys.stderr)

@@ -245,7 +245,8 @@ def measure_fidelity(image: GeometryImage, mesh: Mesh, measured: dict | None = N
     mesh's bounding-box diagonal) from :func:`geoimg.mesh.surface_distance` with :data:`FIDELITY_SAMPLES`
     area samples a side (or ``measured``, its result already), recorded in ``image.metadata``; a warning says
     when the image is far from the mesh (PSNR below :data:`POOR_PSNR_DB` or Hausdorff above
-    :data:`POOR_HAUSDORFF`)."""
+    :data:`POOR_HAUSDORFF`).
+    """
     d = measured if measured is not None else _distance(image, mesh)
     record = {"psnr_db": round(float(d["psnr_db"]), 2), "hausdorff": float(f"{d['hausdorff_rel']:.4g}")}
     image.metadata.update(record)

@@ -21,7 +21,8 @@ FLOAT, UINT16, UINT8 = oiio.FLOAT, oiio.UINT16, oiio.UINT8
 
 def _error(source) -> str:
     """OpenImageIO's last error message (of the library or of one file), whatever bytes it holds, on one line:
-    its lines (often the same complaint in several words) joined, repeats and the file name left out."""
+    its lines (often the same complaint in several words) joined, repeats and the file name left out.
+    """
     try:
         text = source.geterror()
     except UnicodeDecodeError:
@@ -47,7 +48,8 @@ def _oiio_name(path) -> str:
 
 def write_raster(path: Path, data: np.ndarray, names, fmt, attributes=()) -> None:
     """Write ``data`` (H, W, C) to ``path`` with channel ``names``, pixel format ``fmt`` (``FLOAT``,
-    ``UINT16``, ``UINT8``) and ``(name, value)`` attributes; the format follows the file name."""
+    ``UINT16``, ``UINT8``) and ``(name, value)`` attributes; the format follows the file name.
+    """
     name = _oiio_name(path)
     out = oiio.ImageOutput.create(name)
     if out is None:

@@ -1,5 +1,6 @@
 """Filter steps by name (``mean``, ``sharpen``, ...), applied to a geometry image in the order given: what
-``geoimg filter`` and ``geoimg batch`` run."""
+``geoimg filter`` and ``geoimg batch`` run.
+"""
 from __future__ import annotations
 
 import filters
@@ -20,7 +21,8 @@ def check_steps(steps) -> tuple[tuple[str, tuple], ...]:
     >>> check_steps([("blur", [5])])
     Traceback (most recent call last):
     ...
-    geoimg.errors.InputError: unknown filter step 'blur': expected one of mean, gaussian, bilateral, guided, median, tv, nlmeans, sharpen, unsharp, lowpass, bandpass
+    geoimg.errors.InputError: unknown filter step 'blur': expected one of mean, gaussian, bilateral, guided, median,
+    tv, nlmeans, sharpen, unsharp, lowpass, bandpass
     """
     checked = []
     for step in steps:

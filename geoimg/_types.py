@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any, Callable, Union
+from typing import Any, Union
+from collections.abc import Callable
 
 from .errors import InputTypeError
 

@@ -1,6 +1,7 @@
 """The ``geoimg`` command line: ``image``, ``mesh``, ``filter``, ``curvature``, ``render``, ``morph``, ``batch``,
 ``landmarks``, ``info`` and ``demo``. The parser needs only the option vocabularies (:mod:`geoimg._choices`);
-the commands themselves are in :mod:`geoimg._commands`, imported when one runs."""
+the commands themselves are in :mod:`geoimg._commands`, imported when one runs.
+"""
 from __future__ import annotations
 
 import argparse
@@ -16,9 +17,28 @@ from filters.padding import PAD_MODES
 
 from . import __version__
 from ._atomic import OutputExists
-from ._choices import (ALIGNMENTS, ASSUMABLE_DOMAINS, AXES, BACKENDS, DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES, EASINGS, EXR_LAYOUTS,
-                       FILTER_STEPS, FRAME_FORMATS, IMAGE_FORMATS, MESH_FORMATS, MESH_READ_FORMATS, POOR_HAUSDORFF, POOR_PSNR_DB, PARAMETRIZATION_METHODS, QUAD_FORMATS, SLIVER_RULES,
-                       UP_AXES, WEIGHTS)
+from ._choices import (
+    ALIGNMENTS,
+    ASSUMABLE_DOMAINS,
+    AXES,
+    BACKENDS,
+    DEFAULT_DISK_BALANCE,
+    DISK_BALANCES,
+    DISK_BOUNDARIES,
+    EASINGS,
+    EXR_LAYOUTS,
+    FILTER_STEPS,
+    FRAME_FORMATS,
+    IMAGE_FORMATS,
+    MESH_READ_FORMATS,
+    POOR_HAUSDORFF,
+    POOR_PSNR_DB,
+    PARAMETRIZATION_METHODS,
+    QUAD_FORMATS,
+    SLIVER_RULES,
+    UP_AXES,
+    WEIGHTS,
+)
 from .errors import GeoimgError
 
 
@@ -50,32 +70,49 @@ def _positive(kind):
 
 
 EXAMPLES = {
-    "image": ["geoimg image terrain.obj -o terrain.exr --res 257 --s 2 --preview terrain.png",
-              "geoimg image spot.obj -o spot.exr --res 257          # closed: an octahedral image, colours kept",
-              "geoimg image scan.ply -o scan.npz --res 513 --no-colors"],
-    "mesh": ["geoimg mesh terrain.exr -o terrain_quads.obj", "geoimg mesh spot.exr -o spot.glb   # with its texture",
-             "geoimg mesh other.exr -o q.ply --assume planar"],
-    "filter": ["geoimg filter terrain.exr -o smooth.exr --mean 5 --sharpen 3",
-               "geoimg filter scan.exr -o clean.exr --median 3 --nlmeans 0.002 --mesh clean.obj",
-               "geoimg filter spot.exr -o head.exr --gaussian 3 --region 0.1 0.4 0.5 0.2 --feather 8"],
+    "image": [
+        "geoimg image terrain.obj -o terrain.exr --res 257 --s 2 --preview terrain.png",
+        "geoimg image spot.obj -o spot.exr --res 257          # closed: an octahedral image, colours kept",
+        "geoimg image scan.ply -o scan.npz --res 513 --no-colors",
+    ],
+    "mesh": [
+        "geoimg mesh terrain.exr -o terrain_quads.obj",
+        "geoimg mesh spot.exr -o spot.glb   # with its texture",
+        "geoimg mesh other.exr -o q.ply --assume planar",
+    ],
+    "filter": [
+        "geoimg filter terrain.exr -o smooth.exr --mean 5 --sharpen 3",
+        "geoimg filter scan.exr -o clean.exr --median 3 --nlmeans 0.002 --mesh clean.obj",
+        "geoimg filter spot.exr -o head.exr --gaussian 3 --region 0.1 0.4 0.5 0.2 --feather 8",
+    ],
     "curvature": ["geoimg curvature terrain.exr -o terrain_curv"],
-    "render": ["geoimg render spot.exr -o spot.png --azimuth 60",
-               "geoimg render terrain.exr -o terrain.png --elevation 35 --transparent"],
-    "morph": ["geoimg morph spot.obj bunny.obj --frames 30 -o morph.glb --gif morph.gif",
-              "geoimg morph spot.obj bunny.obj --landmarks pairs.csv -o morph.glb   # features meet",
-              "geoimg morph a.exr b.exr c.exr --frames-dir frames --frame-format ply"],
-    "batch": ["geoimg batch meshes/ -o out --res 257 --quads", "geoimg batch 'scans/*.ply' -o out --res 129 --zarr data.zarr"],
+    "render": [
+        "geoimg render spot.exr -o spot.png --azimuth 60",
+        "geoimg render terrain.exr -o terrain.png --elevation 35 --transparent",
+    ],
+    "morph": [
+        "geoimg morph spot.obj bunny.obj --frames 30 -o morph.glb --gif morph.gif",
+        "geoimg morph spot.obj bunny.obj --landmarks pairs.csv -o morph.glb   # features meet",
+        "geoimg morph a.exr b.exr c.exr --frames-dir frames --frame-format ply",
+    ],
+    "batch": [
+        "geoimg batch meshes/ -o out --res 257 --quads",
+        "geoimg batch 'scans/*.ply' -o out --res 129 --zarr data.zarr",
+    ],
     "info": ["geoimg info spot.exr", "geoimg info scan.ply"],
-    "landmarks": ["geoimg landmarks spot.obj -o spot_points.csv --picture spot_points.png",
-                  "geoimg landmarks armadillo.obj -o points.csv --count 12 --azimuth 180",
-                  "geoimg landmarks human.obj -o points.csv --count 10 --spread   # extremities, then spread"],
+    "landmarks": [
+        "geoimg landmarks spot.obj -o spot_points.csv --picture spot_points.png",
+        "geoimg landmarks armadillo.obj -o points.csv --count 12 --azimuth 180",
+        "geoimg landmarks human.obj -o points.csv --count 10 --spread   # extremities, then spread",
+    ],
     "demo": ["geoimg demo", "geoimg demo -o here --res 129"],
 }
 
 
 class _Parser(argparse.ArgumentParser):
     """argparse's parser, its errors one line (as every error of geoimg's), not the usage and then the line;
-    the subcommands' parsers are of the same class."""
+    the subcommands' parsers are of the same class.
+    """
 
     commands: Any = None    # on the top-level parser: the subcommands (an unknown option is theirs to explain)
 
@@ -94,6 +131,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``geoimg`` command line's parser: its subcommands, their options and help."""
     top = _Parser(prog="geoimg", description="Polygon meshes to geometry images and back.")
     p: argparse.ArgumentParser = top
     p.add_argument("--version", action="version", version=f"geoimg {__version__}")
@@ -315,7 +353,8 @@ def _one_line_warning(command: str):
 
 def _terminated(signum, frame):
     """SIGTERM (what `timeout` and process managers send) ends the command like Ctrl-C does, so that files
-    being written are removed, not left half-written."""
+    being written are removed, not left half-written.
+    """
     raise SystemExit(128 + signum)
 
 
@@ -326,6 +365,7 @@ def _run(args) -> int:
 
 
 def main(argv=None) -> int:
+    """Run the ``geoimg`` command line on ``argv`` (``sys.argv[1:]`` by default); return its exit status."""
     args = build_parser().parse_args(argv)
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _terminated)

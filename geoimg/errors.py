@@ -1,6 +1,7 @@
 """Exception types raised by geoimg; all derive from :class:`GeoimgError`, so that one ``except`` catches
 every refusal, and each also derives from the built-in kind it is (``ValueError``, ``TypeError``,
-``MemoryError``, ``ImportError``)."""
+``MemoryError``, ``ImportError``).
+"""
 
 
 class GeoimgError(Exception):
@@ -37,7 +38,8 @@ class InputTypeError(GeoimgError, TypeError):
 
 class ResourceError(GeoimgError, MemoryError):
     """Work that would need more memory than the machine (or ``GEOIMG_MAX_MEMORY``) allows, refused before
-    it starts."""
+    it starts.
+    """
 
 
 class MissingDependency(GeoimgError, ImportError):

@@ -18,7 +18,8 @@ CELL = 10.0     # the Mount St. Helens DEMs' 10 m cells
 
 def st_helens(year: int, step: int = 1, window=None) -> geoimg.Mesh:
     """The crater DEM of 2004 or 2007 as a z-up grid mesh, every ``step``-th cell, optionally a
-    ``(row0, row1, col0, col1)`` window."""
+    ``(row0, row1, col0, col1)`` window.
+    """
     name = {2004: "msh_nad83_2_2004-10-04.tif", 2007: "msh_nad83_27_2007-07-05.tif"}[year]
     h = load_dem(DATA / name)
     if window is not None:
@@ -95,7 +96,8 @@ def _shown(value) -> str:
 
 def sample_main(run, doc: str, argv=None, **options):
     """The command line of a sample: ``OUT_DIR`` and its ``--options`` (name=default); runs it and prints
-    what it measured, then the picture it wrote."""
+    what it measured, then the picture it wrote.
+    """
     ap = argparse.ArgumentParser(description=doc.strip().splitlines()[0])
     ap.add_argument("out_dir", nargs="?", default="samples-out")
     for name, default in options.items():

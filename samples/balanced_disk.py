@@ -6,7 +6,8 @@ with the boundary sliding along the square's sides (`--balance area`, the defaul
 
 Left to right: the input (a hole of radius 0.15 at the belly, so it is a disk); the quad mesh of a 65 x 65
 image of the plain mean-value map with its grid lines (the legs, head and tail, squeezed into a few pixels,
-are cut off by the grid); the same after SLIM; the same after area balancing. The PSNRs are those of the `--res` images' quad meshes.
+are cut off by the grid); the same after SLIM; the same after area balancing. The PSNRs are those of the `--res`
+images' quad meshes.
 Writes OUT_DIR/balanced_disk.png.
 """
 from __future__ import annotations

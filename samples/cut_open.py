@@ -33,7 +33,7 @@ def image_picture(image: geoimg.GeometryImage, size: int) -> np.ndarray:
     per = d._perimeter_pixels(n)
     scale = (n - 1) // d.quantum
     colour = 0
-    for k, (start, length, twin) in enumerate(d.segments):
+    for k, (_start, _length, twin) in enumerate(d.segments):
         if twin < 0 or twin < k:
             continue
         for seg in (k, twin):

@@ -1,6 +1,6 @@
 """Run every sample at its default size and write the README's gallery: small palette PNGs in docs/gallery.
 
-    python samples/make_gallery.py            (about a minute and a half)
+python samples/make_gallery.py            (about a minute and a half)
 """
 from __future__ import annotations
 

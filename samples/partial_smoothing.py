@@ -4,7 +4,8 @@ image); a region smoothed, and everything but the region smoothed.
 
     python samples/partial_smoothing.py [OUT_DIR] [--res 257]
 
-The bundled mountain at s = 2, the region a disk round its summit in the parameter domain. Writes OUT_DIR/partial_smoothing.png
+The bundled mountain at s = 2, the region a disk round its summit in the parameter domain. Writes
+OUT_DIR/partial_smoothing.png
 (hillshades, and the height change of each below it; surface domain from exact normals, image domain
 from grid normals) and prints how far each moved the surface inside the region and away from it.
 

@@ -118,7 +118,7 @@ def icosphere(subdivisions: int = 2, bumps: float = 0.0) -> geoimg.Mesh:
     for _ in range(subdivisions):
         mid, out = {}, []
 
-        def middle(a, b):
+        def middle(a, b, mid=mid):
             key = (min(a, b), max(a, b))
             if key not in mid:
                 p = v[a] + v[b]

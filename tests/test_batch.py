@@ -287,9 +287,18 @@ class _Stream:
 
 
 def _counts(done, elapsed, total=10):
-    return {"done": done, "ok": done, "poor": 0, "refused": 0, "failed": 0, "skipped": 0, "total": total,
-            "elapsed": elapsed,
-            "per_minute": 60 * done / elapsed if elapsed else 0.0, "eta": (total - done) * elapsed / done if done else None}
+    return {
+        "done": done,
+        "ok": done,
+        "poor": 0,
+        "refused": 0,
+        "failed": 0,
+        "skipped": 0,
+        "total": total,
+        "elapsed": elapsed,
+        "per_minute": 60 * done / elapsed if elapsed else 0.0,
+        "eta": (total - done) * elapsed / done if done else None,
+    }
 
 
 def test_progress_lines_off_a_terminal_a_bar_on_one_and_nothing_when_quiet():
@@ -338,7 +347,11 @@ def test_an_image_far_from_its_input_is_marked_poor_and_counted(inputs, tmp_path
     assert {r["status"] for r in rows.values()} == {"poor"} and all((out / "a").glob("*.exr"))
     run = subprocess.run(_batch_command(inputs / "a", "-o", out, "--res", RES, "--workers", 1, "--min-psnr", 500),
                          capture_output=True, text=True, timeout=300)
-    assert run.returncode == 1 and "(2 of them poor)" in run.stdout and "2 of these finished by an earlier run" in run.stdout
+    assert (
+        run.returncode == 1
+        and "(2 of them poor)" in run.stdout
+        and "2 of these finished by an earlier run" in run.stdout
+    )
     for bad in (["--min-psnr", "nan"], ["--max-hausdorff", "0"], ["--max-hausdorff", "x"]):
         run = subprocess.run(_batch_command(inputs / "a", "-o", tmp_path / "o2", *bad), capture_output=True,
                              text=True, timeout=60)

@@ -154,7 +154,9 @@ def test_the_demo_writes_only_into_its_own_folder(tmp_path, capsys):
     mine.mkdir()
     (mine / "notes.txt").write_text("keep")
     assert main(["demo", "-o", str(mine), "--res", "9", "-q"]) == 2
-    assert "not written by geoimg demo" in capsys.readouterr().err and sorted(p.name for p in mine.iterdir()) == ["notes.txt"]
+    assert "not written by geoimg demo" in capsys.readouterr().err and sorted(p.name for p in mine.iterdir()) == [
+        "notes.txt"
+    ]
     assert main(["demo", "-o", str(tmp_path / "d"), "--res", "9", "-q"]) == 0
     assert main(["demo", "-o", str(tmp_path / "d"), "--res", "9", "-q"]) == 0      # again: its own folder
 

@@ -28,7 +28,7 @@ for path in sys.argv[1:]:
     out[path] = [type(img.domain).__name__] + [hashlib.sha256(np.ascontiguousarray(a).tobytes()).hexdigest()
                                                for a in (img.pixels, img.normals, img.valid)]
 print(json.dumps(out))
-""" % RES
+""" % RES  # noqa: UP031   (the braces of the code inside rule out an f-string)
 
 
 def _hashes(paths, threads: int) -> dict:

@@ -137,7 +137,9 @@ def test_spatial_and_fourier_filters_agree_exactly():
     # the same kernel applied by padding + OpenCV and by the transfer function on the periodic extension
     for mode in MODES:
         for blur, kw in (("mean", dict(size=3)), ("mean", dict(size=7)), ("gaussian", dict(sigma=1.3))):
-            spatial = mean_filter(NOISE, kw["size"], mode) if blur == "mean" else gaussian_filter(NOISE, kw["sigma"], mode)
+            spatial = (
+                mean_filter(NOISE, kw["size"], mode) if blur == "mean" else gaussian_filter(NOISE, kw["sigma"], mode)
+            )
             fourier = fourier_filter(NOISE, blur_transfer(blur_taps(blur, **kw)), mode)
             assert np.abs(spatial - fourier).max() < 1e-12, (mode, blur, kw)
 
@@ -235,7 +237,8 @@ def test_masked_smoothing_is_local_feathered_and_exact_outside():
     assert ring.sum() > 50
     # feathered: the change ramps down; no pixel-to-pixel jump larger than the jump a hard mask makes
     hard = gaussian_filter(img, 2.0, mask=mask)
-    jump = lambda a: np.abs(np.diff(a[..., 2] - img[..., 2], axis=1)).max()
+    def jump(a):
+        return np.abs(np.diff(a[..., 2] - img[..., 2], axis=1)).max()
     assert jump(out) < 0.5 * jump(hard)
 
 
@@ -288,7 +291,9 @@ def test_bad_arguments_are_refused(call, message):
 def test_numpy_scalars_are_numbers_and_tiny_cutoffs_keep_only_the_mean():
     """``np.float32(0.1)`` is a number (bandpass refused it); a cutoff so small that its square underflows
     gives the limit (only frequency 0 passes), not NaN: the same bits as any cutoff far below 1/size."""
-    np.testing.assert_array_equal(bandpass(NOISE, np.float32(0.1), np.float64(0.2)), bandpass(NOISE, float(np.float32(0.1)), 0.2))
+    np.testing.assert_array_equal(
+        bandpass(NOISE, np.float32(0.1), np.float64(0.2)), bandpass(NOISE, float(np.float32(0.1)), 0.2)
+    )
     np.testing.assert_array_equal(lowpass(NOISE, np.float32(0.1)), lowpass(NOISE, float(np.float32(0.1))))
     tiny = lowpass(NOISE, 1e-200)
     assert np.isfinite(tiny).all()

@@ -203,14 +203,16 @@ def test_wrong_types_are_geoimg_errors(tmp_path):
     AttributeError)."""
     px = np.zeros((5, 5, 3), np.float32)
     mesh = geoimg.load_mesh(MOUNTAIN)
-    for call, message in [(lambda: geoimg.GeometryImage(px, metadata="abc"), "metadata: expected a dict"),
-                          (lambda: geoimg.load_mesh(123), "path: expected a file name"),
-                          (lambda: geoimg.load_image(123), "path: expected a file name"),
-                          (lambda: geoimg.save_mesh(mesh, 5), "path: expected a file name"),
-                          (lambda: geoimg.GeometryImage(px).save(5), "path: expected a file name"),
-                          (lambda: geoimg.mesh.surface_distance(mesh, "x"), "other: expected a geoimg.Mesh"),
-                          (lambda: geoimg.mesh.surface_distance(None, mesh), "reference: expected a geoimg.Mesh"),
-                          (lambda: geoimg.GeometryImage(px, normals=np.zeros((5, 5, 3), int)), "normals: expected a float")]:
+    for call, message in [
+        (lambda: geoimg.GeometryImage(px, metadata="abc"), "metadata: expected a dict"),
+        (lambda: geoimg.load_mesh(123), "path: expected a file name"),
+        (lambda: geoimg.load_image(123), "path: expected a file name"),
+        (lambda: geoimg.save_mesh(mesh, 5), "path: expected a file name"),
+        (lambda: geoimg.GeometryImage(px).save(5), "path: expected a file name"),
+        (lambda: geoimg.mesh.surface_distance(mesh, "x"), "other: expected a geoimg.Mesh"),
+        (lambda: geoimg.mesh.surface_distance(None, mesh), "reference: expected a geoimg.Mesh"),
+        (lambda: geoimg.GeometryImage(px, normals=np.zeros((5, 5, 3), int)), "normals: expected a float"),
+    ]:
         with pytest.raises(geoimg.GeoimgError, match=message):
             call()
     assert list(tmp_path.iterdir()) == []

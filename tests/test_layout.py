@@ -88,7 +88,9 @@ def test_imports_are_at_the_top_except_optional_dependencies():
     assert inside == []
 
 
-@pytest.mark.parametrize("statement", ["import geoimg", "import filters", "import geoimg.cli; geoimg.cli.build_parser()"])
+@pytest.mark.parametrize(
+    "statement", ["import geoimg", "import filters", "import geoimg.cli; geoimg.cli.build_parser()"]
+)
 def test_the_packages_and_the_parser_import_nothing_heavy(statement):
     """``import geoimg`` and ``geoimg --help`` stay quick: the libraries behind the work are imported when
     first used (their names are looked up, not timed: the machines are shared)."""
@@ -99,9 +101,13 @@ def test_the_packages_and_the_parser_import_nothing_heavy(statement):
 
 def test_obj_off_and_ply_load_without_trimesh(tmp_path):
     """trimesh (half a second to import) is for STL and GLB alone."""
-    code = ("import sys, geoimg; from geoimg.mesh import Mesh; m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]); "
-            f"[geoimg.load_mesh(geoimg.save_mesh(m, {str(tmp_path)!r} + '/t' + e)) for e in ('.obj', '.off', '.ply')]; "
-            "print('trimesh' in sys.modules); geoimg.save_mesh(m, " + repr(str(tmp_path / 't.stl')) + "); print('trimesh' in sys.modules)")
+    code = (
+        "import sys, geoimg; from geoimg.mesh import Mesh; m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]); "
+        f"[geoimg.load_mesh(geoimg.save_mesh(m, {str(tmp_path)!r} + '/t' + e)) for e in ('.obj', '.off', '.ply')]; "
+        "print('trimesh' in sys.modules); geoimg.save_mesh(m, "
+        + repr(str(tmp_path / "t.stl"))
+        + "); print('trimesh' in sys.modules)"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
     assert out.stdout.split() == ["False", "True"]
 
@@ -118,9 +124,9 @@ def test_names_imported_when_first_used_are_the_real_ones():
     assert set(geoimg.__all__) <= set(dir(geoimg)) and set(filters.__all__) <= set(dir(filters))
     assert geoimg.mesh.topology is importlib.import_module("geoimg.mesh").topology
     with pytest.raises(AttributeError, match="nothing"):
-        geoimg.nothing
+        _ = geoimg.nothing
     with pytest.raises(AttributeError, match="nothing"):
-        filters.nothing
+        _ = filters.nothing
 
 
 def test_filters_knows_nothing_of_geoimg():

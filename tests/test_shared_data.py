@@ -14,7 +14,13 @@ from geoimg.parametrization import sphere_coords
 from geoimg.parametrization._orientation import chord_orientation
 
 from helpers import load_shared
-from checks import check_disk_map, check_disk_surface, check_shared_faces_morph, check_sphere_map, surface_to_vertices_rms
+from checks import (
+    check_disk_map,
+    check_disk_surface,
+    check_shared_faces_morph,
+    check_sphere_map,
+    surface_to_vertices_rms,
+)
 
 
 @pytest.mark.parametrize("sliver_rule", ["robust", "paper"])

@@ -12,5 +12,22 @@ from ._morph import ALIGNMENTS, EASINGS, Morph, morph
 from ._gltf import FRAME_FORMATS, frame_jobs, save_frames, save_glb
 from ._render import UP_AXES, Camera, RenderError, Renderer, render, save_animation, save_png, up_axis, label_points
 
-__all__ = ["ALIGNMENTS", "EASINGS", "Morph", "morph", "FRAME_FORMATS", "frame_jobs", "save_frames", "save_glb", "UP_AXES",
-           "Camera", "RenderError", "Renderer", "render", "save_animation", "save_png", "up_axis", "label_points"]
+__all__ = [
+    "ALIGNMENTS",
+    "EASINGS",
+    "Morph",
+    "morph",
+    "FRAME_FORMATS",
+    "frame_jobs",
+    "save_frames",
+    "save_glb",
+    "UP_AXES",
+    "Camera",
+    "RenderError",
+    "Renderer",
+    "render",
+    "save_animation",
+    "save_png",
+    "up_axis",
+    "label_points",
+]

@@ -36,7 +36,8 @@ def _triangles(mesh) -> np.ndarray:
 
 def _vertex_normals(image, valid, colors=None) -> tuple[np.ndarray, Mesh]:
     """The quad mesh of an image over the pixels valid in every key, with normals from the grid (the
-    same rule for every key, so normal displacements are consistent)."""
+    same rule for every key, so normal displacements are consistent).
+    """
     mask = None if valid is None else valid
     mesh = GeometryImage(image.pixels, mask, domain=image.domain, metadata=image.metadata, colors=colors).to_mesh()
     normals = mesh.normals if mesh.normals is not None else mesh.vertex_normals()
@@ -45,7 +46,8 @@ def _vertex_normals(image, valid, colors=None) -> tuple[np.ndarray, Mesh]:
 
 def _texcoords(mesh, domain) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(source, texcoords, faces)``: the base mesh's vertices split where corners' texture coordinates
-    differ, glTF's texture coordinates ((0, 0) the image's top-left) and the faces on the split vertices."""
+    differ, glTF's texture coordinates ((0, 0) the image's top-left) and the faces on the split vertices.
+    """
     source, uv, faces = split_corners(mesh)
     if mesh.face_uv is not None:
         return source, np.column_stack([uv[:, 0], 1.0 - uv[:, 1]]), faces      # OBJ's are from the bottom
@@ -127,9 +129,20 @@ def save_glb(morph: Morph, path: PathLike, *, fps: float = 24.0, overwrite: bool
     base_normals, base = _vertex_normals(morph.keys[0], valid, base_colors)
     source, texcoords, faces = _texcoords(base, morph.keys[0].domain)
     base_pos = np.asarray(base.vertices, np.float32)
-    gltf = gl.GLTF2(asset=gl.Asset(generator="geoimg"), scene=0, scenes=[gl.Scene(nodes=[0])],
-                    materials=[gl.Material(name="geoimg", doubleSided=True, pbrMetallicRoughness=gl.PbrMetallicRoughness(
-                        baseColorFactor=[1.0, 1.0, 1.0, 1.0], metallicFactor=0.0, roughnessFactor=0.8))])
+    gltf = gl.GLTF2(
+        asset=gl.Asset(generator="geoimg"),
+        scene=0,
+        scenes=[gl.Scene(nodes=[0])],
+        materials=[
+            gl.Material(
+                name="geoimg",
+                doubleSided=True,
+                pbrMetallicRoughness=gl.PbrMetallicRoughness(
+                    baseColorFactor=[1.0, 1.0, 1.0, 1.0], metallicFactor=0.0, roughnessFactor=0.8
+                ),
+            )
+        ],
+    )
     buf = _Buffer(gl, gltf)
     attributes = gl.Attributes(POSITION=buf.add(base_pos[source], gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER, minmax=True),
                                NORMAL=buf.add(base_normals[source], gl.VEC3, gl.FLOAT, gl.ARRAY_BUFFER),
@@ -171,7 +184,8 @@ def save_glb(morph: Morph, path: PathLike, *, fps: float = 24.0, overwrite: bool
 
 def frame_jobs(morph: Morph, folder: PathLike, fmt: str = "obj", progress: Progress | None = None) -> list:
     """``(path, write)`` for every frame file ``folder/frame_0000.<fmt>`` (see :func:`save_frames`), for
-    :func:`geoimg._atomic.write_all`; each frame is made when it is written."""
+    :func:`geoimg._atomic.write_all`; each frame is made when it is written.
+    """
     if fmt not in FRAME_FORMATS:
         raise InputError(f"fmt: expected one of {FRAME_FORMATS}, got {fmt!r}")
     folder = Path(folder)
@@ -195,7 +209,8 @@ def frame_jobs(morph: Morph, folder: PathLike, fmt: str = "obj", progress: Progr
 def save_frames(morph: Morph, folder: PathLike, fmt: str = "obj", *, overwrite: bool = False,
                 progress: Progress | None = None) -> list[Path]:
     """Write every frame to ``folder/frame_0000.<fmt>``: a quad mesh (obj, ply, off) or the geometry
-    image (exr); all of them or, on any failure, none. Returns the paths."""
+    image (exr); all of them or, on any failure, none. Returns the paths.
+    """
     jobs = frame_jobs(morph, folder, fmt, progress)
     Path(folder).mkdir(parents=True, exist_ok=True)
     return write_all(jobs, overwrite=overwrite)

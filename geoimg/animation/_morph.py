@@ -12,7 +12,8 @@ import math
 import numbers
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterator
+from typing import Any
+from collections.abc import Callable, Iterator
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -61,7 +62,8 @@ def _landmark_entry(entry, shape, k: int) -> int:
 
 def _check_landmarks(landmarks, shapes) -> np.ndarray:
     """``landmarks`` as an (L, K) int array: a row per feature, a vertex index (or a 3-D point, snapped to the
-    nearest vertex) of each key's mesh."""
+    nearest vertex) of each key's mesh.
+    """
     rows = list(landmarks) if isinstance(landmarks, (list, tuple, np.ndarray)) else None
     if not rows or any(not isinstance(r, (list, tuple, np.ndarray)) or len(r) != len(shapes) for r in rows):
         raise InputError(f"landmarks: expected one tuple of {len(shapes)} vertex indices or 3-D points (one per "
@@ -93,7 +95,8 @@ def _landmark_warp(sources: np.ndarray, targets: np.ndarray, n: int, k: int) -> 
     carried by the directions of an ``n x n`` octahedral image: key ``k`` resampled there lines up with key 0.
     The warp is checked for folds on a grid of at least WARP_CHECK² directions (a coarse image would refuse
     steps that only squeeze below its pixels). Returns the warp's report with the warped ``directions``
-    (n, n, 3)."""
+    (n, n, 3).
+    """
     m = max(n, WARP_CHECK)
     points = grid_directions(m).reshape(-1, 3)
     if m > n:
@@ -115,7 +118,8 @@ def _auto_landmarks(shapes, images, how, params, align, progress):
     """Landmarks matched between keys: each key's suggested extremities, on its sphere turned the way the
     rigid alignment turns it, paired with key 0's by least total angle (Hungarian), pairs farther than
     AUTO_MATCH_DEG dropped; a feature is kept when every key has a partner for it. ``images``, ``how`` and
-    ``params``: what :func:`_as_images` made of the keys. Returns the (L, K) table."""
+    ``params``: what :func:`_as_images` made of the keys. Returns the (L, K) table.
+    """
     for k, param in enumerate(params):
         _require_sphere(param, k)
     _, report = _align(images, align, True, [h.startswith("shared") for h in how], None)
@@ -144,7 +148,8 @@ def _auto_landmarks(shapes, images, how, params, align, progress):
 def _as_images(shapes, resolution, progress):
     """Geometry images of the shapes; meshes with the same faces as the previous mesh reuse its
     parametrization, so their images correspond vertex for vertex. Returns the images, how each key was
-    parametrized and the parametrizations (None for images)."""
+    parametrized and the parametrizations (None for images).
+    """
     images, used_param, last = [], [], None
     made = [None] * len(shapes)
     for k, shape in enumerate(shapes):
@@ -170,7 +175,8 @@ def _as_images(shapes, resolution, progress):
 
 def _landmark_warps(params, landmarks: np.ndarray, resolution: int) -> list:
     """Each later key's warp of the sphere that brings key 0's landmarks ((L, K) vertex indices) onto its
-    own (the alignment resamples the key there); None for key 0."""
+    own (the alignment resamples the key there); None for key 0.
+    """
     for k, param in enumerate(params):
         _require_sphere(param, k)
     sources = params[0].coords[landmarks[:, 0]]
@@ -204,7 +210,8 @@ def _octahedral_sampler(pixels: np.ndarray, domain):
 
 def _best_rotation(reference: GeometryImage, moving: np.ndarray) -> tuple[Rotation, float, float]:
     """Rotation R of the sphere minimizing the mean squared distance between ``reference(q)`` and
-    ``moving(R q)`` on a coarse grid: the 24 rotations of the cube as starts, then Nelder-Mead."""
+    ``moving(R q)`` on a coarse grid: the 24 rotations of the cube as starts, then Nelder-Mead.
+    """
     n = 33
     q = grid_directions(n).reshape(-1, 3)
     ref = _octahedral_sampler(reference.pixels, reference.domain)(q)
@@ -224,7 +231,8 @@ def _best_rotation(reference: GeometryImage, moving: np.ndarray) -> tuple[Rotati
 
 def _resample(pixels: np.ndarray, colors, domain, directions: np.ndarray):
     """An octahedral image's pixels (and colours) at other ``directions`` (one per pixel): pixel ``i`` of the
-    result shows the surface at ``directions[i]``; glued pixels averaged."""
+    result shows the surface at ``directions[i]``; glued pixels averaged.
+    """
     q = directions.reshape(-1, 3)
     out = domain.average_glued(_octahedral_sampler(pixels, domain)(q).reshape(pixels.shape))
     if colors is not None:            # the colours move with the surface
@@ -235,7 +243,8 @@ def _resample(pixels: np.ndarray, colors, domain, directions: np.ndarray):
 def _align(images, align: str, rotate: bool, shared, progress, warps=None):
     """Move keys 1.. into key 0's frame; returns the new images and what was done to each. A key whose
     parametrization is shared with the key before it (``shared[k]``) gets that key's rotation, not a
-    search of its own: its correspondence is the vertices'."""
+    search of its own: its correspondence is the vertices'.
+    """
     c0, r0 = _centre_and_radius(images[0])
     out, report = [images[0]], [{"shape": 0, "reference": True}]
     previous = Rotation.identity()

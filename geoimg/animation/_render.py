@@ -100,7 +100,8 @@ class Camera:
             points: np.ndarray | None = None):
         """Frame the box ``lo..hi`` from ``azimuth``, ``elevation`` (degrees) about the ``up`` axis: the
         camera looks at the box's centre from as near as lets every one of ``points`` (default: the box's
-        corners) show, with a margin of :data:`MARGIN`."""
+        corners) show, with a margin of :data:`MARGIN`.
+        """
         if up not in UP_AXES:
             raise InputError(f"up: expected one of {UP_AXES}, got {up!r}")
         for name, value in (("azimuth", azimuth), ("elevation", elevation)):
@@ -167,7 +168,8 @@ def _view_frame(forward: np.ndarray, up: np.ndarray) -> tuple[np.ndarray, np.nda
 def _fitting_distance(p: np.ndarray, d: np.ndarray, up: np.ndarray, t: float, aspect: float):
     """The least distance along the unit view direction ``d`` (from the target towards the eye) at which a
     camera of half-angle tangent ``t`` sees all of ``p`` (relative to the target) inside the margin, and
-    the move of the target that would centre the points' picture."""
+    the move of the target that would centre the points' picture.
+    """
     side, upv = _view_frame(-d, up)
     toward, x, y = p @ d, p @ side, p @ upv
     reach = (1.0 - 2.0 * MARGIN) * t
@@ -180,7 +182,8 @@ def _fitting_distance(p: np.ndarray, d: np.ndarray, up: np.ndarray, t: float, as
 
 def up_axis(obj: Any) -> str:
     """The up axis a picture of ``obj`` uses by default: the one a geometry image records (``metadata["up"]``,
-    a terrain's), else ``"y"``."""
+    a terrain's), else ``"y"``.
+    """
     up = obj.metadata.get("up") if isinstance(obj, GeometryImage) else None
     return up if up in UP_AXES else "y"
 
@@ -188,7 +191,8 @@ def up_axis(obj: Any) -> str:
 def _geometry(obj):
     """Vertices, triangles, per-vertex normals, colours (or None), texture coordinates (OpenGL's, from the
     texture's first row) and texture (or None) of a mesh or a geometry image (its quad mesh); a textured
-    mesh's vertices are split where its corners' texture coordinates differ."""
+    mesh's vertices are split where its corners' texture coordinates differ.
+    """
     mesh = obj.to_mesh() if isinstance(obj, GeometryImage) else obj
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"expected a geoimg.Mesh or GeometryImage, got {type(obj).__name__}")
@@ -240,7 +244,8 @@ class Renderer:
     def camera_for(self, *objects: Any, azimuth: float = 30.0, elevation: float = 20.0,
                    up: str | None = None) -> Camera:
         """A camera framing all the objects (meshes or geometry images) together, tightly; ``up`` defaults
-        to the first object's (:func:`up_axis`)."""
+        to the first object's (:func:`up_axis`).
+        """
         return self._camera([_geometry(o)[0] for o in objects], azimuth, elevation,
                             up_axis(objects[0]) if up is None else up)
 
@@ -255,7 +260,8 @@ class Renderer:
     def render(self, obj: Any, camera: Camera | None = None, *, edges: Mesh | None = None,
                edge_color: tuple[float, float, float] = (0.75, 0.1, 0.1)) -> np.ndarray:
         """An (H, W, 3) uint8 picture of the object, (H, W, 4) with a transparent background; ``edges``: a
-        mesh whose polygon edges are drawn over it (hidden where the surface is in front)."""
+        mesh whose polygon edges are drawn over it (hidden where the surface is in front).
+        """
         v, tris, n, c, uv, texture = _geometry(obj)
         self.ctx.__enter__()        # this context made current: another renderer's release unbinds it
         if camera is None:                              # the default view of camera_for, from what is drawn
@@ -326,7 +332,7 @@ class Renderer:
     def release(self) -> None:
         self.ctx.release()
 
-    def __enter__(self) -> "Renderer":
+    def __enter__(self) -> Renderer:
         return self
 
     def __exit__(self, *exc) -> None:
@@ -389,7 +395,8 @@ def save_png(rgb: np.ndarray, path: PathLike, *, overwrite: bool = False) -> Pat
 def _write_gif(frames: np.ndarray, path: Path, fps: float) -> None:
     """An animated GIF (looping) of ``frames`` (n, H, W, 3) uint8 with one palette for all of them: 256
     colours by median cut from every few frames' pixels, each frame mapped to it with Floyd-Steinberg
-    dithering (3x faster than a palette per frame, and no colours flicker between frames)."""
+    dithering (3x faster than a palette per frame, and no colours flicker between frames).
+    """
     n, _, _, _ = frames.shape
     sample = np.ascontiguousarray(frames[::max(1, n // 8), ::2, ::2])
     palette = Image.fromarray(sample.reshape(-1, sample.shape[2], 3)).quantize(256, Image.Quantize.MEDIANCUT)
@@ -400,7 +407,8 @@ def _write_gif(frames: np.ndarray, path: Path, fps: float) -> None:
 
 def save_animation(frames: Any, path: PathLike, *, fps: float = 24.0, overwrite: bool = False) -> Path:
     """Write pictures (each (H, W, 3) uint8) as an animated GIF (looping) or an H.264 MP4 (needs the
-    ``imageio-ffmpeg`` package: ``pip install geoimg[video]``)."""
+    ``imageio-ffmpeg`` package: ``pip install geoimg[video]``).
+    """
     iio = require("imageio.v3", "writing animations")
     path = Path(path)
     ext = path.suffix.lower()

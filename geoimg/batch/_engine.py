@@ -1,5 +1,6 @@
 """Convert a collection of meshes on Dask: an embedded local cluster by default, or any existing one; skips what
-an earlier run with the same options finished, records every input in the manifest, and stops cleanly."""
+an earlier run with the same options finished, records every input in the manifest, and stops cleanly.
+"""
 from __future__ import annotations
 
 import contextlib
@@ -31,7 +32,8 @@ CONNECT_TIMEOUT = 30         # seconds to reach a scheduler given by its address
 def _finished(row: dict | None, job: Job, records) -> bool:
     """Whether an earlier run's row says this job's outputs exist, made with the same options from the same
     file, or that it refused this very file with these options (a refusal is decided by the file and the
-    options alone; a failure may be passing, and is tried again)."""
+    options alone; a failure may be passing, and is tried again).
+    """
     if not row or row.get("status") not in ("ok", "poor", "refused") or row.get("options_hash") != job.options_hash:
         return False
     if row.get("input_size") != str(job.input_size) or row.get("input_mtime_ns") != str(job.input_mtime_ns):
@@ -47,7 +49,8 @@ def _finished(row: dict | None, job: Job, records) -> bool:
 
 def _partials(jobs, store) -> list[Path]:
     """Temporary files that an interrupted run may have left beside its outputs (ours and Zarr's): each
-    output folder is listed once, whatever the number of inputs in it."""
+    output folder is listed once, whatever the number of inputs in it.
+    """
     names: dict[Path, list[str]] = {}
     for job in jobs:
         stem = Path(job.stem)
@@ -68,13 +71,14 @@ def _remove_partials(jobs, store) -> None:
 
 
 def _threads_per_worker(workers: int) -> int:
-    """numba threads for each of ``workers`` worker processes on this machine: its cores shared out."""
+    """Numba threads for each of ``workers`` worker processes on this machine: its cores shared out."""
     return max(1, (os.cpu_count() or 1) // workers)
 
 
 def _worker_env(workers: int, memory_limit) -> dict:
     """Environment of the local cluster's workers: numba threads shared out between them, and geoimg's
-    memory budget within each worker's limit (so that a too-large input is refused, not killed)."""
+    memory budget within each worker's limit (so that a too-large input is refused, not killed).
+    """
     dask_utils = require("dask.utils", "geoimg batch")
     psutil = require("psutil", "geoimg batch")
     total = psutil.virtual_memory().total
@@ -85,7 +89,8 @@ def _worker_env(workers: int, memory_limit) -> dict:
 
 class _Cluster:
     """The Dask client to run on: the one given, one connected to ``scheduler``, or an embedded local cluster
-    of worker processes (closed again on exit)."""
+    of worker processes (closed again on exit).
+    """
 
     def __init__(self, client, scheduler, workers, memory_limit):
         self.client, self.scheduler, self.workers, self.memory_limit = client, scheduler, workers, memory_limit
@@ -120,7 +125,8 @@ class _Cluster:
 
 def _counts(rows: dict, total: int, before: list[str], t0: float) -> dict:
     """Counts of a batch: ``rows`` finished in this run, ``before`` the statuses (ok or refused) of the inputs an
-    earlier run finished and this one skipped, which count as what they were."""
+    earlier run finished and this one skipped, which count as what they were.
+    """
     statuses = [r["status"] for r in rows.values()]
     done = len(statuses)
     elapsed = time.perf_counter() - t0
@@ -271,7 +277,8 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
 
 def _run(client, todo, rows, pending_records, manifest, zarr, say, skipped, total, t0) -> None:
     """Submit ``todo`` to ``client`` (small inputs first, so that a few large ones do not hold up the many small
-    ones), collect rows as they finish, and cancel what is left on any interruption."""
+    ones), collect rows as they finish, and cancel what is left on any interruption.
+    """
     distributed = require("distributed", "geoimg batch")
     with ManifestLog(manifest) as log:
         order = sorted(todo, key=lambda job: job.input_size)

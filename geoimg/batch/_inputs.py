@@ -1,5 +1,6 @@
 """The inputs of a batch: files, folders (searched recursively) and glob patterns, and the output names that
-keep equal file names from different folders apart."""
+keep equal file names from different folders apart.
+"""
 from __future__ import annotations
 
 import glob
@@ -66,7 +67,9 @@ def find_inputs(specs: Any) -> list[Path]:
                 seen.add(key)
                 found.append(m)
     if not found:
-        raise InputError(f"no mesh files ({', '.join(MESH_READ_FORMATS)}) in {', '.join(map(str, specs)) or 'the inputs'}")
+        raise InputError(
+            f"no mesh files ({', '.join(MESH_READ_FORMATS)}) in {', '.join(map(str, specs)) or 'the inputs'}"
+        )
     return found
 
 

@@ -1,6 +1,7 @@
 """The manifest of a batch: one CSV row per input (status, message, topology, sizes, PSNR, times per stage,
 outputs, options hash), appended as inputs finish and compacted at the end, so that an interrupted batch
-knows what it finished."""
+knows what it finished.
+"""
 from __future__ import annotations
 
 import csv

@@ -48,6 +48,7 @@ class ConvertOptions:
     ...
     geoimg.errors.InputError: s: expected a number from 1e-06 to 1000, got 0
     """
+
     resolution: int | None = None
     s: float | None = None
     method: str = "auto"
@@ -113,13 +114,25 @@ class ConvertOptions:
 
     def image_options(self) -> dict:
         """The keyword arguments of :func:`geoimg.mesh_to_images`."""
-        return dict(resolution=self.resolution, s=None if self.s is None else float(self.s), method=self.method,
-                    component=self.component, axis=self.axis, boundary=self.boundary, balance=self.balance, weights=self.weights, n=self.n,
-                    tol=float(self.tol), sliver_rule=self.sliver_rule, normals=self.normals,
-                    colors=self.colors)
+        return dict(
+            resolution=self.resolution,
+            s=None if self.s is None else float(self.s),
+            method=self.method,
+            component=self.component,
+            axis=self.axis,
+            boundary=self.boundary,
+            balance=self.balance,
+            weights=self.weights,
+            n=self.n,
+            tol=float(self.tol),
+            sliver_rule=self.sliver_rule,
+            normals=self.normals,
+            colors=self.colors,
+        )
 
     def digest(self, *extra: object) -> str:
         """A short hash of the options, this geoimg's version and ``extra`` (say, the output layout): equal
-        hashes mean equal outputs."""
+        hashes mean equal outputs.
+        """
         record = dict(dataclasses.asdict(self), version=__version__, extra=list(map(str, extra)))
         return hashlib.sha256(json.dumps(record, sort_keys=True, default=list).encode()).hexdigest()[:16]

@@ -2,7 +2,8 @@
 ``mask`` (N, R, R) bool and, when asked, ``normals`` (N, R, R, 3) and ``colors`` (N, R, R, 3: RGB in [0, 1],
 NaN for an item without colours), one chunk per item, each written by the
 worker that made it; one metadata record per item in the group's attributes, written by the batch's driver
-when the item is complete (an item without a record is not there: it is redone on the next run)."""
+when the item is complete (an item without a record is not there: it is redone on the next run).
+"""
 from __future__ import annotations
 
 from pathlib import Path
@@ -27,7 +28,8 @@ def open_store(path, sources: list[str], resolution: int, normals: bool, options
                force: bool = False, colors: bool = False):
     """Create the store for ``sources`` (one item each) at ``resolution`` pixels a side, or open the one a
     previous run of the same batch made. A store made from other inputs or options is refused unless
-    ``force`` (then it is replaced)."""
+    ``force`` (then it is replaced).
+    """
     zarr = _zarr()
     path = Path(path)
     if path.exists() and not force:

@@ -1,5 +1,6 @@
 """One input of a batch, on a worker: load, convert, filter, write, measure; every outcome is a manifest row
-(a refusal or a crash is a row too, never an exception that stops the batch)."""
+(a refusal or a crash is a row too, never an exception that stops the batch).
+"""
 from __future__ import annotations
 
 import dataclasses
@@ -29,7 +30,9 @@ PSNR_SAMPLES = 10000          # area samples on each surface for the quad mesh's
 @dataclasses.dataclass(frozen=True)
 class Job:
     """One input: its path, where its outputs go (``stem`` + extension, numbered per piece) or which item
-    of the Zarr store, the options and their hash, and the input's size and time stamp (to recognize it)."""
+    of the Zarr store, the options and their hash, and the input's size and time stamp (to recognize it).
+    """
+
     input: str
     stem: str
     options: ConvertOptions
@@ -45,7 +48,8 @@ def _share_threads(threads: int | None) -> None:
     """Use at most ``threads`` numba threads in this task. Worker processes that share a machine must not each
     run a thread per core: OpenMP's spinning threads then take turns and every parallel call waits
     milliseconds (measured: 5 us per call alone, 65-90 us with two such workers). Set here, in the task,
-    because a worker may have imported numba, and so read NUMBA_NUM_THREADS, before its environment was set."""
+    because a worker may have imported numba, and so read NUMBA_NUM_THREADS, before its environment was set.
+    """
     if threads:
         numba.set_num_threads(max(1, min(threads, numba.config.NUMBA_NUM_THREADS)))   # type: ignore[attr-defined]
 
@@ -54,12 +58,12 @@ WARNINGS_CELL = 2000          # characters of warnings a manifest row keeps
 
 
 def warnings_cell(messages, limit: int = WARNINGS_CELL) -> str:
-    """The warnings of one input as one manifest cell: each once (with how many times it came when more than
+    r"""The warnings of one input as one manifest cell: each once (with how many times it came when more than
     once), each on one line, cut at ``limit`` characters with a count of what was left out.
 
     Examples
     --------
-    >>> warnings_cell(["far from its mesh", "joined 3\\n vertices", "far from its mesh"])
+    >>> warnings_cell(["far from its mesh", "joined 3\n vertices", "far from its mesh"])
     'far from its mesh (x2) | joined 3 vertices'
     >>> warnings_cell(["a" * 30, "b" * 30, "c"], limit=40)
     'aaaaaaaaaaaaaaaaaaaaaaaaaaaaaa | ... (2 more warnings)'
@@ -96,7 +100,8 @@ def _joined(meshes: list[Mesh]) -> Mesh:
 
 def _outputs(job: Job, images) -> list[tuple[Path, object]]:
     """(path, writer) of every file of one input: NAME.exr, or NAME_K.exr for piece K of several; the quad
-    meshes beside them."""
+    meshes beside them.
+    """
     many = len(images) > 1
     jobs = []
     for image in images:
@@ -136,8 +141,11 @@ def run_job(job: Job) -> dict:
                 files = write_all(outputs, overwrite=True)             # all of this input's files, or none
                 if job.store is not None:
                     write_item(job.store, job.index, images[0])
-            row.update(pieces=images[0].metadata.get("components", 1), domain=" ".join(img.domain.kind for img in images),
-                       image_size=" ".join(f"{img.shape[1]}x{img.shape[0]}" for img in images))
+            row.update(
+                pieces=images[0].metadata.get("components", 1),
+                domain=" ".join(img.domain.kind for img in images),
+                image_size=" ".join(f"{img.shape[1]}x{img.shape[0]}" for img in images),
+            )
             row["outputs"] = ";".join([str(f) for f in files] + ([f"{job.store}#{job.index}"] if job.store else []))
             if opts.psnr and (opts.component == "all" or row["pieces"] == 1):
                 with _timed(timings, "psnr"):
@@ -161,7 +169,7 @@ def run_job(job: Job) -> dict:
     for stage, seconds in timings.items():
         row[f"t_{stage}"] = round(seconds, 4)
     row["t_total"] = round(time.perf_counter() - t0, 4)
-    row["finished"] = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    row["finished"] = datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
     if job.store is not None and "record" in row:
         row["record"]["timings"]["total"] = row["t_total"]
     return row

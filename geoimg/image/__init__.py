@@ -8,11 +8,43 @@
 """
 from ._domain import DOMAIN_KINDS, CutDomain, Domain, OctahedralDomain, PlanarDomain, grid_normals
 from ._image import DEFAULT_PAD, EXR_LAYOUTS, GeometryImage
-from ._io import ASSUMABLE_DOMAINS, IMAGE_FORMATS, diverging_colors, load_image, save_colormap, save_image, save_normal_map, save_preview, save_scalar
+from ._io import (
+    ASSUMABLE_DOMAINS,
+    IMAGE_FORMATS,
+    diverging_colors,
+    load_image,
+    save_colormap,
+    save_image,
+    save_normal_map,
+    save_preview,
+    save_scalar,
+)
 from .._ball import ball_weights
 from ._regions import image_region, load_mask, uv_region
 from ._curvature import image_curvature
 
-__all__ = ["IMAGE_FORMATS", "EXR_LAYOUTS", "ASSUMABLE_DOMAINS", "DOMAIN_KINDS", "CutDomain", "Domain", "OctahedralDomain", "PlanarDomain", "grid_normals", "DEFAULT_PAD",
-           "GeometryImage", "diverging_colors", "load_image", "save_colormap", "save_image", "save_normal_map",
-           "save_preview", "save_scalar", "ball_weights", "image_region", "load_mask", "uv_region", "image_curvature"]
+__all__ = [
+    "IMAGE_FORMATS",
+    "EXR_LAYOUTS",
+    "ASSUMABLE_DOMAINS",
+    "DOMAIN_KINDS",
+    "CutDomain",
+    "Domain",
+    "OctahedralDomain",
+    "PlanarDomain",
+    "grid_normals",
+    "DEFAULT_PAD",
+    "GeometryImage",
+    "diverging_colors",
+    "load_image",
+    "save_colormap",
+    "save_image",
+    "save_normal_map",
+    "save_preview",
+    "save_scalar",
+    "ball_weights",
+    "image_region",
+    "load_mask",
+    "uv_region",
+    "image_curvature",
+]

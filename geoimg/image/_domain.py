@@ -50,7 +50,7 @@ def grid_normals(pixels: np.ndarray, orientation: int = 1) -> np.ndarray:
 
 
 @functools.lru_cache(maxsize=8)
-def _glue_of(domain: "Domain", shape: tuple) -> tuple[np.ndarray, np.ndarray] | None:
+def _glue_of(domain: Domain, shape: tuple) -> tuple[np.ndarray, np.ndarray] | None:
     """A domain's glue for one image size, made once: sampling, each filter and the quad mesh ask again."""
     glue = domain._make_glue(shape)
     if glue is not None:
@@ -108,7 +108,7 @@ class Domain(ABC):
 
     # ------------------------------------------------------------------ naming and files
     @staticmethod
-    def named(kind: str, **fields) -> "Domain":
+    def named(kind: str, **fields) -> Domain:
         """The domain of a kind name (``"planar"``, ``"octahedral"``) with the given fields.
 
         Examples
@@ -121,15 +121,16 @@ class Domain(ABC):
         return DOMAIN_KINDS[kind](**fields)
 
     @classmethod
-    def from_metadata(cls, kind: str, metadata: dict) -> "Domain":
+    def from_metadata(cls, kind: str, metadata: dict) -> Domain:
         """The domain recorded in a file's metadata (keys ``orientation``, ``extent``); missing keys take
-        their defaults."""
+        their defaults.
+        """
         if kind not in DOMAIN_KINDS:
             raise ImageError(f"domain: expected one of {tuple(DOMAIN_KINDS)}, got {kind!r}")
         return DOMAIN_KINDS[kind]._from_fields(metadata)
 
     @classmethod
-    def _from_fields(cls, metadata: dict) -> "Domain":
+    def _from_fields(cls, metadata: dict) -> Domain:
         return cls(orientation=metadata.get("orientation", 1))
 
     def to_metadata(self) -> dict:
@@ -138,7 +139,7 @@ class Domain(ABC):
 
     METADATA_KEYS: ClassVar[tuple] = ("domain", "extent", "orientation")
 
-    def same_kind(self, other: "Domain") -> bool:
+    def same_kind(self, other: Domain) -> bool:
         """Whether two images are of the same kind (and so can be blended pixel for pixel)."""
         return type(self) is type(other)
 
@@ -152,7 +153,7 @@ class Domain(ABC):
     def check_shape(self, shape: tuple[int, int]) -> None:
         """Raise :class:`~geoimg.GeoimgError` when an image of ``shape`` (H, W) cannot be of this domain."""
 
-    def check_mask(self, mask: np.ndarray | None) -> None:
+    def check_mask(self, mask: np.ndarray | None) -> None:  # noqa: B027   (a hook: any mask, unless a kind says)
         """Raise when a validity mask cannot belong to an image of this domain."""
 
     @abstractmethod
@@ -174,7 +175,8 @@ class Domain(ABC):
 
     def parameter_points(self, shape: tuple[int, int]) -> np.ndarray:
         """The parameter of every pixel, row by row, in the space of a parametrization's ``coords``:
-        (H * W, 2) image coordinates (u, v) here."""
+        (H * W, 2) image coordinates (u, v) here.
+        """
         u, v = self.pixel_uv(shape)
         uu, vv = np.meshgrid(u, v)
         return np.stack([uu.ravel(), vv.ravel()], axis=1)
@@ -182,7 +184,8 @@ class Domain(ABC):
     # ------------------------------------------------------------------ glue
     def glue(self, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray] | None:
         """Groups of pixels that are one point of the surface: each group's first pixel (flat index) and
-        each pixel's group number (read-only, kept for the next call), or None when no pixels are glued."""
+        each pixel's group number (read-only, kept for the next call), or None when no pixels are glued.
+        """
         return _glue_of(self, (int(shape[0]), int(shape[1])))
 
     def _make_glue(self, shape) -> tuple[np.ndarray, np.ndarray] | None:
@@ -212,7 +215,8 @@ class Domain(ABC):
     # ------------------------------------------------------------------ boundary
     def pad(self, array: np.ndarray, width: int) -> np.ndarray:
         """``array`` (H, W[, C]) padded by ``width`` pixels on each side with the domain's boundary rule (a
-        kind without a :mod:`filters` rule pads itself)."""
+        kind without a :mod:`filters` rule pads itself).
+        """
         assert self.boundary is not None, f"{self.kind}: a domain without a filters rule overrides pad"
         return filters.pad(array, width, self.boundary)
 
@@ -224,7 +228,8 @@ class Domain(ABC):
         """Faces that a surface over this domain sees beyond the image's edges, as
         ``(face indices, R (2, 2), b (2,))``: copies of those faces (by their parametric ``centres``
         (F, 2)) with parameters ``R uv + b``, for faces whose weights reach an edge within ``reach`` (F,).
-        None for a domain whose edges are the surface's own."""
+        None for a domain whose edges are the surface's own.
+        """
         return []
 
     # ------------------------------------------------------------------ quad mesh
@@ -317,7 +322,7 @@ class PlanarDomain(Domain):
         object.__setattr__(self, "extent", ext)
 
     @classmethod
-    def _from_fields(cls, metadata: dict) -> "PlanarDomain":
+    def _from_fields(cls, metadata: dict) -> PlanarDomain:
         return cls(orientation=metadata.get("orientation", 1), extent=tuple(metadata.get("extent", (1.0, 1.0))))
 
     def check_shape(self, shape: tuple[int, int]) -> None:
@@ -325,7 +330,8 @@ class PlanarDomain(Domain):
 
     def grid_shape(self, resolution: int) -> tuple[int, int]:
         """The shorter side gets the count that keeps pixels nearly square; corners sit on the rectangle's
-        corners (spacing ``extent / (count - 1)``, as the paper's increments of 1/255 for 256 samples)."""
+        corners (spacing ``extent / (count - 1)``, as the paper's increments of 1/255 for 256 samples).
+        """
         if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 2:
             raise ImageError(f"resolution: expected an integer >= 2, got {resolution!r}")
         big = max(self.extent)
@@ -441,7 +447,7 @@ class CutDomain(Domain):
         object.__setattr__(self, "segments", segs)
 
     @classmethod
-    def _from_fields(cls, metadata: dict) -> "CutDomain":
+    def _from_fields(cls, metadata: dict) -> CutDomain:
         return cls(orientation=metadata.get("orientation", 1), quantum=metadata.get("quantum", 64),
                    segments=tuple(tuple(s) for s in metadata.get("segments", ())))
 
@@ -450,9 +456,10 @@ class CutDomain(Domain):
 
     METADATA_KEYS: ClassVar[tuple] = Domain.METADATA_KEYS + ("quantum", "segments")
 
-    def same_kind(self, other: "Domain") -> bool:
+    def same_kind(self, other: Domain) -> bool:
         """Cut-open images pair up pixel for pixel only when their cuts are laid out alike (the same mesh's
-        faces, or the same layout)."""
+        faces, or the same layout).
+        """
         return type(self) is type(other) and (self.quantum, self.segments) == (other.quantum, other.segments)
 
     def check_shape(self, shape: tuple[int, int]) -> None:
@@ -513,7 +520,8 @@ class CutDomain(Domain):
 
     def _pieces(self):
         """Straight pieces of the twinned segments: ``(a, b, a', b')`` perimeter positions (quanta) of a
-        piece on one side of a cut and of its twin on the other (``a`` pairs with ``a'``)."""
+        piece on one side of a cut and of its twin on the other (``a`` pairs with ``a'``).
+        """
         q = self.quantum
         corners = np.arange(0, 4 * q + 1, q)
         out = []
@@ -532,7 +540,8 @@ class CutDomain(Domain):
     def ghosts(self, centres: np.ndarray, reach: np.ndarray) -> list:
         """Across each cut, the faces near its other side, turned and moved rigidly onto this side's
         outside: the weighted mean at a cut then sees the surface continue, as inside. Each face goes
-        with the straight piece of a cut nearest to it, if its weights reach that far."""
+        with the straight piece of a cut nearest to it, if its weights reach that far.
+        """
         c = np.asarray(centres, np.float64)
         reach = np.minimum(np.asarray(reach, np.float64), 0.5)
         pieces = self._pieces()
@@ -559,7 +568,8 @@ class CutDomain(Domain):
 
     def pad(self, array: np.ndarray, width: int) -> np.ndarray:
         """Reflected at the mesh's own boundary; across a cut, the pixels inward of the twin, so a filter
-        sees the surface continue (exact along straight stretches of a side, approximate at the corners)."""
+        sees the surface continue (exact along straight stretches of a side, approximate at the corners).
+        """
         a = np.asarray(array)
         out = filters.pad(a, width, "reflect")
         if width == 0:

@@ -7,7 +7,8 @@ import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
 
 import cv2
 import numpy as np
@@ -34,7 +35,8 @@ PREVIEW_LEVELS = 65534                # a preview's valid pixels take the levels
 
 def _boundary_aware(op):
     """The parameters of a :mod:`filters` operation (array in, array out, the boundary rule as
-    ``mode=``), or None for any other callable."""
+    ``mode=``), or None for any other callable.
+    """
     module = getattr(op, "__module__", None) or ""
     if module != "filters" and not module.startswith("filters."):
         return None
@@ -193,9 +195,10 @@ class GeometryImage:
         return self.domain.quad_mesh(self.pixels, self.valid, self.normals, self.colors)
 
     def with_pixels(self, pixels: ArrayLike, *, mask: Any = ..., metadata: dict | None = None,
-                    colors: Any = ...) -> "GeometryImage":
+                    colors: Any = ...) -> GeometryImage:
         """A new image of the same domain with other pixels (no exact normals: they belong to the old
-        surface); ``mask``, ``metadata`` and ``colors`` are kept unless given."""
+        surface); ``mask``, ``metadata`` and ``colors`` are kept unless given.
+        """
         return GeometryImage(pixels, self.mask if mask is ... else mask, self.domain,
                              metadata=dict(self.metadata) if metadata is None else metadata,
                              colors=self.colors if colors is ... else colors)
@@ -203,10 +206,11 @@ class GeometryImage:
     @property
     def boundary_mode(self) -> str | None:
         """The :mod:`filters` boundary rule of the image's domain (``reflect``, ``octahedral``; None for a
-        domain that pads images itself)."""
+        domain that pads images itself).
+        """
         return self.domain.boundary
 
-    def apply(self, op: Callable[..., Any], *args: Any, pad: int | None = None, **kwargs: Any) -> "GeometryImage":
+    def apply(self, op: Callable[..., Any], *args: Any, pad: int | None = None, **kwargs: Any) -> GeometryImage:
         """Run an operation on the pixels with the domain's boundary rule; a new image.
 
         Two kinds of operation are accepted:
@@ -249,7 +253,7 @@ class GeometryImage:
                 raise                                   # another library's error: as it is
             raise InputError(f"{getattr(op, '__name__', 'op')}: {e}") from None
 
-    def _apply(self, op, args, pad, kwargs) -> "GeometryImage":
+    def _apply(self, op, args, pad, kwargs) -> GeometryImage:
         params = _boundary_aware(op)
         direct = params is not None and self.domain.boundary is not None    # a filters function, given mode=
         width = 0
@@ -293,7 +297,8 @@ class GeometryImage:
 
     def _run(self, op, args, kwargs, direct: bool, width: int) -> np.ndarray:
         """``op`` on the pixels: directly for a filters function with the domain's mode, else padded by the
-        domain's rule and cropped back."""
+        domain's rule and cropped back.
+        """
         name = getattr(op, "__name__", op)
         out = op(self.pixels if direct else self.domain.pad(self.pixels, width), *args, **kwargs)
         out = np.asarray(out[0] if isinstance(out, tuple) else out)
@@ -332,7 +337,8 @@ class GeometryImage:
 
     def save_jobs(self, path: PathLike, layout: str = "geoimg") -> list:
         """``(path, write)`` for every file that :meth:`save` makes (a ``.npy`` and its sidecar), for
-        :func:`geoimg._atomic.write_all`, which writes them all or none."""
+        :func:`geoimg._atomic.write_all`, which writes them all or none.
+        """
         if layout not in EXR_LAYOUTS:
             raise InputError(f"layout: expected one of {', '.join(EXR_LAYOUTS)}, got {layout!r}")
         path = as_path(path)
@@ -395,7 +401,8 @@ class GeometryImage:
 
     def _levels(self, top: int):
         """X, Y, Z each stretched over its range on the valid pixels to the levels 1 to ``top`` (masked pixels
-        0); with each axis' offset and step."""
+        0); with each axis' offset and step.
+        """
         valid = self.valid
         p = np.asarray(self.pixels, np.float64)
         lo = p[valid].min(axis=0)
@@ -407,7 +414,8 @@ class GeometryImage:
     def _repr_png_(self) -> bytes:
         """A notebook's picture of the image: X, Y, Z as red, green, blue (masked pixels black); a small image
         enlarged a whole number of times to at least 256 pixels (nearest pixel, so the grid stays visible), a
-        large one shrunk to 512."""
+        large one shrunk to 512.
+        """
         q = self._levels(255)[0].astype(np.uint8)
         H, W = self.shape
         scale = 512 / max(H, W) if max(H, W) > 512 else -(-256 // max(H, W))
@@ -419,7 +427,8 @@ class GeometryImage:
         """Write a 16-bit PNG: X, Y, Z each stretched over its range on the valid pixels to the levels 1 to
         65535, masked pixels black (0). The PNG records each channel's offset and step and the image's
         metadata (text attribute ``geoimg:preview``), so that ``load_image(path, approximate=True)`` can
-        read it back as geometry, to within half a step (1/131068 of each axis' range)."""
+        read it back as geometry, to within half a step (1/131068 of each axis' range).
+        """
         path = _suffixed(path, ".png", "previews are PNG; use a .png name")
         q, lo, step = self._levels(PREVIEW_LEVELS + 1)
         q = q.astype(np.uint16)
@@ -436,7 +445,7 @@ def _save_npy(tmp: Path, data: np.ndarray) -> None:
 
 
 def _plain(value):
-    """numpy scalars and arrays in metadata as plain numbers and lists."""
+    """Numpy scalars and arrays in metadata as plain numbers and lists."""
     if isinstance(value, (np.generic, np.ndarray)):
         return value.tolist()
     raise InputTypeError(f"a {type(value).__name__} is not a number, string, list or dict")

@@ -57,7 +57,8 @@ def save_image(image: GeometryImage, path: PathLike, *, overwrite: bool = False)
 
 def _unmarked(path, assume: str | None) -> str:
     """The domain of a file that has no geoimg metadata: refused, unless the caller names one (then read with a
-    warning)."""
+    warning).
+    """
     if assume is None:
         raise ImageFileError(f"{path}: has no geoimg metadata (it was not written by geoimg), so its domain is "
                              "unknown; name it to read the file anyway: load_image(path, assume='planar') "
@@ -109,7 +110,8 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
     """Read a geometry image written by :func:`save_image` (see :meth:`GeometryImage.save` for the
     formats): OpenEXR, a NumPy ``.npz`` archive, a float TIFF or a ``.npy`` array with its ``.npy.json``
     sidecar. The mask is the ``mask`` channel, or ``A`` (the RGBA layout, and TIFF's alpha). A file without
-    geoimg's metadata (an EXR or TIFF from another program, arrays saved by hand) is refused unless ``assume`` names its domain (``"planar"`` or
+    geoimg's metadata (an EXR or TIFF from another program, arrays saved by hand) is refused unless ``assume`` names
+    its domain (``"planar"`` or
     ``"octahedral"``); it is then read with a warning. A 16-bit PNG preview written by geoimg is read,
     as approximate geometry (its recorded offset and step), only with ``approximate=True``.
 
@@ -166,7 +168,8 @@ def _tiff_record(path, description):
 
 def _from_channels(path, data, names, meta, domain, assume) -> GeometryImage:
     """The image of a file's named channels (R, G, B; mask or A; N.X, N.Y, N.Z; color.R ...), its parsed
-    metadata and its domain kind (both None: a file without geoimg's metadata, read only with ``assume``)."""
+    metadata and its domain kind (both None: a file without geoimg's metadata, read only with ``assume``).
+    """
     if meta is None and domain is None:
         domain, meta = _unmarked(path, assume), {}
     domain = domain or "planar"
@@ -197,7 +200,8 @@ def _from_channels(path, data, names, meta, domain, assume) -> GeometryImage:
 
 def _load_npy(path, assume: str | None) -> GeometryImage:
     """A ``.npy`` array (H, W, C) float and its sidecar ``NAME.npy.json`` (channel names, domain, metadata);
-    without the sidecar, an (H, W, 3) array of X, Y, Z read only with ``assume``."""
+    without the sidecar, an (H, W, 3) array of X, Y, Z read only with ``assume``.
+    """
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
@@ -228,7 +232,8 @@ def _load_npz(path, assume: str | None) -> GeometryImage:
 
 def save_preview(image: GeometryImage, path: PathLike, *, overwrite: bool = False) -> Path:
     """Write a 16-bit RGB PNG: X, Y, Z each stretched to [0, 65535] over the valid pixels, masked pixels
-    black (see :meth:`GeometryImage.preview`)."""
+    black (see :meth:`GeometryImage.preview`).
+    """
     return image.preview(path, overwrite=overwrite)
 
 

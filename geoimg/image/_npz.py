@@ -1,5 +1,6 @@
 """Geometry images as NumPy ``.npz`` archives: ``positions`` (H, W, 3) float32, ``mask`` (H, W) bool and
-``normals`` (H, W, 3) and ``colors`` (H, W, 3 or 4) float32 when the image has them, and ``metadata``: the metadata and the domain's
+``normals`` (H, W, 3) and ``colors`` (H, W, 3 or 4) float32 when the image has them, and ``metadata``: the metadata
+and the domain's
 fields as JSON text (the same record the EXR keeps). Plain arrays, no pickles: ``np.load(path)`` reads
 them anywhere, and :func:`geoimg.load_image` reads them back bit for bit.
 """

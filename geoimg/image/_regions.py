@@ -50,7 +50,8 @@ def uv_region(shape: tuple[int, int], centre: ArrayLike, radius: float, feather:
 
 def load_mask(path: PathLike, shape: tuple[int, int]) -> np.ndarray:
     """Weights (H, W) in [0, 1] from an image file (PNG, EXR, ...: the first channel, scaled by its
-    type's range; 8-bit 255 is 1). The file must have the geometry image's size."""
+    type's range; 8-bit 255 is 1). The file must have the geometry image's size.
+    """
     path = Path(path)
     data, _, _ = read_raster(path, what="mask image")
     if data.shape[:2] != tuple(shape):

@@ -14,8 +14,17 @@ import numpy as np
 from .._raster import UINT8, read_raster, write_raster
 from ..errors import GeoimgError
 
-__all__ = ["obj_colors", "map_file_name", "read_mtl_texture", "read_texture", "texture_beside", "write_texture", "ply_colors", "split_corners",
-           "TEXTURE_SUFFIX"]
+__all__ = [
+    "obj_colors",
+    "map_file_name",
+    "read_mtl_texture",
+    "read_texture",
+    "texture_beside",
+    "write_texture",
+    "ply_colors",
+    "split_corners",
+    "TEXTURE_SUFFIX",
+]
 
 TEXTURE_SUFFIX = ".png"
 
@@ -23,7 +32,8 @@ TEXTURE_SUFFIX = ".png"
 def obj_colors(rows: list, path) -> np.ndarray | None:
     """Vertex colours from OBJ ``v x y z r g b [a]`` lines (a common extension), or None (``v x y z w`` is a
     weight, not a colour). Values above 1 are taken as 0..255. Lines that disagree (some with colours, some
-    without) give none, with a warning."""
+    without) give none, with a warning.
+    """
     widths = {len(r) for r in rows}
     if widths <= {3, 4}:                      # x y z, or x y z w (a rational weight, not a colour)
         return None
@@ -40,7 +50,8 @@ def obj_colors(rows: list, path) -> np.ndarray | None:
 
 def ply_colors(vx: dict) -> np.ndarray | None:
     """Vertex colours of a PLY vertex element (``red green blue [alpha]``, integers 0..255 or floats in
-    [0, 1]), or None."""
+    [0, 1]), or None.
+    """
     for prefix in ("", "diffuse_"):
         keys = [prefix + k for k in ("red", "green", "blue", "alpha")]
         if all(k in vx for k in keys[:3]):
@@ -103,7 +114,8 @@ def _is_number(token: str) -> bool:
 
 def read_mtl_texture(obj_path: Path, libraries: list, used: list) -> np.ndarray | None:
     """The one diffuse texture (``map_Kd``) that the OBJ's used materials name, or None (with a warning
-    when they name several, or when the library or image cannot be read)."""
+    when they name several, or when the library or image cannot be read).
+    """
     maps = {}
     for lib in libraries:
         mtl = obj_path.parent / lib
@@ -129,7 +141,8 @@ def read_mtl_texture(obj_path: Path, libraries: list, used: list) -> np.ndarray 
 
 def texture_beside(mesh_path: Path, file: Path) -> np.ndarray | None:
     """The texture ``file`` that the mesh file ``mesh_path`` names, or None with a warning when it is not
-    there or cannot be read (the mesh is read without it)."""
+    there or cannot be read (the mesh is read without it).
+    """
     if not file.is_file():
         warnings.warn(f"{mesh_path}: texture {file.name} not found; not read", stacklevel=6)
         return None

@@ -32,7 +32,7 @@ BOM = b"\xef\xbb\xbf"
 
 
 def load_mesh(path: PathLike, *, weld: bool = True) -> Mesh:
-    """Read a mesh file: faces of any size and order kept, copies of one position joined.
+    r"""Read a mesh file: faces of any size and order kept, copies of one position joined.
 
     Parameters
     ----------
@@ -64,7 +64,7 @@ def load_mesh(path: PathLike, *, weld: bool = True) -> Mesh:
     --------
     >>> import tempfile, pathlib
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "q.obj"
-    >>> _ = p.write_text("v 0 0 0\\nv 1 0 0\\nv 1 1 0\\nv 0 1 0\\nf 1 2 3 4\\n")
+    >>> _ = p.write_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")
     >>> load_mesh(p).faces.tolist()
     [[0, 1, 2, 3]]
     """
@@ -126,12 +126,19 @@ def save_mesh(mesh: Mesh, path: PathLike, *, overwrite: bool = False) -> Path:
 def mesh_file_jobs(mesh: Mesh, path: PathLike) -> list:
     """``(path, write)`` for every file that writing ``mesh`` to ``path`` makes (a textured OBJ: the OBJ, its
     ``.mtl`` and its ``.png``), for :func:`geoimg._atomic.write_all`: all of them or none. Warns when the
-    format keeps no colours or texture that the mesh has."""
+    format keeps no colours or texture that the mesh has.
+    """
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
     path = as_path(path)
     ext = path.suffix.lower()
-    writers = {".obj": _write_obj, ".off": _write_off, ".ply": _write_ply, ".stl": _write_trimesh, ".glb": _write_trimesh}
+    writers = {
+        ".obj": _write_obj,
+        ".off": _write_off,
+        ".ply": _write_ply,
+        ".stl": _write_trimesh,
+        ".glb": _write_trimesh,
+    }
     if ext not in writers:
         raise MeshFileError(f"{path}: unknown mesh format {ext!r}; expected one of {', '.join(MESH_FORMATS)}")
     lost = [name for name, value, kept in (("colours", mesh.colors, ext in (".obj", ".ply", ".glb")),
@@ -175,7 +182,7 @@ def _obj_lines(fh):
 
 def _read_obj(path: Path) -> Mesh:
     verts, tex, faces, face_vt, libraries, used = [], [], [], [], [], []
-    with open(path, "r", encoding="utf-8-sig", errors="replace") as fh:    # -sig: a byte-order mark is dropped
+    with open(path, encoding="utf-8-sig", errors="replace") as fh:    # -sig: a byte-order mark is dropped
         for line in _obj_lines(fh):
             line = line.lstrip()                                            # indented lines count too
             if not line or line[0] not in "vfmu":
@@ -232,7 +239,8 @@ def _read_obj(path: Path) -> Mesh:
 def _obj_uv(f: np.ndarray, t: np.ndarray, tex: np.ndarray, n: int, path: Path):
     """``(uv, face_uv)``: texture coordinates per corner when every corner has a vt, and per vertex as well
     when each position is used with a single vt (a UV seam gives per-corner ones only); (None, None) when
-    some corners have none (with a warning)."""
+    some corners have none (with a warning).
+    """
     used = f >= 0
     if np.any(t[used] < 0):
         warnings.warn(f"{path}: some faces have no vt indices; texture coordinates not read", stacklevel=4)
@@ -251,7 +259,8 @@ def _obj_uv(f: np.ndarray, t: np.ndarray, tex: np.ndarray, n: int, path: Path):
 
 def _write_obj(mesh: Mesh, tmp: Path, _ext: str, material: str | None = None) -> None:
     """OBJ: ``v`` (with ``r g b`` when the mesh has colours), ``vt`` per vertex or, with ``face_uv``, per
-    distinct corner value, ``vn``; ``material`` names the MTL library (written beside) to use."""
+    distinct corner value, ``vn``; ``material`` names the MTL library (written beside) to use.
+    """
     with open(tmp, "w", encoding="utf-8") as fh:
         fh.write("# written by geoimg\n")
         if material is not None:
@@ -329,7 +338,8 @@ def _read_off(path: Path) -> Mesh:
 
 def _same_size_faces(rows: list[list[str]]) -> np.ndarray | None:
     """The faces of an OFF file whose face lines all hold ``k`` and ``k`` indices (no colours, none run on),
-    as one array; None otherwise (the face-by-face reader then says what is wrong)."""
+    as one array; None otherwise (the face-by-face reader then says what is wrong).
+    """
     if not rows or not all(len(r) == len(rows[0]) and r[0] == rows[0][0] for r in rows):
         return None
     try:
@@ -342,7 +352,8 @@ def _same_size_faces(rows: list[list[str]]) -> np.ndarray | None:
 def _read_off_binary(data: bytes) -> Mesh:
     """Binary OFF: counts and data as 32-bit words, big-endian (the original layout) or little-endian (what
     PMP and others write), each face's indices followed by a colour count, or not (PMP writes none): the
-    byte order whose counts fit the file, and the face layout that reads to the file's last byte."""
+    byte order whose counts fit the file, and the face layout that reads to the file's last byte.
+    """
     start = data.index(b"\n") + 1
     if len(data) < start + 12:
         raise MeshFileError("the file ends inside the binary OFF header")
@@ -501,7 +512,8 @@ def _read_ply(path: Path) -> Mesh:
 def _ply_face_uv(path: Path, face: dict, faces: np.ndarray, textures: list):
     """``(face_uv, texture)`` from a face element's ``texcoord`` list (MeshLab: u, v per corner) and the
     header's ``TextureFile`` comment; (None, None) when there are none, or with a warning when they do not
-    fit the faces."""
+    fit the faces.
+    """
     name = next((n for n in ("texcoord", "texcoords", "texture_coordinates") if n in face), None)
     if name is None:
         return None, None
@@ -539,7 +551,8 @@ def _ascii_item(tokens: list, pos: int, props: list, cols: dict) -> int:
 def _read_ply_ascii(path: Path, body: bytes, elements: list) -> dict:
     """The elements of an ASCII PLY body. Writers put one item a line, so when the lines are as many as the
     items, each item is read from its own line, and values a line holds beyond what the header declares
-    are left out (with a warning: MeshLab writes some); otherwise the values are read as one stream."""
+    are left out (with a warning: MeshLab writes some); otherwise the values are read as one stream.
+    """
     lines = [ln for ln in body.split(b"\n") if ln.strip()]
     total = sum(count for _, count, _ in elements)
     values = {}
@@ -649,7 +662,8 @@ def _write_ply(mesh: Mesh, tmp: Path, _ext: str) -> None:
 # ------------------------------------------------------------------------ STL, GLB, glTF (trimesh)
 def _check_stl(path: Path) -> None:
     """Refuse a file that is neither a binary STL (an 80-byte header, a triangle count n, then 50 n bytes) nor
-    an ASCII one (``solid`` ... ``facet``) before trimesh guesses (it then needs packages it does not declare)."""
+    an ASCII one (``solid`` ... ``facet``) before trimesh guesses (it then needs packages it does not declare).
+    """
     size = path.stat().st_size
     with open(path, "rb") as fh:
         head = fh.read(1024)
@@ -664,7 +678,8 @@ def _check_stl(path: Path) -> None:
 
 def _check_gltf(path: Path) -> None:
     """Refuse a ``.gltf`` that is not a JSON object with an ``asset`` before trimesh guesses (it then looks for
-    files the glTF never named)."""
+    files the glTF never named).
+    """
     try:
         doc = json.loads(path.read_text(encoding="utf-8-sig"))
     except (UnicodeDecodeError, json.JSONDecodeError) as e:
@@ -714,7 +729,8 @@ def _trimesh_look(loaded, n: int, faces: np.ndarray) -> dict:
 
 def _write_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:
     """STL (triangles only) and GLB (triangles with colours, or texture coordinates and the texture,
-    vertices split at UV seams)."""
+    vertices split at UV seams).
+    """
     import trimesh
     visual: Any = None
     if ext == ".glb" and mesh.texture is not None:

@@ -121,7 +121,8 @@ def suggest_landmarks(mesh: Mesh, count: int = 8, *, radius: float = RADIUS, spr
 
 def _farthest_points(g: sparse.csr_matrix, picked: list[int], count: int, usable: np.ndarray) -> list[int]:
     """``picked`` filled up to ``count`` (at most the usable vertices) by farthest-point sampling of the
-    edge graph's distances."""
+    edge graph's distances.
+    """
     picked = list(picked)
     nearest = np.full(g.shape[0], np.inf)
     if picked:

@@ -221,7 +221,7 @@ class Mesh:
             object.__setattr__(self, "texture", img)
 
     def derived(self, faces: Any, *, vertex_source: Any = None, face_source: Any = None,
-                turned: Any = None) -> "Mesh":
+                turned: Any = None) -> Mesh:
         """A mesh made from this one, its attributes carried: vertex ``i`` is this mesh's vertex
         ``vertex_source[i]`` (default: the same vertices), face ``j`` is this mesh's face
         ``face_source[j]`` (default: the same faces) with the corners ``faces[j]``, read backwards where
@@ -340,7 +340,8 @@ class Mesh:
 
     def triangle_corners(self, quads: str = "fan") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`triangulate`'s triangles and faces, and each triangle's corners as positions within its
-        face (T, 3): ``triangles[t, k] == faces[face_index[t], corners[t, k]]``."""
+        face (T, 3): ``triangles[t, k] == faces[face_index[t], corners[t, k]]``.
+        """
         if quads not in ("fan", "shorter"):
             raise MeshError(f"quads: expected 'fan' or 'shorter', got {quads!r}")
         per_face = self.face_sizes - 2                                 # linear time, any polygon size
@@ -370,7 +371,8 @@ class Mesh:
         """Faces of 5 corners or more (quads keep their diagonal) that a fan from the first corner would not
         split well, in the plane that fits them best (Newell's normal): with a reflex corner (turning against
         it by more than rounding), or a corner on a line next to the first one (a fan triangle of zero area);
-        only faces within 5 % of their size of that plane (a polygon far from flat keeps its fan)."""
+        only faces within 5 % of their size of that plane (a polygon far from flat keeps its fan).
+        """
         out = np.zeros(self.n_faces, bool)
         for k in np.unique(self.face_sizes[self.face_sizes >= 5]).tolist():
             rows = np.flatnonzero(self.face_sizes == k)
@@ -442,7 +444,8 @@ class Mesh:
 
 def _plane_coordinates(p: np.ndarray) -> np.ndarray:
     """A polygon's corners (k, 3) in 2-D coordinates of the plane normal to its Newell normal, so that the
-    polygon runs counter-clockwise."""
+    polygon runs counter-clockwise.
+    """
     normal = np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0)
     normal = normal / max(float(np.linalg.norm(normal)), 1e-300)
     a = np.eye(3)[int(np.argmin(np.abs(normal)))]
@@ -456,7 +459,8 @@ def _plane_coordinates(p: np.ndarray) -> np.ndarray:
 def _ear_clip(xy: np.ndarray) -> np.ndarray | None:
     """Triangles (k - 2, 3) of corner positions that split the counter-clockwise polygon ``xy`` (k, 2), by
     clipping ears (a convex corner whose triangle holds no other corner); None when none is found (a polygon
-    that crosses itself), and the caller keeps its fan."""
+    that crosses itself), and the caller keeps its fan.
+    """
     left = list(range(len(xy)))
     out: list[tuple[int, ...]] = []
 

@@ -36,7 +36,8 @@ def point_mesh_distance(points: np.ndarray, mesh: Mesh) -> np.ndarray:
 
 def sample_surface(mesh: Mesh, n: int, seed: int = 0) -> np.ndarray:
     """``n`` points spread uniformly over the mesh's area (quads split along their shorter diagonal),
-    followed by its vertices."""
+    followed by its vertices.
+    """
     tris, _ = mesh.triangulate(quads="shorter")
     p = mesh.vertices[tris]
     area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
@@ -75,6 +76,12 @@ def surface_distance(reference: Mesh, other: Mesh, n: int = 200000) -> dict:
     rms_ab, rms_ba = float(np.sqrt(np.mean(ab[:n] ** 2))), float(np.sqrt(np.mean(ba[:n] ** 2)))
     rms = float(np.sqrt(0.5 * (rms_ab ** 2 + rms_ba ** 2)))
     hausdorff = float(max(ab.max(), ba.max()))
-    return {"diagonal": diag, "hausdorff": hausdorff, "rms": rms, "hausdorff_rel": hausdorff / diag if diag > 0 else 0.0,
-            "rms_ref_to_other": rms_ab, "rms_other_to_ref": rms_ba,
-            "psnr_db": float(20 * np.log10(diag / rms)) if rms > 0 else float("inf")}
+    return {
+        "diagonal": diag,
+        "hausdorff": hausdorff,
+        "rms": rms,
+        "hausdorff_rel": hausdorff / diag if diag > 0 else 0.0,
+        "rms_ref_to_other": rms_ab,
+        "rms_other_to_ref": rms_ba,
+        "psnr_db": float(20 * np.log10(diag / rms)) if rms > 0 else float("inf"),
+    }

@@ -23,14 +23,23 @@ from ..errors import MeshError
 from ._mesh import Mesh, reverse_corners
 from ._topology import corner_fans
 
-__all__ = ["Repair", "drop_degenerate_faces", "drop_duplicate_faces", "split_fans", "orient_faces", "split_components", "repair"]
+__all__ = [
+    "Repair",
+    "drop_degenerate_faces",
+    "drop_duplicate_faces",
+    "split_fans",
+    "orient_faces",
+    "split_components",
+    "repair",
+]
 
 
 @dataclass(frozen=True)
 class Repair:
     """What :func:`repair` did to one piece: the piece, where its vertices came from in the input
     (``source_vertices``, (N,)), and the counts of split pinch vertices, separated non-manifold edges and
-    turned faces."""
+    turned faces.
+    """
 
     mesh: Mesh
     source_vertices: np.ndarray
@@ -167,7 +176,8 @@ def orient_faces(mesh: Mesh) -> tuple[Mesh, int]:
 
 def split_components(mesh: Mesh) -> list[tuple[Mesh, np.ndarray]]:
     """One mesh per connected piece (faces joined by shared vertices), largest first (by face count),
-    each with the indices of its vertices in ``mesh``; unreferenced vertices are dropped."""
+    each with the indices of its vertices in ``mesh``; unreferenced vertices are dropped.
+    """
     f = mesh.faces
     valid = f >= 0
     face_of = np.nonzero(valid)[0]

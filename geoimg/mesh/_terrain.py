@@ -65,7 +65,8 @@ def grid_triangles(rows: int, cols: int) -> np.ndarray:
 
 def load_dem(path: PathLike) -> np.ndarray:
     """Elevations (H, W) float64 of a single-band raster (GeoTIFF, EXR, ...) through OpenImageIO, or of
-    the first array in an ``.npz``. Georeferencing is not read: give :func:`grid_mesh` the cell size."""
+    the first array in an ``.npz``. Georeferencing is not read: give :func:`grid_mesh` the cell size.
+    """
     path = Path(path)
     if path.suffix.lower() == ".npz":
         if not path.is_file():

@@ -99,7 +99,8 @@ def corner_fans(mesh: Mesh, *, across_nonmanifold: bool = True) -> tuple[np.ndar
     """The fan of every face corner: corners at one vertex are in one fan when their faces are joined
     across the edges at that vertex. Returns each valid corner's vertex (in ``mesh.faces[mesh.faces >= 0]``
     order) and its fan label. ``across_nonmanifold=False`` does not join faces across an edge that more
-    than two faces share, so each of those faces starts a fan of its own there."""
+    than two faces share, so each of those faces starts a fan of its own there.
+    """
     f = mesh.faces
     valid = f >= 0
     corner_v = f[valid]
@@ -128,7 +129,8 @@ def corner_fans(mesh: Mesh, *, across_nonmanifold: bool = True) -> tuple[np.ndar
 
 def _pinch_vertices(mesh: Mesh) -> int:
     """Vertices whose incident faces fall into more than one fan (faces joined across the edges at the
-    vertex): the pinch points of an edge-manifold mesh."""
+    vertex): the pinch points of an edge-manifold mesh.
+    """
     corner_v, label = corner_fans(mesh)
     n_corners = len(corner_v)
     fans = np.unique(corner_v.astype(np.int64) * n_corners + label)

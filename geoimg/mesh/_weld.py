@@ -27,7 +27,8 @@ __all__ = ["Weld", "weld_vertices"]
 class Weld:
     """What :func:`weld_vertices` did: the welded mesh, each input vertex's new index (``vertex_map``, (N,)),
     how many vertices were joined into others, and notes on the attributes that the joined copies disagreed
-    on."""
+    on.
+    """
 
     mesh: Mesh
     vertex_map: np.ndarray
@@ -48,7 +49,8 @@ def _disagree(values: np.ndarray, rep: np.ndarray) -> int:
 def _seam_representatives(mesh: Mesh, group: np.ndarray) -> np.ndarray:
     """Each vertex's first copy among those it is joined to along seams: two copies of one position are
     joined when edges at them coincide (both ends copies of each other: two faces stored apart along one
-    edge), and so on through such joins; copies that only touch at a point are not."""
+    edge), and so on through such joins; copies that only touch at a point are not.
+    """
     valid = mesh.faces >= 0
     a, b = mesh.faces[valid], mesh.next_vertices()[valid]
     n = mesh.n_vertices
@@ -105,7 +107,8 @@ def weld_vertices(mesh: Mesh, *, seams_only: bool = True) -> Weld:
     >>> w.mesh.faces.tolist(), w.joined, w.mesh.uv is None, w.mesh.face_uv[1, 0].tolist()
     ([[0, 1, 2], [0, 2, 3]], 2, True, [0.5, 0.0])
     >>> w.describe()
-    'joined 2 exactly coincident vertices (copies of one position); texture coordinates differ at 1 of them: kept per face corner'
+    'joined 2 exactly coincident vertices (copies of one position); texture coordinates differ at 1 of them: kept per
+    face corner'
     """
     used = mesh.referenced_vertices()
     ids = np.flatnonzero(used)

@@ -11,6 +11,23 @@ from ._disk import DISK_BALANCES, DISK_BOUNDARIES, disk_coords
 from ._sphere import sphere_coords
 from ._octahedral import area_ratio, grid_directions, sphere_to_square, square_jacobian, square_to_sphere
 
-__all__ = ["QUANTA_PER_SIDE", "cut_coords", "layout_quanta", "perimeter_point", "AXES", "DISK_BALANCES", "DISK_BOUNDARIES", "PARAMETRIZATION_METHODS", "Parametrization", "parametrize", "signed_face_areas", "disk_coords",
-           "sphere_coords", "area_ratio", "grid_directions", "sphere_to_square", "square_jacobian",
-           "square_to_sphere"]
+__all__ = [
+    "QUANTA_PER_SIDE",
+    "cut_coords",
+    "layout_quanta",
+    "perimeter_point",
+    "AXES",
+    "DISK_BALANCES",
+    "DISK_BOUNDARIES",
+    "PARAMETRIZATION_METHODS",
+    "Parametrization",
+    "parametrize",
+    "signed_face_areas",
+    "disk_coords",
+    "sphere_coords",
+    "area_ratio",
+    "grid_directions",
+    "sphere_to_square",
+    "square_jacobian",
+    "square_to_sphere",
+]

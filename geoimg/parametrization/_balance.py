@@ -25,10 +25,25 @@ import numpy as np
 from scipy import sparse
 
 from ._balance_kernels import balance_energy, balance_gradient, project_moves, step_to
-from ._laplacian import (corner_cotangents, cotangent_weights, factor_symmetric, laplacian, triangle_areas, vertex_areas,
-                         vertex_shares)
+from ._laplacian import (
+    corner_cotangents,
+    cotangent_weights,
+    factor_symmetric,
+    laplacian,
+    triangle_areas,
+    vertex_areas,
+    vertex_shares,
+)
 
-__all__ = ["balance", "default_steps", "squeeze_scale", "neighbour_mean", "local_sizes", "SCALE_SMOOTHING", "DEFAULT_STEPS"]
+__all__ = [
+    "balance",
+    "default_steps",
+    "squeeze_scale",
+    "neighbour_mean",
+    "local_sizes",
+    "SCALE_SMOOTHING",
+    "DEFAULT_STEPS",
+]
 
 SCALE_SMOOTHING = 3      # neighbour means taken of the log area ratio behind the scaled step
 DEFAULT_STEPS = 200
@@ -48,7 +63,8 @@ def default_steps(triangles: int) -> int:
 
 def local_sizes(s: np.ndarray, edges: np.ndarray, *, ignore_below: float | None = None) -> np.ndarray:
     """Each vertex's shortest edge in the map (inf for vertices on no edge); with ``ignore_below``, edges no
-    longer than that share of the longest are left out (vertices on one point get their other edges)."""
+    longer than that share of the longest are left out (vertices on one point get their other edges).
+    """
     length = np.linalg.norm(s[edges[:, 0]] - s[edges[:, 1]], axis=1)
     if ignore_below is not None:
         length[length <= ignore_below * length.max()] = np.inf
@@ -70,7 +86,8 @@ def squeeze_scale(area: np.ndarray, share: np.ndarray, tris: np.ndarray, used: n
     """Each vertex's linear scale, (n, 1): the square root of its share of the map (``area``, per triangle,
     summing to 1) over its share of the mesh (``share``, per vertex: :func:`vertex_shares`), its log averaged
     ``SCALE_SMOOTHING`` times with the neighbours' (``smooth``: :func:`neighbour_mean`), and at most 1: only
-    squeezed parts are slowed."""
+    squeezed parts are slowed.
+    """
     n = len(used)
     known = used & (share > 0)                  # a vertex only on faces of no area has no ratio: 1
     ratio = vertex_shares(area, tris, n) / np.where(known, share, 1.0)

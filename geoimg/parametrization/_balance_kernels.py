@@ -26,7 +26,8 @@ def _corner(s, tris, t, k):
 @njit(cache=True, inline="always")
 def _direction(s, tris, t, planar):
     """The direction triangle ``t`` is seen from: +z on the plane, its corners' sum on the sphere; and the
-    sum's length (1 on the plane)."""
+    sum's length (1 on the plane).
+    """
     if planar:
         return 0.0, 0.0, 1.0, 1.0
     x0, y0, z0 = _corner(s, tris, t, 0)
@@ -62,7 +63,8 @@ CHUNK = 1024      # triangles per partial sum: fixed, so that the sums do not de
 def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
     """The energy, and ``sum a_t log r_t`` (what the areas' normalization adds to the gradient). Each chunk of
     ``CHUNK`` triangles is summed in order, then the chunks' sums in order: the same bits on any number of
-    threads (a reduction over ``prange`` adds in an order that depends on them)."""
+    threads (a reduction over ``prange`` adds in an order that depends on them).
+    """
     n = tris.shape[0]
     n_chunks = -(-n // CHUNK)
     e_part = np.zeros(n_chunks)
@@ -97,7 +99,8 @@ def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
 
 def balance_energy(s, tris, a, cot, beta, planar=False):
     """Energy of unit vectors ``s`` (n, 3), or of points ``(u, v, 0)`` with ``planar``; ``(inf, None)`` if a
-    triangle is not positive, else ``(E, state)`` with the state :func:`balance_gradient` needs."""
+    triangle is not positive, else ``(E, state)`` with the state :func:`balance_gradient` needs.
+    """
     area = np.empty(len(tris))
     if _areas(s, tris, bool(planar), area):
         return np.inf, None
@@ -133,9 +136,15 @@ def _corner_gradients(s, tris, a, cot, area, lam, beta, dirichlet, shift, planar
             ex = s[v2, 0] - s[v1, 0]
             ey = s[v2, 1] - s[v1, 1]
             ez = s[v2, 2] - s[v1, 2]
-            out[t, k, 0] = (0.5 * (uy * ez - uz * ey) + tx) * f_a + f_d * (c2 * (s[vk, 0] - s[v1, 0]) + c1 * (s[vk, 0] - s[v2, 0]))
-            out[t, k, 1] = (0.5 * (uz * ex - ux * ez) + ty) * f_a + f_d * (c2 * (s[vk, 1] - s[v1, 1]) + c1 * (s[vk, 1] - s[v2, 1]))
-            out[t, k, 2] = (0.5 * (ux * ey - uy * ex) + tz) * f_a + f_d * (c2 * (s[vk, 2] - s[v1, 2]) + c1 * (s[vk, 2] - s[v2, 2]))
+            out[t, k, 0] = (0.5 * (uy * ez - uz * ey) + tx) * f_a + f_d * (
+                c2 * (s[vk, 0] - s[v1, 0]) + c1 * (s[vk, 0] - s[v2, 0])
+            )
+            out[t, k, 1] = (0.5 * (uz * ex - ux * ez) + ty) * f_a + f_d * (
+                c2 * (s[vk, 1] - s[v1, 1]) + c1 * (s[vk, 1] - s[v2, 1])
+            )
+            out[t, k, 2] = (0.5 * (ux * ey - uy * ex) + tz) * f_a + f_d * (
+                c2 * (s[vk, 2] - s[v1, 2]) + c1 * (s[vk, 2] - s[v2, 2])
+            )
 
 
 @njit(cache=True)
@@ -164,7 +173,8 @@ def balance_gradient(s, tris, a, cot, beta, state):
 def project_moves(v, s, planar, moves, along):
     """Project each row of ``v`` (n, 3), in place, onto the moves its vertex may make: the tangent plane at
     ``s[i]`` on the sphere; on the plane, the plane itself, or the line ``along[i]`` where that row is not
-    zero; nothing where ``moves[i]`` is False."""
+    zero; nothing where ``moves[i]`` is False.
+    """
     for i in prange(v.shape[0]):
         if not moves[i]:
             v[i, 0] = 0.0

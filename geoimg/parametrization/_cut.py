@@ -57,7 +57,8 @@ def _cut_open(vertices: np.ndarray, tris: np.ndarray):
 def _split_chords(v: np.ndarray, f: np.ndarray, source: np.ndarray, on_boundary: np.ndarray):
     """Split every interior edge whose two ends are on the boundary at its midpoint (repeated until none
     is left). Returns vertices, faces, source vertex pairs (a, b) per vertex (a == b for originals) and the
-    number of edges split."""
+    number of edges split.
+    """
     src = np.stack([source, source], axis=1) if source.ndim == 1 else source
     split = 0
     for _ in range(8):
@@ -88,7 +89,8 @@ def _split_chords(v: np.ndarray, f: np.ndarray, source: np.ndarray, on_boundary:
 
 def _split_triangle(tri, mids) -> list:
     """Triangle ``tri`` (3,) split at the midpoints ``mids`` (3,) of its edges (edge k runs from corner k to
-    corner k + 1; -1 where an edge is not split), the pieces wound like the triangle."""
+    corner k + 1; -1 where an edge is not split), the pieces wound like the triangle.
+    """
     v, m = [int(x) for x in tri], [int(x) for x in mids]
     split = [k for k in range(3) if m[k] >= 0]
     if len(split) == 3:
@@ -105,7 +107,8 @@ def _split_triangle(tri, mids) -> list:
 def _split_at_corners(v, f, src, weight, loop, t, quanta_per_side):
     """Put a vertex at each corner of the square: a boundary edge running round a corner is split there
     (and its twin on the other side of the cut at the same point), its face in two. Returns the updated
-    arrays and the number of corners split."""
+    arrays and the number of corners split.
+    """
     total = 4 * quanta_per_side
     split = 0
     for c in (quanta_per_side, 2 * quanta_per_side, 3 * quanta_per_side):
@@ -168,7 +171,8 @@ def _on_edge(src, weight, p, q):
 
 def _segments(loop: np.ndarray, source: np.ndarray, lengths: np.ndarray):
     """Split the disk's boundary loop into segments between nodes. Returns the node positions (loop
-    indices where segments start) and each segment's twin (or -1 for the mesh's own boundary)."""
+    indices where segments start) and each segment's twin (or -1 for the mesh's own boundary).
+    """
     n = len(loop)
     s_from, s_to = source[loop], source[np.roll(loop, -1)]
     edge_key: dict[tuple[int, int], list[int]] = {}
@@ -202,7 +206,8 @@ def _segments(loop: np.ndarray, source: np.ndarray, lengths: np.ndarray):
 
 def _quantize(seg_len: np.ndarray, twin: np.ndarray, quanta: int) -> np.ndarray:
     """Whole numbers of quanta per segment, at least 1, twins equal, summing to ``quanta``, near the
-    segments' shares of the total length (largest remainders)."""
+    segments' shares of the total length (largest remainders).
+    """
     n = len(seg_len)
     if n > quanta:
         raise ParametrizationError(f"method='cut': the boundary has {n} segments, more than the {quanta} the layout "

@@ -32,7 +32,13 @@ BULGE = 0.02
 
 def _check_disk(mesh: Mesh):
     topo = topology(mesh)
-    if not (topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0 and topo.components == 1 and topo.boundary_loops == 1 and topo.genus == 0):
+    if not (
+        topo.nonmanifold_edges == 0
+        and topo.nonmanifold_vertices == 0
+        and topo.components == 1
+        and topo.boundary_loops == 1
+        and topo.genus == 0
+    ):
         raise ParametrizationError(
             f"method='disk' needs one boundary loop around a single genus-0 piece; the mesh is a {topo.describe()}")
 
@@ -45,7 +51,8 @@ def _square_positions(t: np.ndarray, corners: np.ndarray, total: float, bulge: f
     """Points on the unit square's outline (counter-clockwise from (0, 0)) for arc positions ``t`` of
     the loop, with the four ``corners`` (arc positions, increasing from 0) going to the square's corners.
     ``bulge`` > 0 bows each side outwards by that much at its middle (a parabola), which makes the
-    outline strictly convex."""
+    outline strictly convex.
+    """
     square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]])
     outward = np.array([[0.0, -1.0], [1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]])
     knots = np.append(corners, total)
@@ -75,7 +82,8 @@ def _flat_faces(faces_b: np.ndarray, t_of: np.ndarray, corners: np.ndarray) -> i
 def _corner_choice(idx: list, arc: np.ndarray, total: float, faces_b: np.ndarray, sharp: np.ndarray):
     """``(key, t_of, corners, idx)`` for the boundary vertices ``idx`` as the square's corners, in loop order
     from ``idx[0]``: ``t_of`` each boundary vertex's arc position from the first corner, ``key`` what ranks
-    the choice (flat faces, then the corners' sharpness); None when they are not four distinct places."""
+    the choice (flat faces, then the corners' sharpness); None when they are not four distinct places.
+    """
     if len(set(idx)) < 4:
         return None
     order = np.argsort([(arc[i] - arc[idx[0]]) % total for i in idx])
@@ -214,7 +222,8 @@ def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndar
     ``loop``, relaxed as ``balance`` says: ``"area"``, the area balancing the sphere's map uses, the boundary
     sliding as ``slide`` says (directions and held vertices in loop order) or held; ``"slim"``, libigl's SLIM
     with the boundary held; ``"none"``, as it is. ``progress`` hears from the area balancing every ten steps.
-    Returns the coordinates and the steps taken."""
+    Returns the coordinates and the steps taken.
+    """
     if balance == "slim":
         return relax(v, f, coords, loop)
     if balance == "none":

@@ -12,7 +12,18 @@ from scipy.sparse import linalg as splinalg
 
 from ..errors import ParametrizationError
 
-__all__ = ["factor_symmetric", "laplacian", "triangle_areas", "vertex_areas", "vertex_shares", "mean_value_weights", "cotangent_weights", "corner_angles", "corner_cotangents", "solve_free"]
+__all__ = [
+    "factor_symmetric",
+    "laplacian",
+    "triangle_areas",
+    "vertex_areas",
+    "vertex_shares",
+    "mean_value_weights",
+    "cotangent_weights",
+    "corner_angles",
+    "corner_cotangents",
+    "solve_free",
+]
 
 _TINY = 1e-300
 
@@ -42,7 +53,7 @@ def corner_angles(vertices: np.ndarray, tris: np.ndarray) -> np.ndarray:
 
 
 def corner_cotangents(vertices: np.ndarray, tris: np.ndarray) -> np.ndarray:
-    """cot of the angle at each corner of each triangle, shape (T, 3) (huge, not infinite, for a flat corner)."""
+    """Cot of the angle at each corner of each triangle, shape (T, 3) (huge, not infinite, for a flat corner)."""
     _, _, dot, cross = _corners(vertices, tris)
     return dot / np.maximum(cross, _TINY)
 
@@ -100,7 +111,8 @@ def cotangent_weights(vertices: np.ndarray, tris: np.ndarray, floor: float = 1e-
 def factor_symmetric(a: sparse.spmatrix):
     """Sparse LU of a symmetric positive definite matrix with a symmetric (minimum degree on A + A^T)
     ordering and diagonal pivots: about 40 % less fill than the default column ordering on mesh
-    Laplacians. Returns the ``SuperLU`` object (``.solve(b)``)."""
+    Laplacians. Returns the ``SuperLU`` object (``.solve(b)``).
+    """
     return splinalg.splu(sparse.csc_matrix(a), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                          options={"SymmetricMode": True})
 

@@ -26,7 +26,7 @@ Examples
 """
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import igl
 import numpy as np
@@ -46,7 +46,8 @@ OPEN_SHARE = 1e-3              # ... and count as opened above this share of tha
 
 def decimate(x: np.ndarray, tris: np.ndarray, triangles: int):
     """Edge collapses (libigl) down to at most ``triangles``; ``(U, G)`` or None when libigl fails or the
-    result is not a closed genus-0 surface in one piece."""
+    result is not a closed genus-0 surface in one piece.
+    """
     try:
         U, G, _, _ = igl.decimate(np.asfortranarray(x, np.float64), np.asfortranarray(tris, np.int32), int(triangles))
     except Exception:       # pragma: no cover - libigl refuses a mesh it cannot collapse
@@ -60,7 +61,8 @@ def decimate(x: np.ndarray, tris: np.ndarray, triangles: int):
 
 def transfer(x: np.ndarray, U: np.ndarray, G: np.ndarray, coarse: np.ndarray) -> np.ndarray:
     """Unit vectors for the points ``x``: the coarse map ``coarse`` (of the mesh ``U, G``) at each point's
-    closest point on that mesh, barycentric in its triangle."""
+    closest point on that mesh, barycentric in its triangle.
+    """
     _, tri, closest = igl.point_mesh_squared_distance(np.asarray(x, np.float64), U, G)
     a, b, c = (U[G[tri, k]] for k in range(3))
     n = np.cross(b - a, c - a)
@@ -86,7 +88,8 @@ def untangle(s: np.ndarray, tris: np.ndarray, *, rings: int = UNTANGLE_RINGS[0],
     """Open the folded triangles of a map onto the sphere: the vertices within ``rings`` of them descend on
     ``sum max(0, eps - det)^2`` over the triangles around them (each moving at most a fifth of its
     shortest edge a step), the rest stay, until every triangle's ``det`` is above ``OPEN_SHARE * eps``.
-    Returns ``(s, steps taken, whether no triangle is folded)``."""
+    Returns ``(s, steps taken, whether no triangle is folded)``.
+    """
     det = chord_orientation(s, tris)
     positive = det[det > 0]
     eps = target * float(np.median(positive)) if len(positive) else 1e-6
@@ -104,7 +107,8 @@ def untangle(s: np.ndarray, tris: np.ndarray, *, rings: int = UNTANGLE_RINGS[0],
 
 def _local_descent(s, near, moving, eps, floor, steps):
     """:func:`untangle`'s descent on the vertices ``s`` of the triangles ``near`` (renumbered), in place;
-    returns ``(s, steps taken, whether opened)``."""
+    returns ``(s, steps taken, whether opened)``.
+    """
     edges = np.concatenate([near[:, [0, 1]], near[:, [1, 2]], near[:, [2, 0]]])
     for step in range(steps):
         a, b, c = s[near[:, 0]], s[near[:, 1]], s[near[:, 2]]
@@ -133,7 +137,8 @@ def multilevel_start(x: np.ndarray, tris: np.ndarray, coarse_map: Callable, *,
     """A one-to-one starting map of the closed genus-0 triangle mesh ``x, tris`` made through a coarse copy
     (see the module's text), of ``coarse_triangles`` (default :data:`COARSE_TRIANGLES`); ``coarse_map(U, G)``
     returns unit vectors for the coarse mesh, or None; ``progress(message)`` hears of each stage.
-    Returns ``(s, info)``, ``s`` None when no such map was found (``info["multilevel"]`` says why)."""
+    Returns ``(s, info)``, ``s`` None when no such map was found (``info["multilevel"]`` says why).
+    """
     say = progress or (lambda message: None)
     tris = np.asarray(tris, np.int64)
     coarse = decimate(x, tris, COARSE_TRIANGLES if coarse_triangles is None else coarse_triangles)

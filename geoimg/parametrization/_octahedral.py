@@ -21,8 +21,20 @@ from scipy.spatial.transform import Rotation
 
 from ..errors import InputError
 
-__all__ = ["directions", "sampling_rotation", "square_to_sphere", "sphere_to_square", "check_size", "weld_index", "area_ratio", "grid_directions",
-           "square_jacobian", "glued_groups", "group_means", "average_glued"]
+__all__ = [
+    "directions",
+    "sampling_rotation",
+    "square_to_sphere",
+    "sphere_to_square",
+    "check_size",
+    "weld_index",
+    "area_ratio",
+    "grid_directions",
+    "square_jacobian",
+    "glued_groups",
+    "group_means",
+    "average_glued",
+]
 
 
 def _unfold(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -35,7 +47,8 @@ def _unfold(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def square_jacobian(uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Derivatives ``dq/du`` and ``dq/dv`` (..., 3) of the unit direction at image points ``uv``
-    (one-sided on the creases, where the map bends)."""
+    (one-sided on the creases, where the map bends).
+    """
     uv = np.asarray(uv, dtype=np.float64)
     a = 2.0 * uv[..., 0] - 1.0
     b = 2.0 * uv[..., 1] - 1.0
@@ -56,7 +69,8 @@ def square_jacobian(uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def grid_directions(n: int) -> np.ndarray:
     """Unit directions of the ``n x n`` octahedral grid (rows v, columns u), computed from integers so
-    that glued pixels get bit-identical directions."""
+    that glued pixels get bit-identical directions.
+    """
     n = check_size(n)
     a = (2.0 * np.arange(n) - (n - 1)) / (n - 1)
     aa, bb = np.meshgrid(a, a)

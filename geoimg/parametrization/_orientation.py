@@ -8,7 +8,8 @@ __all__ = ["chord_orientation", "facing_out"]
 
 def chord_orientation(s: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """``det(s_a, s_b, s_c)`` of every triangle on the sphere: positive when it runs counter-clockwise
-    seen from outside."""
+    seen from outside.
+    """
     a, b, c = s[tris[:, 0]], s[tris[:, 1]], s[tris[:, 2]]
     return np.einsum("ij,ij->i", a, np.cross(b, c))
 

@@ -27,7 +27,11 @@ __all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATI
 _AXES = {"x": 0, "y": 1, "z": 2}
 SNAP_DEGREES = 15.0
 MAX_OUTLINE_GAP = 0.25     # auto takes a height field or the mesh's UVs only when the outline fills its hull this well
-COORD_DIMS = {"planar": 2, "octahedral": 3, "cut": 2}   # a parametrization's domain kind -> per-vertex coordinates: (u, v), unit vectors
+COORD_DIMS = {
+    "planar": 2,
+    "octahedral": 3,
+    "cut": 2,
+}  # a parametrization's domain kind -> per-vertex coordinates: (u, v), unit vectors
 
 
 @dataclass(frozen=True, eq=False)
@@ -159,7 +163,8 @@ def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, bo
     boundary : {"square", "keep"}
         For ``disk``: the boundary on the unit square, or kept as it is when it is a convex planar polygon.
     balance : {"area", "slim", "none"}
-        For ``disk`` (and ``cut``, whose boundary is always held: its sides are glued in pairs): after the mean-value map, balance its area as the sphere's map is balanced, the
+        For ``disk`` (and ``cut``, whose boundary is always held: its sides are glued in pairs): after the mean-value
+        map, balance its area as the sphere's map is balanced, the
         boundary vertices sliding along the square's sides and the corners held (``"area"``); or lower
         its distortion with SLIM, the boundary held (``"slim"``). Either opens up what the mean-value map
         squeezes (fingers, ears, a snout), every step fold-free. ``"none"`` keeps the mean-value map.
@@ -293,7 +298,8 @@ def _check_area(mesh: Mesh) -> None:
 
 def _outline_gap(mesh: Mesh, coords: np.ndarray, topo) -> float:
     """For a mesh with one boundary loop (``topo``: its topology): the share of the convex hull of its (u, v)
-    outline that the outline leaves empty (0 for a convex outline); 0 for other meshes."""
+    outline that the outline leaves empty (0 for a convex outline); 0 for other meshes.
+    """
     loops = boundary_loops(mesh) if topo.boundary_loops == 1 else []
     if len(loops) != 1 or len(loops[0]) < 3:
         return 0.0

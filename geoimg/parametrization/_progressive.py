@@ -24,7 +24,9 @@ __all__ = ["simplify", "progressive_sphere"]
 class Collapses(NamedTuple):
     """Half-edge collapses ``v -> u`` in the order they were made: the two faces each removed (``removed``,
     their rows as they were in ``rows``) and the faces that changed ``v`` to ``u`` (``changed[changed_ptr[k]:
-    changed_ptr[k + 1]]``, ascending)."""
+    changed_ptr[k + 1]]``, ascending).
+    """
+
     v: np.ndarray
     u: np.ndarray
     removed: np.ndarray          # (k, 2)
@@ -86,7 +88,8 @@ def _length(x, a, b):
 @njit(cache=True)
 def _collapse(x, tris, target, max_valence, cap):
     """:func:`simplify`'s collapses, in place on ``tris``; neighbours and faces of each vertex in rows of
-    ``cap`` (no vertex gains any: the kept one has at most ``max_valence``)."""
+    ``cap`` (no vertex gains any: the kept one has at most ``max_valence``).
+    """
     n = len(x)
     nbrs = np.empty((n, cap), np.int64)
     n_nbrs = np.zeros(n, np.int64)
@@ -188,7 +191,8 @@ def _collapse(x, tris, target, max_valence, cap):
 def _best_candidate(s, faces, v, cand):
     """The first candidate position of ``v`` whose smallest orientation ``det(a, b, c)`` over ``faces`` is
     largest, and that orientation. A candidate is dropped as soon as one of its faces is no better than
-    the best so far (it cannot win), so the result is the argmax of the full scores."""
+    the best so far (it cannot win), so the result is the argmax of the full scores.
+    """
     best, best_score = 0, -np.inf
     p = np.empty((3, 3))
     for k in range(cand.shape[0]):
@@ -298,7 +302,7 @@ def _place(s, v, u, faces, n_changed, cosines, sines, halves):
 
 @njit(cache=True)
 def _pairwise_sum(a):
-    """numpy's sum of a 1-D float64 array (pairwise, eight running sums in blocks of up to 128)."""
+    """Numpy's sum of a 1-D float64 array (pairwise, eight running sums in blocks of up to 128)."""
     n = len(a)
     if n < 8:
         res = 0.0
@@ -326,7 +330,8 @@ def _pairwise_sum(a):
 def _grow(s, cur, alive, collapses, start, stop, cosines, sines, halves):
     """Undo the ``start``-th to the ``stop - 1``-th last of the :class:`Collapses`, the last made first,
     placing each returning vertex with :func:`_place`; ``cur`` and ``alive`` follow. Returns how many
-    found no fold-free place."""
+    found no fold-free place.
+    """
     rec_v, rec_u, removed, rows, changed_ptr, changed = collapses
     misplaced = 0
     for i in range(start, stop):

@@ -3,7 +3,8 @@ boundary held: what the disk and cut-open parametrizations run after the mean-va
 (the default is the area balancing of :mod:`._balance`). Every SLIM step keeps
 every triangle the right way round, and the symmetric Dirichlet energy grows without bound as a triangle
 shrinks, so triangles that the mean-value map squeezed (what sticks out of a disk: fingers, ears, a snout)
-are opened up."""
+are opened up.
+"""
 from __future__ import annotations
 
 import igl
@@ -34,7 +35,8 @@ def relax(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray):
     the boundary held where it is: every step keeps every triangle the right way round. Steps go on while
     the area distortion (log-RMS) falls by more than 2 % a step, at most ``SLIM_MAX_STEPS``. The boundary,
     held by a stiff penalty, is put back exactly afterwards; if that would turn a triangle over, the map
-    before the steps is kept. Returns the coordinates and the steps taken."""
+    before the steps is kept. Returns the coordinates and the steps taken.
+    """
     area3 = triangle_areas(v, f)
     total = float(area3.sum())
     if not total > 0:

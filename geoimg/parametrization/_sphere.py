@@ -147,7 +147,8 @@ def _conformal_plane(x: np.ndarray, tris: np.ndarray, lap: sparse.csc_matrix, f0
 def _tutte_plane(x: np.ndarray, tris: np.ndarray, f0: int, keep: np.ndarray):
     """Pin ``f0``'s corners to an equilateral triangle and place every other vertex at the mean-value-weighted
     mean of its neighbours: a planar embedding whatever the mesh (Floater 2003), used when the conformal
-    map folds triangles over."""
+    map folds triangles over.
+    """
     fixed = tris[f0]
     ang = -np.pi / 2 - 2 * np.pi * np.arange(3) / 3
     pos = np.stack([np.cos(ang), np.sin(ang)], axis=1)
@@ -177,7 +178,8 @@ def _plane_to_sphere(z: np.ndarray, vertex_area: np.ndarray, used: np.ndarray, t
 def _tutte_sphere(z: np.ndarray, used: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """A planar Tutte embedding on the sphere, its pinned triangle's corners at height 0.9: the removed
     face becomes a small cap round the north pole, so every face's chord triangle keeps the orientation
-    it has in the plane (no centring: a Moebius map could blow the cap up past a hemisphere)."""
+    it has in the plane (no centring: a Moebius map could blow the cap up past a hemisphere).
+    """
     h = 0.9
     s = np.zeros((len(z), 3))
     s[:, 2] = 1.0
@@ -202,7 +204,8 @@ def _direct_start(x, tris, used, vertex_area, lap):
 
 def _direct_balanced(xs, t, beta, steps):
     """A small mesh (every vertex on a triangle) mapped directly, then balanced; and whether the direct
-    map folded."""
+    map folded.
+    """
     used = np.ones(len(xs), bool)
     va = vertex_areas(xs, t)
     lap = laplacian(cotangent_weights(xs, t))
@@ -228,7 +231,8 @@ def _coarse_map(x, beta):
 
 def _decimated_map(beta):
     """The map of a decimated copy (:func:`multilevel_start`): direct and balanced until it has converged,
-    or None where the direct map folds."""
+    or None where the direct map folds.
+    """
     def run(U, G):
         sc, folds = _direct_balanced(U, G, beta, None)
         return None if folds else sc

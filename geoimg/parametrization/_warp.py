@@ -56,7 +56,8 @@ def _log(p: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def _field(x: np.ndarray, centres: np.ndarray, weights: np.ndarray, width: np.ndarray) -> np.ndarray:
     """The tangent field ``sum_j weights_j exp(-|x - c_j|^2 / 2 width_j^2)`` at ``x``, projected on the
-    tangent plane of each point."""
+    tangent plane of each point.
+    """
     d2 = np.maximum((x * x).sum(axis=1)[:, None] + (centres * centres).sum(axis=1)[None, :] - 2.0 * x @ centres.T,
                     0.0)
     v = np.exp(-d2 / (2.0 * width[None, :] ** 2)) @ weights
@@ -164,6 +165,12 @@ def warp_sphere(points: ArrayLike, tris: ArrayLike, sources: ArrayLike, targets:
         fraction = min(STEP, 2.0 * fraction)
     end = chord_orientation(x, t)
     residual = float(np.linalg.norm(_log(p, b), axis=1).max())
-    return x, {"rotation": rotation, "steps": steps, "residual": residual,
-               "folded": int(np.sum(np.sign(end[checked]) != sign)), "met": bool(residual < tol),
-               "landmarks": p, "area_log_rms": _area_log_rms(np.abs(start), np.abs(end) * (np.sign(end) == np.sign(start)))}
+    return x, {
+        "rotation": rotation,
+        "steps": steps,
+        "residual": residual,
+        "folded": int(np.sum(np.sign(end[checked]) != sign)),
+        "met": bool(residual < tol),
+        "landmarks": p,
+        "area_log_rms": _area_log_rms(np.abs(start), np.abs(end) * (np.sign(end) == np.sign(start))),
+    }

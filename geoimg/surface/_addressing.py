@@ -1,7 +1,8 @@
 """How a surface is addressed by image coordinates, once for every surface over each kind of domain: over a
 plane from a ``_points(uv, exact)`` that gives ``P, P_u, P_v, status``; over the sphere from an
 ``evaluate_directions(q)`` that gives ``P`` and its derivatives along a tangent frame, through the octahedral
-map. :class:`PlanarSurface` and the coverage-weighted surfaces share them."""
+map. :class:`PlanarSurface` and the coverage-weighted surfaces share them.
+"""
 from __future__ import annotations
 
 import numpy as np
@@ -66,7 +67,8 @@ class PlanarAddressing:
 
 class SphereAddressing:
     """``evaluate``, ``derivatives`` and ``normals`` at octahedral image coordinates of a surface over the
-    sphere."""
+    sphere.
+    """
 
     orientation: int
 
@@ -84,7 +86,8 @@ class SphereAddressing:
 
     def _glue(self, P: np.ndarray, nrm: np.ndarray | None):
         """Nothing to average: glued boundary pixels are evaluated at bit-identical directions, with the
-        same faces summed in the same order, so they already hold identical values (tested)."""
+        same faces summed in the same order, so they already hold identical values (tested).
+        """
         return P, nrm, 0.0
 
     def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:

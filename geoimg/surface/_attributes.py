@@ -97,7 +97,8 @@ def locate(points: np.ndarray, corners: np.ndarray, candidates: int = CANDIDATES
 
 def _texture_lookup(texture: np.ndarray, uv: np.ndarray) -> np.ndarray:
     """Bilinear texture colours in [0, 1] at texture coordinates (P, 2), OBJ's (0, 0) the bottom-left
-    corner; coordinates outside [0, 1] repeat the texture."""
+    corner; coordinates outside [0, 1] repeat the texture.
+    """
     h, w = texture.shape[:2]
     n = len(uv)
     width = 1024                                          # OpenCV's maps: under 32767 pixels a side
@@ -122,7 +123,8 @@ def _texture_lookup(texture: np.ndarray, uv: np.ndarray) -> np.ndarray:
 
 def sample_colors(mesh: Mesh, param: Parametrization, domain: Domain, shape, valid=None) -> np.ndarray | None:
     """The colours (H, W, 3 or 4) float32 in [0, 1] of a parametrized mesh on the grid of ``domain`` and
-    ``shape`` (0 outside ``valid``, an (H, W) mask): its texture where it has one, else its vertex colours; None when it has neither. A mesh cut
+    ``shape`` (0 outside ``valid``, an (H, W) mask): its texture where it has one, else its vertex colours; None when
+    it has neither. A mesh cut
     open by its parametrization keeps its vertex colours but not its texture (its texture coordinates
     belong to the uncut faces), with a warning.
 

@@ -30,7 +30,8 @@ SAMPLE_BYTES_PER_PIXEL = 200      # positions, two derivatives, sums and the mas
 def _check_float32(P: np.ndarray) -> None:
     """Refuse surface points that a float32 image cannot hold: infinite in float32, or a surface so small
     that float32's subnormal range (below about 1e-31) leaves fewer than its 7 digits. Single coordinates
-    near 0 that float32 rounds to 0 lose nothing next to the surface's size and pass."""
+    near 0 that float32 rounds to 0 lose nothing next to the surface's size and pass.
+    """
     size = max(float(P.max()), -float(P.min())) if P.size else 0.0      # NaN when any is NaN
     f32 = np.finfo(np.float32)
     if not size <= float(f32.max) or 0 < size < float(f32.tiny / f32.eps):
@@ -50,7 +51,7 @@ def check_backend(backend: str) -> None:
 
 
 def reference_log_weight(s: float) -> float:
-    """log of the least Gaussian weight a point inside a face gets from it: ``-(4/3)^2 / 2 s^2``."""
+    """Log of the least Gaussian weight a point inside a face gets from it: ``-(4/3)^2 / 2 s^2``."""
     return -TRUNCATION_RHO ** 2 / (2.0 * s ** 2)
 
 
@@ -100,7 +101,7 @@ class Surface(ABC):
 
     @property
     def log_g_ref(self) -> float:
-        """log of the least Gaussian a point inside a face receives from that face (-inf for local weights)."""
+        """Log of the least Gaussian a point inside a face receives from that face (-inf for local weights)."""
         if self.weights != "gaussian":
             return -math.inf
         return reference_log_weight(self.s)
@@ -108,7 +109,8 @@ class Surface(ABC):
     @abstractmethod
     def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Surface points (k, 3) at image coordinates ``uv`` (k, 2); ``exact`` sums over every face
-        instead of the truncated neighbourhood."""
+        instead of the truncated neighbourhood.
+        """
 
     @abstractmethod
     def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
@@ -131,7 +133,8 @@ class Surface(ABC):
         """``(P, N, mask, exact_pixels, hole_pixels)`` on the domain's grid of ``shape``: positions
         (H, W, 3), unit normals or None, the validity mask or None, and how many pixels were summed
         exactly or left uncovered; ``backend`` one of :data:`BACKENDS` (an unsupported one raises
-        :class:`~geoimg.errors.InputError`)."""
+        :class:`~geoimg.errors.InputError`).
+        """
 
     def _s_max(self) -> float | None:
         """The largest s when it varies over the surface."""
@@ -139,7 +142,8 @@ class Surface(ABC):
 
     def grid(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The image coordinates of the columns (u) and rows (v) for a resolution along the longer side
-        (default :meth:`auto_resolution`)."""
+        (default :meth:`auto_resolution`).
+        """
         res = self.auto_resolution() if resolution is None else resolution
         return self.domain.pixel_uv(self.domain.grid_shape(res))
 
@@ -197,7 +201,8 @@ class Surface(ABC):
     def _glue(self, P: np.ndarray, nrm: np.ndarray | None):
         """Glued pixels made one point: positions (and normals) averaged over each group. Returns them and
         the largest distance of a pixel from its group's mean before (0 where the surface already agreed,
-        as on the octahedral domain, whose glued pixels are evaluated at identical directions)."""
+        as on the octahedral domain, whose glued pixels are evaluated at identical directions).
+        """
         glued = self.domain.average_glued(P)
         if glued is P:
             return P, nrm, 0.0

@@ -72,9 +72,10 @@ def check_s(s) -> float:
     return float(s)
 
 
-def prefilter_s(surface: "CoverageSurface", resolution: int) -> float:
+def prefilter_s(surface: CoverageSurface, resolution: int) -> float:
     """The ``s`` whose width ``sigma = s * dbar`` is :data:`PREFILTER` of the pixel spacing of a
-    ``resolution`` image of ``surface``'s domain (the mean spacing on the sphere)."""
+    ``resolution`` image of ``surface``'s domain (the mean spacing on the sphere).
+    """
     return PREFILTER * surface.pixel_spacing(resolution) / surface.dbar
 
 
@@ -120,7 +121,7 @@ class CoverageSurface(Surface):
     def log_g_ref(self) -> float:
         return -math.inf
 
-    def with_s(self, s: float) -> "CoverageSurface":
+    def with_s(self, s: float) -> CoverageSurface:
         """The same surface at another ``s`` (nothing refitted)."""
         return type(self)(**{**self.__dict__, "s": check_s(s), "_cells": None, "_edges": None})
 
@@ -128,7 +129,8 @@ class CoverageSurface(Surface):
         """Each triangle's own width: ``sigma``, narrowed where its map is steeper than the median (so that
         its plane, carried a width beyond it, stays as close as a typical one's) and, for a thin triangle, at
         most its inradius (a blurred needle would reach far beyond itself: the product of its edges' terms
-        overstates a sharp corner's share)."""
+        overstates a sharp corner's share).
+        """
         return np.minimum(self.sigma * self.narrow, self.thin)
 
     def edges(self) -> np.ndarray:
@@ -220,7 +222,8 @@ class SphereCoverageSurface(SphereAddressing, CoverageSurface):
 
     def evaluate_directions(self, q: ArrayLike, *, exact: bool = False, derivatives: bool = True) -> tuple:
         """Points and derivatives along a tangent frame ``(t1, t2)`` at directions ``q`` (k, 3): ``P, P_t1,
-        P_t2, t1, t2, status``, as :meth:`SphereSurface.evaluate_directions` returns them."""
+        P_t2, t1, t2, status``, as :meth:`SphereSurface.evaluate_directions` returns them.
+        """
         d = np.asarray(q, dtype=np.float64)
         if d.ndim != 2 or d.shape[1] != 3:
             raise InputError(f"q: expected finite directions of shape (k, 3), got {d.shape}")
@@ -251,7 +254,8 @@ class SphereCoverageSurface(SphereAddressing, CoverageSurface):
 
 def _triangle_tables(corners: np.ndarray, xyz: np.ndarray, planar: bool):
     """Edge rows ``E``, maps ``K``, denominators ``w`` of triangles with homogeneous corner coordinates
-    ``corners`` (T, 3, 3) and positions ``xyz`` (T, 3, 3); and which triangles are kept (not degenerate)."""
+    ``corners`` (T, 3, 3) and positions ``xyz`` (T, 3, 3); and which triangles are kept (not degenerate).
+    """
     M = np.transpose(corners, (0, 2, 1))                     # columns: the corners
     det = np.linalg.det(M)
     scale = np.abs(M).max(axis=(1, 2)) ** 3
@@ -273,7 +277,8 @@ def _triangle_tables(corners: np.ndarray, xyz: np.ndarray, planar: bool):
 
 def _shape(corners: np.ndarray):
     """Each triangle's centroid, the largest distance of a corner from it, and 1 / sin(half its smallest
-    angle) (how far its outline moves at a corner when its edges move out by 1)."""
+    angle) (how far its outline moves at a corner when its edges move out by 1).
+    """
     centroid = corners.mean(axis=1)
     size = np.linalg.norm(corners - centroid[:, None], axis=2).max(axis=1)
     cos = []
@@ -296,7 +301,8 @@ def _border_triangles(tris: np.ndarray) -> np.ndarray:
 
 def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float, *, tol: float) -> CoverageSurface:
     """Fit the coverage-weighted surface to a mesh whose vertices have ``coords`` in ``domain``: (N, 2)
-    planar or (N, 3) unit vectors (called by ``fit_surface``, which has checked the settings)."""
+    planar or (N, 3) unit vectors (called by ``fit_surface``, which has checked the settings).
+    """
     planar = coords.shape[1] == 2
     tris, _ = mesh.triangulate(quads="shorter")
     tri_mesh = Mesh(mesh.vertices, tris)
@@ -343,7 +349,8 @@ def _inradius(corners: np.ndarray) -> np.ndarray:
 
 def _slopes(corners: np.ndarray, xyz: np.ndarray, planar: bool) -> np.ndarray:
     """Each triangle's largest stretch from the parameter domain into space: the largest singular value of
-    the map taking its parameter edges (chord edges on the sphere) to its edges in space."""
+    the map taking its parameter edges (chord edges on the sphere) to its edges in space.
+    """
     flat = corners[:, :, :2] if planar else corners
     B = np.stack([flat[:, 1] - flat[:, 0], flat[:, 2] - flat[:, 0]], axis=2)       # (T, d, 2)
     A = np.stack([xyz[:, 1] - xyz[:, 0], xyz[:, 2] - xyz[:, 0]], axis=2)           # (T, 3, 2)

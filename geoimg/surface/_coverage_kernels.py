@@ -63,7 +63,8 @@ def _edge(z, zmax, deriv, table):
     """``Phi(z)`` and ``(dPhi/dz / Phi)(z)`` (0 unless ``deriv``); 1 and 0 from ``zmax`` on. Cubic Hermite
     interpolation of ``Phi`` between the table's knots (values and slopes ``phi`` there: within 1e-13 of
     ``Phi``), and the derivative of that interpolant, so that the surface's derivatives are exactly those of
-    the surface evaluated (an erfc per edge cost 10 times as much)."""
+    the surface evaluated (an erfc per edge cost 10 times as much).
+    """
     if z >= zmax:
         return 1.0, 0.0
     x = (z - TABLE_LO) / TABLE_STEP
@@ -95,7 +96,8 @@ def _add(t, p, t1, t2, E, K, w, zmin, zmax, deriv, shift, log_domain, wmin, tabl
     """Add triangle ``t``'s terms at ``p`` into ``acc`` (``S, N[3], S_1, N_1[3], S_2, N_2[3]``); in the log
     domain its weight is ``exp(log F - shift)``. Returns False when it is skipped: an edge function below
     ``zmin``, or a direction far from the triangle (``w . p <= wmin``, ``w`` scaled to 1 at its lowest
-    corner: the central projection grows without bound towards ``w . p = 0``)."""
+    corner: the central projection grows without bound towards ``w . p = 0``).
+    """
     z0 = (E[t, 0, 0] * p[0] + E[t, 0, 1] * p[1] + E[t, 0, 2] * p[2])
     if not log_domain and z0 < zmin:
         return False
@@ -200,8 +202,10 @@ def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, zmin, floor, deri
     """The coverage-weighted surface and its derivatives along ``t1, t2`` at points ``pts`` (k, 3) given in
     homogeneous coordinates (see the module's text). ``tables`` is ``(E, K, w)``: (T, 3, 3) edge rows over
     each triangle's width, (T, 3, 3) maps and (T, 3) denominators; ``cells`` from
-    :func:`~._sphere_kernels.build_cells_3d` over the triangles' reach; ``fallback`` the triangles a point outside them is summed over (all of them with
-    ``exact``). Returns ``P, P_t1, P_t2`` (k, 3) and a status per point."""
+    :func:`~._sphere_kernels.build_cells_3d` over the triangles' reach; ``fallback`` the triangles a point outside
+    them is summed over (all of them with
+    ``exact``). Returns ``P, P_t1, P_t2`` (k, 3) and a status per point.
+    """
     pts = np.ascontiguousarray(pts, np.float64)
     k = len(pts)
     t1 = np.ascontiguousarray(t1, np.float64)
@@ -220,7 +224,8 @@ def _grid_kernel(u, v, E, K, w, c0, c1, r0, r1, band, band_ptr, band_faces, zmin
                  P, Pu, Pv, ok):
     """Planar grids, triangle by triangle: bands of ``band`` rows run in parallel; every triangle a band lists
     adds its terms over the pixels of its box (where its weight can reach ``Phi(zmin)``) to the band's
-    running sums. Pixels whose sum is below ``floor`` are left to the points kernel (``ok`` False)."""
+    running sums. Pixels whose sum is below ``floor`` are left to the points kernel (``ok`` False).
+    """
     H, W = v.shape[0], u.shape[0]
     for b in prange(band_ptr.shape[0] - 1):
         i0 = b * band
@@ -285,7 +290,8 @@ def _grid_kernel(u, v, E, K, w, c0, c1, r0, r1, band, band_ptr, band_faces, zmin
 def offset_boxes(E, zmin):
     """The bounding box ``(umin, umax, vmin, vmax)`` of each planar triangle's region where all its edge
     functions are at least ``zmin`` (the triangle grown by ``-zmin`` widths: its corners meet where two
-    grown edges do)."""
+    grown edges do).
+    """
     T = E.shape[0]
     corners = np.empty((T, 3, 2))
     for k in range(3):                  # Cramer's rule on E_a . (x, y, 1) = E_b . (x, y, 1) = zmin
@@ -302,7 +308,8 @@ def sample_grid_coverage(u, v, tables, *, zmin, floor, derivatives=True):
     """The coverage-weighted surface on the planar grid ``u`` (columns) x ``v`` (rows), triangle by triangle
     over each one's box (see :func:`_grid_kernel`). ``tables`` are ``(E, K, w)`` with ``E`` divided by each
     triangle's width. Returns ``P, Pu, Pv`` (H, W, 3) and ``ok`` (H, W): pixels whose sum is certified (the
-    others are left unwritten: the points kernel's to fill)."""
+    others are left unwritten: the points kernel's to fill).
+    """
     E, K, w = tables
     u = np.ascontiguousarray(u, np.float64)
     v = np.ascontiguousarray(v, np.float64)

@@ -59,7 +59,8 @@ def _tile_fill(row_ptr, row_faces, n_tx, tile, c0, c1, ptr, out):
 
 def tile_lists(shape, live, c0, c1, r0, r1, tile=TILE):
     """CSR lists of the ``live`` faces (in their order) by the tiles of ``shape`` their index boxes
-    ``[r0, r1) x [c0, c1)`` reach; tile ``t = ty * n_tx + tx``. Returns ``(ptr, faces, n_tx, n_ty)``."""
+    ``[r0, r1) x [c0, c1)`` reach; tile ``t = ty * n_tx + tx``. Returns ``(ptr, faces, n_tx, n_ty)``.
+    """
     H, W = shape
     n_tx, n_ty = -(-W // tile), -(-H // tile)
     row_ptr, row_faces = _band_lists(n_ty, tile, live, r0, r1)
@@ -179,7 +180,8 @@ def sample_grid_gaussian_cuda(u, v, centres, sigma, radius, C, A, B, *, derivati
 
 def _download(d):
     """A device array's copy on the host, in page-locked memory when :data:`PINNED` (faster copies, a
-    slower allocation)."""
+    slower allocation).
+    """
     host = cuda.pinned_array(d.shape, d.dtype) if PINNED else np.empty(d.shape, d.dtype)
     d.copy_to_host(host)
     return host

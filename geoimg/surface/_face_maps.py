@@ -25,8 +25,16 @@ from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh
 from ..parametrization import signed_face_areas
 
-__all__ = ["FaceMaps", "SphereFaceMaps", "face_maps", "fit_planes", "enclosing_circle_radius", "robust_sliver_planes", "SLIVER_RULES",
-           "SLIVER_RATIO"]
+__all__ = [
+    "FaceMaps",
+    "SphereFaceMaps",
+    "face_maps",
+    "fit_planes",
+    "enclosing_circle_radius",
+    "robust_sliver_planes",
+    "SLIVER_RULES",
+    "SLIVER_RATIO",
+]
 
 SLIVER_RATIO = 2.0
 
@@ -48,7 +56,8 @@ class FaceMaps:
 @dataclass(frozen=True, eq=False)
 class SphereFaceMaps(FaceMaps):
     """Per-face arrays of a mesh mapped onto the sphere: ``centres`` (F, 3) are unit directions, and each
-    face's map is affine in the frame ``(e1, e2)`` of its chord plane through ``origin``."""
+    face's map is affine in the frame ``(e1, e2)`` of its chord plane through ``origin``.
+    """
 
     origin: np.ndarray = None   # type: ignore[assignment]   # (F, 3) the chord polygon's centroid (required)
     e1: np.ndarray = None       # type: ignore[assignment]   # (F, 3) in-plane frame

@@ -28,7 +28,8 @@ _C = tuple(1.0 / math.factorial(k) for k in range(14))
 @njit(cache=True, inline="always")
 def exp_into(x, out, bits):
     """``out = exp(x)`` (``x`` may be -inf), in two loops LLVM vectorizes; ``bits`` is int64 scratch as
-    long as ``x``, ``out`` must not be ``x``."""
+    long as ``x``, ``out`` must not be ``x``.
+    """
     scale = bits.view(np.float64)
     for p in range(x.shape[0]):
         y = x[p]
@@ -68,5 +69,6 @@ def exp_inplace(x):
 def plain_sum_floor(log_g_ref: float) -> float:
     """The least plain (unshifted) Gaussian sum an image sampler trusts: ``g_ref`` (every skipped weight is
     then below ``tol``), and at least ``MIN_PLAIN_SUM`` (below it, terms may have underflowed); pixels under
-    it are recomputed in the log domain."""
+    it are recomputed in the log domain.
+    """
     return max(math.exp(log_g_ref), MIN_PLAIN_SUM)

@@ -33,7 +33,8 @@ def _check_s_range(values: np.ndarray) -> None:
 def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None, object]:
     """``(s, None, None)`` for a number; ``(min s, per-face s, None)`` for an array; ``(min s, None, map)``
     for a :class:`~geoimg.surface.SmoothnessMap` (truncation and its certificate use the minimum, which
-    is conservative)."""
+    is conservative).
+    """
     if isinstance(s, SmoothnessMap):
         _check_s_range(np.array([s.min, s.max]))
         return float(s.min), None, s
@@ -55,7 +56,8 @@ def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None, object]:
 def _parametrized_mesh(mesh: Mesh, param: Parametrization) -> Mesh:
     """The mesh whose vertices ``param`` gives coordinates to: the input, or the one the parametrization
     made of it (cut open), its positions taken from the input (so a mesh with the same faces, another
-    pose of the same shape, can share the parametrization)."""
+    pose of the same shape, can share the parametrization).
+    """
     if param.mesh is None:
         if param.coords.shape[0] != mesh.n_vertices:
             raise InputError(f"param: has {param.coords.shape[0]} points but the mesh has {mesh.n_vertices} vertices")

@@ -19,8 +19,19 @@ from numba import njit, prange
 
 from ._fastexp import exp_inplace, plain_sum_floor
 
-__all__ = ["sample_grid_gaussian", "truncation_boxes", "evaluate_points", "build_cells", "face_coverage", "unit_normals",
-           "GAUSSIAN", "LOCAL", "TRUNCATED", "EXACT", "HOLE"]
+__all__ = [
+    "sample_grid_gaussian",
+    "truncation_boxes",
+    "evaluate_points",
+    "build_cells",
+    "face_coverage",
+    "unit_normals",
+    "GAUSSIAN",
+    "LOCAL",
+    "TRUNCATED",
+    "EXACT",
+    "HOLE",
+]
 
 GAUSSIAN, LOCAL = 0, 1
 TRUNCATED, EXACT, HOLE = 0, 1, 2   # per-point status codes
@@ -31,7 +42,8 @@ TRUNCATED, EXACT, HOLE = 0, 1, 2   # per-point status codes
 def _ranges(coord, centre, radius):
     """``searchsorted(coord, centre - radius, "left")`` and ``searchsorted(coord, centre + radius, "right")``
     for increasing ``coord``: a guess from its mean spacing (right at once for an image's even grid),
-    then moved to the exact answer."""
+    then moved to the exact answer.
+    """
     n = coord.shape[0]
     step = (coord[n - 1] - coord[0]) / (n - 1) if n > 1 else 1.0
     step = step if step > 0 else 1.0
@@ -65,7 +77,8 @@ def _gauss_exponents(coord, lo, ptr, centre, inv2s, out):
 
 def truncation_boxes(u, v, centres, radius):
     """Each face's truncation box as index ranges of the grid, ``[c0, c1)`` of the columns ``u`` and
-    ``[r0, r1)`` of the rows ``v``, and the faces whose box holds a pixel (``live``)."""
+    ``[r0, r1)`` of the rows ``v``, and the faces whose box holds a pixel (``live``).
+    """
     c0, c1 = _ranges(u, np.ascontiguousarray(centres[:, 0]), radius)
     r0, r1 = _ranges(v, np.ascontiguousarray(centres[:, 1]), radius)
     live = np.flatnonzero((c1 > c0) & (r1 > r0)).astype(np.int64)
@@ -74,7 +87,8 @@ def truncation_boxes(u, v, centres, radius):
 
 def _gauss_tables(coord, lo, ptr, centre, inv2s, out):
     """``out[ptr[f] + t] = exp(-(coord[lo[f] + t] - centre[f])^2 inv2s[f])``: each face's Gaussian along
-    one axis of the grid, over its box."""
+    one axis of the grid, over its box.
+    """
     _gauss_exponents(coord, lo, ptr, centre, inv2s, out)
     exp_inplace(out)
 
@@ -101,7 +115,8 @@ def _band_lists(n_bands, band, faces, r0, r1):
 @njit(cache=True, inline="always")
 def _add_positions(gu, du, cx, cy, cz, ax, ay, az, gvv, s0, n0, n1, n2):
     """Adds one face's ``S`` and ``sum g p`` terms along a stretch of one row: ``gu`` its Gaussian along u
-    there, ``du`` the columns' offsets from its centre, ``(cx, cy, cz) + (ax, ay, az) du`` its plane."""
+    there, ``du`` the columns' offsets from its centre, ``(cx, cy, cz) + (ax, ay, az) du`` its plane.
+    """
     for t in range(gu.shape[0]):
         g = gu[t] * gvv
         d = du[t]
@@ -116,7 +131,8 @@ def _add_derivatives(gu, du, cx, cy, cz, ax, ay, az, bx, by, bz, gvv, k, hv, su,
     """Adds, along the stretch :func:`_add_positions` covers, one face's terms of ``dS/du``, ``dS/dv``
     (``su``, ``sv``) and of ``d(sum g p)/du`` and ``/dv`` (``nu*``, ``nv*``: the weight's derivative times
     the plane, plus the weight times the plane's slope); ``k du`` and ``hv`` are the Gaussian's
-    log-derivatives. (A separate loop: fused with the positions', both ran slower.)"""
+    log-derivatives. (A separate loop: fused with the positions', both ran slower.)
+    """
     for t in range(gu.shape[0]):
         g = gu[t] * gvv
         d = du[t]
@@ -137,7 +153,8 @@ def _add_derivatives(gu, du, cx, cy, cz, ax, ay, az, bx, by, bz, gvv, k, hv, su,
 def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, r1, rptr, gv, band, band_ptr, band_faces,
                  derivs, g_ref, P, Pu, Pv, ok):
     """Bands of ``band`` rows run in parallel; in each, every face it lists adds its box's rows to the
-    band's running sums (its constants loaded once a band, each row a contiguous stretch)."""
+    band's running sums (its constants loaded once a band, each row a contiguous stretch).
+    """
     H, W = v.shape[0], u.shape[0]
     for b in prange(band_ptr.shape[0] - 1):
         i0 = b * band
@@ -191,14 +208,16 @@ def _grid_kernel(u, v, uc, vc, inv2s, C, A, B, c0, cptr, gu, r0, r1, rptr, gv, b
 
 def _band_rows(width: int) -> int:
     """Rows a band of the grid kernel holds: 16 for narrow images, fewer for wide ones, so that each of a
-    band's running sums stays within 32 KB (4096 float64)."""
+    band's running sums stays within 32 KB (4096 float64).
+    """
     return max(1, min(16, 4096 // max(width, 1)))
 
 
 def grid_bands(u, v, live, r0, r1, derivatives: bool):
     """What a face-by-face grid kernel runs on: the rows a band holds, the faces ``live`` listed by the bands
     their rows ``r0..r1-1`` reach, and its outputs (not zeroed: the kernels write every pixel, or say which they
-    left): ``band, band_ptr, band_faces, P, Pu, Pv, ok``."""
+    left): ``band, band_ptr, band_faces, P, Pu, Pv, ok``.
+    """
     H, W = v.shape[0], u.shape[0]
     band = _band_rows(W)
     band_ptr, band_faces = _band_lists(-(-H // band), band, live, r0, r1)
@@ -301,7 +320,8 @@ def _accumulate(kind, pu, pv, cand, n_cand, all_faces, uc, vc, param, radius, C,
     """Sum over candidate faces into acc[0:18]; returns the exponent shift (Gaussian) or 0.
 
     Gaussian exponents are ``-r^2 param_f kf`` with ``kf`` this point's factor (a smoothness that
-    varies over the domain) and ``kfu, kfv`` its derivatives."""
+    varies over the domain) and ``kfu, kfv`` its derivatives.
+    """
     m = -np.inf
     if kind == 0:
         for k in range(n_cand):
@@ -536,7 +556,8 @@ def _unit_cross(a, b, sign, out):
 
 def unit_normals(a: np.ndarray, b: np.ndarray, sign: int) -> np.ndarray:
     """``unit(np.cross(a, b) * sign)`` for arrays of 3-vectors (same shape), bit for bit, in one parallel pass
-    (zero crosses stay zero)."""
+    (zero crosses stay zero).
+    """
     shape = np.shape(a)
     a2 = np.ascontiguousarray(a, np.float64).reshape(-1, 3)
     b2 = np.ascontiguousarray(b, np.float64).reshape(-1, 3)

@@ -10,7 +10,8 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
+from collections.abc import Callable
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -105,7 +106,8 @@ class PlanarSurface(PlanarAddressing, Surface):
 
     def _grid_arguments(self, u: np.ndarray, v: np.ndarray) -> tuple:
         """The grid kernels' positional arguments for the columns ``u`` and rows ``v`` (see
-        :func:`~geoimg.surface._kernels.sample_grid_gaussian`)."""
+        :func:`~geoimg.surface._kernels.sample_grid_gaussian`).
+        """
         fm = self.faces
         return u, v, fm.centres, self.sigma, self._radius, fm.C, fm.A, fm.B
 
@@ -113,7 +115,8 @@ class PlanarSurface(PlanarAddressing, Surface):
         """The grid kernel for truncated Gaussians (on the CPU or a CUDA GPU), else the point kernel;
         ``mask`` marks pixels inside the parametrized faces, or within half a pixel spacing of one, so a
         terrain whose border is not perfectly straight keeps its outer ring (and, for locally supported
-        weights, not in a hole)."""
+        weights, not in a hole).
+        """
         u, v = self.domain.pixel_uv(shape)
         H, W = shape
         n_exact = 0
@@ -153,7 +156,8 @@ def fit_planar_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float,
                        n: int, tol: float, sliver_rule: str) -> PlanarSurface:
     """Fit the surface to a mesh whose vertices have (u, v) ``coords`` (called by ``fit_surface``, which
     has checked the settings). Faces the domain glues across its edges (a cut) are added as copies
-    beyond the edges (:meth:`~geoimg.Domain.ghosts`), so the weighted mean sees the surface continue."""
+    beyond the edges (:meth:`~geoimg.Domain.ghosts`), so the weighted mean sees the surface continue.
+    """
     fm = face_maps(mesh, coords, sliver_rule=sliver_rule)
     if fm.n_degenerate:
         warnings.warn(f"fit_surface: {fm.n_degenerate} faces of zero area in the parameter domain were left out",
@@ -174,7 +178,8 @@ def fit_planar_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float,
 
 def _reach(fm, s, s_face, s_map, weights, n, tol):
     """Each face's reach (the truncation radius, or the local weight's support), the kernel parameter
-    ``1 / 2 sigma^2`` (0 for local weights) and the per-face s of the kept faces."""
+    ``1 / 2 sigma^2`` (0 for local weights) and the per-face s of the kept faces.
+    """
     s_kept = None if s_face is None else s_face[fm.face_index]
     if weights == "gaussian":
         sigma = (s if s_kept is None else s_kept) * fm.d
@@ -194,7 +199,8 @@ def _reach(fm, s, s_face, s_map, weights, n, tol):
 
 def _with_ghosts(mesh: Mesh, coords: np.ndarray, face_index: np.ndarray, ghosts: list):
     """The mesh with copies of faces (vertices copied too) at moved parameters appended; returns the mesh,
-    its coordinates and, per face, the face of the input it copies."""
+    its coordinates and, per face, the face of the input it copies.
+    """
     verts, uvs, faces, source = [mesh.vertices], [coords], [mesh.faces], [np.arange(mesh.n_faces)]
     base = mesh.n_vertices
     for kept, R, b in ghosts:

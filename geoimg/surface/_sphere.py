@@ -96,7 +96,8 @@ def _sphere_face_maps(mesh: Mesh, s: np.ndarray, sliver_rule: str) -> SphereFace
 class SphereSurface(SphereAddressing, Surface):
     """A fitted weighted-mean surface over the sphere; build it with :func:`geoimg.fit_surface` on a
     ``sphere`` parametrization. Points are addressed by octahedral image coordinates ``(u, v)`` in
-    ``[0, 1]^2`` (or by unit directions, see :meth:`evaluate_directions`)."""
+    ``[0, 1]^2`` (or by unit directions, see :meth:`evaluate_directions`).
+    """
 
     domain: Domain
     s: float
@@ -115,7 +116,8 @@ class SphereSurface(SphereAddressing, Surface):
     def evaluate_directions(self, q: ArrayLike, *, exact: bool = False, derivatives: bool = True) -> tuple:
         """Points and derivatives along a tangent frame ``(t1, t2)`` (with ``t1 x t2 = q``) at unit
         directions ``q`` (k, 3). Returns ``P, P_t1, P_t2, t1, t2, status`` (the derivatives zeros without
-        ``derivatives``: about half the work)."""
+        ``derivatives``: about half the work).
+        """
         d = np.asarray(q, dtype=np.float64)
         if d.ndim != 2 or d.shape[1] != 3:
             raise InputError(f"q: expected finite directions of shape (k, 3), got {d.shape}")
@@ -157,7 +159,8 @@ class SphereSurface(SphereAddressing, Surface):
 def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float, s_face, s_map, *, weights: str,
                        n: int, tol: float, sliver_rule: str) -> SphereSurface:
     """Fit the surface to a mesh whose vertices have unit vectors ``coords`` (called by ``fit_surface``,
-    which has checked the settings); ``s`` the smallest of ``s_face`` when that is given."""
+    which has checked the settings); ``s`` the smallest of ``s_face`` when that is given.
+    """
     if s_map is not None:
         raise InputError("s: a smoothness map s(u, v) is for planar parametrizations; on the sphere give one s "
                          "per face (geoimg.surface.smoothness_field)")

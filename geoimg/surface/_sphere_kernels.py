@@ -40,7 +40,8 @@ SUB = 8                     # pixels along a sub-tile's side (a divisor of TILE)
 @njit(parallel=True, cache=True)
 def tangent_frames(q):
     """Unit tangents ``t1, t2`` (k, 3) at unit directions ``q`` with ``t1 x t2 = q``: ``t1`` along
-    ``e x q`` for ``e`` the axis of ``q``'s smallest component (the first on ties), ``t2 = q x t1``."""
+    ``e x q`` for ``e`` the axis of ``q``'s smallest component (the first on ties), ``t2 = q x t1``.
+    """
     n = q.shape[0]
     t1 = np.empty((n, 3))
     t2 = np.empty((n, 3))
@@ -61,7 +62,8 @@ def tangent_frames(q):
 def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96):
     """Bin faces into a uniform grid of cubes over [-1, 1]^3: each face into the cubes its ball of
     ``radius`` around its centre reaches (not every cube of the ball's bounding box: fewer candidates per
-    point, the same sums). Returns ``(h, n, ptr, faces)``; cell ``(ix, iy, iz)`` is ``(iz * n + iy) * n + ix``."""
+    point, the same sums). Returns ``(h, n, ptr, faces)``; cell ``(ix, iy, iz)`` is ``(iz * n + iy) * n + ix``.
+    """
     r = np.minimum(radius, 2.0)
     h = max(float(np.median(r)), 2.0 / max_cells)
     n = int(math.ceil(2.0 / h)) + 1
@@ -120,7 +122,8 @@ def _cell_of(x, y, z, h, n):
 @njit(cache=True)
 def _sum(q, t1, t2, cand, n_cand, all_faces, centre, inv2s, radius, origin, e1, e2, C, A, B, deriv, acc):
     """Accumulate over candidate faces (the derivatives' sums only with ``deriv``); returns the largest
-    exponent (-inf when no face is in range)."""
+    exponent (-inf when no face is in range).
+    """
     m = -np.inf
     for k in range(n_cand):
         f = k if all_faces else cand[k]
@@ -245,7 +248,8 @@ def _bounding_ball(q, idx, lo, hi):
 def _tile_candidates(q, idx, m, centre, radius, h, n, ptr, cells, seen, stamp):
     """The faces, in index order, whose truncation ball can reach a pixel of the tile (``q[idx[:m]]``):
     those listed in the pixels' cells and within ``R_f`` of the tile's bounding ball. ``seen`` (one entry
-    per face) marks the faces taken with ``stamp``, a number no other tile of its caller uses."""
+    per face) marks the faces taken with ``stamp``, a number no other tile of its caller uses.
+    """
     ids = np.empty(m, np.int64)
     for k in range(m):
         ids[k] = _cell_of(q[idx[k], 0], q[idx[k], 1], q[idx[k], 2], h, n)
@@ -278,7 +282,8 @@ def _tiles_kernel(q, t1, t2, side, tile_side, sub_side, centre, inv2s, radius, o
     parallel. A tile's candidate faces come from its pixels' cells; each adds its weights and planes to
     the running sums of the sub-tiles (``SUB x SUB`` pixels, contiguous in the tile's arrays) its ball
     reaches, in loops over their pixels. Plain exponentials, no shift: a sum below ``g_thr`` is not
-    certified."""
+    certified.
+    """
     TILE, SUB = tile_side, sub_side
     nt = -(-side // TILE)
     ns = TILE // SUB
@@ -392,7 +397,8 @@ def _add_planes(f, qx, qy, qz, w, origin, e1, e2, C, A, B, s0, n0, n1, n2):
 def _add_slopes(f, qx, qy, qz, t1x_, t1y_, t1z_, t2x_, t2y_, t2z_, w, centre, a, origin, e1, e2, C, A, B,
                 u0, u1, u2, v0, v1, v2, su, sv):
     """Adds the derivatives' sums along the pixels' tangents ``t1``, ``t2``: the weight's derivative times
-    the plane plus the weight times the plane's slope (``u*``, ``v*``), and the weight's (``su``, ``sv``)."""
+    the plane plus the weight times the plane's slope (``u*``, ``v*``), and the weight's (``su``, ``sv``).
+    """
     ox, oy, oz, e1x, e1y, e1z, e2x, e2y, e2z, cx, cy, cz, ax, ay, az, bx, by, bz = _face(f, origin, e1, e2, C, A, B)
     fx, fy, fz = centre[f, 0], centre[f, 1], centre[f, 2]
     k2 = -2.0 * a
@@ -426,7 +432,8 @@ def sample_sphere_grid(q, t1, t2, faces, cells, *, log_g_ref, derivatives=True, 
     row by row, with tangent frames ``t1``, ``t2`` (used only with ``derivatives``); by tiles of
     ``tile = (TILE, SUB)`` pixels (see :func:`_tiles_kernel`). Pixels whose truncated sum is not certified
     are recomputed over all faces in the log domain (:func:`evaluate_sphere`). Returns ``P, P_t1, P_t2``
-    (k, 3) and a status per pixel, as :func:`evaluate_sphere` does."""
+    (k, 3) and a status per pixel, as :func:`evaluate_sphere` does.
+    """
     q = np.ascontiguousarray(q, np.float64)
     k = len(q)
     if not derivatives:

@@ -36,7 +36,9 @@ def test_ends_reproduce_the_keys_and_blends_are_affine(spots):
     a, b = spots
     m = morph(a, b, frames=7, easing="linear", align="none", rotate=False)
     frames = list(m.frames())
-    assert len(frames) == 7 and np.array_equal(frames[0].pixels, a.pixels) and np.array_equal(frames[-1].pixels, b.pixels)
+    assert (
+        len(frames) == 7 and np.array_equal(frames[0].pixels, a.pixels) and np.array_equal(frames[-1].pixels, b.pixels)
+    )
     p = [f.pixels.astype(np.float64) for f in frames]
     steps = [p[i + 1] - p[i] for i in range(6)]
     assert max(np.abs(s - steps[0]).max() for s in steps) < 1e-5     # equal steps: affine in t
@@ -63,7 +65,9 @@ def test_alignment_undoes_a_move_a_scale_and_a_turn_of_the_sphere(spots):
     assert np.abs(m.keys[1].pixels - a.pixels).max() < 1e-5
     turn = Rotation.from_rotvec([0.3, -0.5, 0.2])
     q = grid_directions(33).reshape(-1, 3)
-    turned = a.domain.average_glued(_octahedral_sampler(a.pixels, a.domain)(turn.apply(q)).reshape(33, 33, 3)).astype(np.float32)
+    turned = a.domain.average_glued(_octahedral_sampler(a.pixels, a.domain)(turn.apply(q)).reshape(33, 33, 3)).astype(
+        np.float32
+    )
     m = morph(a, geoimg.GeometryImage(turned, domain="octahedral"), frames=2, align="none")
     rep = m.report[1]
     assert rep["rms_after"] < 0.2 * rep["rms_before"]

@@ -46,7 +46,9 @@ def test_local_operations_cross_the_octahedral_seams(spot_octahedral, op, args, 
     # to rounding; padded by reflection (what the operation would do on its own) they do not
     good = raw_result(img, op, width, *args, **kwargs)
     h = img.shape[0]
-    reflected = np.asarray(op(filters.pad(img.pixels, width, "reflect"), *args, **kwargs))[width:width + h, width:width + h]
+    reflected = np.asarray(op(filters.pad(img.pixels, width, "reflect"), *args, **kwargs))[
+        width : width + h, width : width + h
+    ]
     scale = np.ptp(img.pixels)
     assert glue_spread(img, good) < 1e-5 * scale < 1e-3 * scale < glue_spread(img, reflected)
     out = img.apply(op, *args, pad=width, **kwargs)

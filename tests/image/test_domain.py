@@ -51,7 +51,9 @@ def test_domain_fields_travel_through_files(tmp_path):
 
 
 def test_kind_names_read_their_fields_from_the_metadata():
-    img = GeometryImage(np.zeros((3, 3, 3), np.float32), domain="planar", metadata={"orientation": -1, "extent": [1, 1]})
+    img = GeometryImage(
+        np.zeros((3, 3, 3), np.float32), domain="planar", metadata={"orientation": -1, "extent": [1, 1]}
+    )
     assert img.domain == PlanarDomain(orientation=-1) and "orientation" not in img.metadata
 
 

@@ -33,7 +33,9 @@ def test_apply_uses_the_domain_rule_and_keeps_glued_pixels_identical(spot):
     assert np.array_equal(flat, flat[weld_index(65).ravel()])
     assert out.normals is None and out.domain == img.domain and img.normals is not None
     assert out.metadata["filters"] == ["gaussian_filter(2.0, mode=octahedral)"]
-    assert np.array_equal(out.pixels, geoimg.OctahedralDomain().average_glued(filters.gaussian_filter(img.pixels, 2.0, "octahedral")))
+    assert np.array_equal(
+        out.pixels, geoimg.OctahedralDomain().average_glued(filters.gaussian_filter(img.pixels, 2.0, "octahedral"))
+    )
     topo = topology(out.to_mesh())
     assert topo.closed and topo.genus == 0
 
@@ -125,7 +127,9 @@ def test_varying_s_on_the_sphere(spot):
 @pytest.mark.parametrize("s, message", [
     (np.ones(3), "per-face values"), (-np.ones(4), "positive"), ("1", "per-face values"), (np.nan, "positive finite")])
 def test_bad_smoothness_is_refused(s, message):
-    m = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], [[0, 1, 2], [0, 2, 3], [1, 4, 2], [0, 1, 3]])
+    m = geoimg.Mesh(
+        [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], [[0, 1, 2], [0, 2, 3], [1, 4, 2], [0, 1, 3]]
+    )
     with pytest.raises(ValueError, match=message):
         geoimg.fit_surface(m, geoimg.Parametrization(m.vertices[:, :2] / 2, (1, 1)), s=s)
 
@@ -161,7 +165,9 @@ def test_cli_filter_and_curvature(tmp_path, spot, capsys):
                "--region", *map(str, img.pixels[32, 32]), "0.2", "--mesh", str(tmp_path / "f.obj")])
     assert rc == 0
     out = geoimg.load_image(tmp_path / "f.exr")
-    assert out.metadata["filters"][0].startswith("mean_filter(5") and out.metadata["filters"][1].startswith("inverse_filter")
+    assert out.metadata["filters"][0].startswith("mean_filter(5") and out.metadata["filters"][1].startswith(
+        "inverse_filter"
+    )
     topo = topology(geoimg.load_mesh(tmp_path / "f.obj"))
     assert topo.closed and topo.genus == 0
     assert main(["curvature", str(src), "-o", str(tmp_path / "c")]) == 0
@@ -179,7 +185,9 @@ def test_cli_filter_and_curvature(tmp_path, spot, capsys):
     assert "no operation given" in capsys.readouterr().err
     assert main(["filter", str(src), "-o", str(tmp_path / "g.exr"), "--mean", "4"]) == 2
     assert "odd size" in capsys.readouterr().err
-    assert main(["filter", str(src), "-o", str(tmp_path / "g.exr"), "--mean", "3", "--region", "9", "9", "9", "0.1"]) == 2
+    assert (
+        main(["filter", str(src), "-o", str(tmp_path / "g.exr"), "--mean", "3", "--region", "9", "9", "9", "0.1"]) == 2
+    )
     assert "selects no pixel" in capsys.readouterr().err
     assert main(["filter", str(src), "-o", str(tmp_path / "f.exr"), "--mean", "3"]) == 2    # exists, no --force
     assert not (tmp_path / "g.exr").exists()

@@ -49,8 +49,10 @@ def test_other_readers_get_x_y_z_first(images, tmp_path):
         warnings.simplefilter("ignore")
         img.save(tmp_path / "a.tif")
     img.save(tmp_path / "a.npy")
-    t = tifffile.imread(tmp_path / "a.tif")                          # scikit-image's TIFF reader
-    assert t.dtype == np.float32 and np.array_equal(t[..., :3], img.pixels) and np.array_equal(t[..., 3] > 0.5, img.valid)
+    t = tifffile.imread(tmp_path / "a.tif")  # scikit-image's TIFF reader
+    assert (
+        t.dtype == np.float32 and np.array_equal(t[..., :3], img.pixels) and np.array_equal(t[..., 3] > 0.5, img.valid)
+    )
     bgra = cv2.imread(str(tmp_path / "a.tif"), cv2.IMREAD_UNCHANGED)
     assert np.array_equal(bgra[..., 2::-1], img.pixels)
     a = np.load(tmp_path / "a.npy")

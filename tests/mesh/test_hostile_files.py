@@ -64,9 +64,11 @@ def test_binary_off_as_pmp_writes_it(tmp_path, faces):
 
 
 def test_a_tiny_ply_declaring_a_trillion_items_is_refused_at_once(tmp_path):
-    (tmp_path / "j.ply").write_bytes(b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                     b"property float z\nelement junk 1000000000000\nelement face 1\n"
-                                     b"property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+    (tmp_path / "j.ply").write_bytes(
+        b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        b"property float z\nelement junk 1000000000000\nelement face 1\n"
+        b"property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"
+    )
     t0 = time.perf_counter()
     with pytest.raises(MeshFileError, match="junk.*no properties"):
         load_mesh(tmp_path / "j.ply")

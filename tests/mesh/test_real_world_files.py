@@ -166,9 +166,9 @@ def test_meshlab_ply_with_per_face_texture_coordinates(tmp_path):
 
 def test_binary_ply_with_per_face_texture_coordinates(tmp_path):
     import struct
-    head = ("ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-            "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-            "property list uchar float texcoord\nend_header\n").encode()
+    head = (b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+            b"property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+            b"property list uchar float texcoord\nend_header\n")
     body = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack("<B3i", 3, 0, 1, 2) + \
         struct.pack("<B6f", 6, 0, 0, 1, 0, 0, 1)
     p = tmp_path / "b.ply"

@@ -103,7 +103,9 @@ def test_a_torus_layout_pads_like_a_periodic_image():
     d = CutDomain(quantum=4, segments=((0, 4, 2), (4, 4, 3), (8, 4, 0), (12, 4, 1)))
     n, w = 9, 3
     i, j = np.meshgrid(np.arange(-w, n + w), np.arange(-w, n + w), indexing="ij")
-    periodic = np.sin(2 * np.pi * i / (n - 1)) + np.cos(2 * np.pi * 2 * j / (n - 1)) + np.sin(2 * np.pi * (i + j) / (n - 1))
+    periodic = (
+        np.sin(2 * np.pi * i / (n - 1)) + np.cos(2 * np.pi * 2 * j / (n - 1)) + np.sin(2 * np.pi * (i + j) / (n - 1))
+    )
     img = periodic[w:w + n, w:w + n]
     padded = d.pad(img, w)
     edge = np.zeros_like(padded, bool)

@@ -11,8 +11,14 @@ from checks import check_disk_map, check_disk_surface
 import meshes
 from helpers import load_data
 
-DISKS = {"cup": lambda: meshes.cap(135.0), "hemisphere": meshes.cap, "open box": lambda: load_data("cube_no_bottom.obj"),
-         "mountain": lambda: load_data("mountain.obj"), "L": meshes.l_hexagon, "quads": meshes.quad_disk}
+DISKS = {
+    "cup": lambda: meshes.cap(135.0),
+    "hemisphere": meshes.cap,
+    "open box": lambda: load_data("cube_no_bottom.obj"),
+    "mountain": lambda: load_data("mountain.obj"),
+    "L": meshes.l_hexagon,
+    "quads": meshes.quad_disk,
+}
 
 
 @pytest.mark.parametrize("name", DISKS)
