@@ -28,6 +28,18 @@ def blend(a: ArrayLike, b: ArrayLike, t: float | ArrayLike = 0.5) -> np.ndarray:
     """``(1 - t) a + t b``, with ``t`` a number or per-pixel weights (H, W) in [0, 1]; exactly ``a`` at
     ``t = 0`` or where ``a == b``, exactly ``b`` at ``t = 1``.
 
+    Parameters
+    ----------
+    a, b : array_like
+        Two images of one shape, (H, W) or (H, W, C).
+    t : float or array_like
+        The weight of ``b``: a number in [0, 1] or per-pixel weights (H, W).
+
+    Returns
+    -------
+    numpy.ndarray
+        The blended image, of the inputs' shape.
+
     Examples
     --------
     >>> blend(np.zeros((1, 2)), np.ones((1, 2)), 0.25).tolist()
@@ -52,6 +64,28 @@ def composite(base: ArrayLike, overlay: ArrayLike, mask: ArrayLike | None, feath
               mode: str = "reflect") -> np.ndarray:
     """``overlay`` inside the mask, ``base`` outside, blended over ``feather`` pixels; far from the mask
     the result is ``base`` bit for bit.
+
+    Parameters
+    ----------
+    base, overlay : array_like
+        Two images of one shape, (H, W) or (H, W, C).
+    mask : array_like or None
+        Where ``overlay`` shows: booleans or weights in [0, 1] (H, W); None means everywhere.
+    feather : float
+        Width in pixels of the blend at the mask's edge (0: a hard edge).
+    mode : str
+        The boundary rule the feathering's blur meets the edges with (:mod:`filters.padding`).
+
+    Returns
+    -------
+    numpy.ndarray
+        The composite, of the inputs' shape.
+
+    Examples
+    --------
+    >>> m = np.zeros((1, 4), bool); m[0, :2] = True
+    >>> composite(np.zeros((1, 4)), np.ones((1, 4)), m).tolist()
+    [[1.0, 1.0, 0.0, 0.0]]
     """
     b, o = as_image(base, "base"), as_image(overlay, "overlay")
     _same_shape(b, o, ("base", "overlay"))
@@ -65,6 +99,26 @@ def paste(target: ArrayLike, source: ArrayLike, mask: ArrayLike | None, feather:
     With ``align``, the pasted piece is first moved by the mean of ``target - source`` over the
     feathered rim (weights strictly between 0 and 1, else the mask's own pixels), so it sits where the
     target's surface is and the rim shows no step. Returns ``(image, offset)``.
+
+    Parameters
+    ----------
+    target, source : array_like
+        Two geometry images (H, W, C) of one parametrization.
+    mask : array_like or None
+        The region of ``source`` to paste (booleans or weights in [0, 1], (H, W)).
+    feather : float
+        Width in pixels of the blend at the region's rim.
+    mode : str
+        The boundary rule of the feathering (:mod:`filters.padding`).
+    align : bool
+        Move the piece by the mean offset over the rim first.
+
+    Returns
+    -------
+    image : numpy.ndarray
+        ``target`` with the piece pasted in.
+    offset : numpy.ndarray
+        (C,) the offset the piece was moved by (zeros without ``align``).
 
     Examples
     --------
@@ -106,6 +160,25 @@ def resize(image: ArrayLike, shape: tuple[int, int], mode: str = "linear") -> np
     separable cubic convolution (Keys, exact for quadratics) over the image extended with ``mode``: ``linear`` keeps a
     planar image's linear
     functions (its X, Y) exact up to the border, ``octahedral`` keeps an octahedral one seamless.
+
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    shape : tuple of int
+        The new (H', W'), each at least 2.
+    mode : str
+        The boundary rule beyond the edges (:mod:`filters.padding`).
+
+    Returns
+    -------
+    numpy.ndarray
+        The resampled image, (H', W') or (H', W', C).
+
+    Raises
+    ------
+    TooLarge
+        When the result would exceed the memory limit.
 
     Examples
     --------

@@ -21,6 +21,20 @@ def grid_curvature(image: ArrayLike, mode: str = "linear", orientation: int = 1)
     where the surface bends away from its normal (normal ``P_u x P_v`` times ``orientation``), so a
     sphere with outward normals has ``H = -1/r``.
 
+    Parameters
+    ----------
+    image : array_like
+        A geometry image (H, W, 3).
+    mode : str
+        The boundary rule of the differences (:mod:`filters.padding`).
+    orientation : int
+        +1 or -1: the sign of the normal ``P_u x P_v``.
+
+    Returns
+    -------
+    K, H : numpy.ndarray
+        Gaussian and mean curvature, (H, W) each.
+
     Examples
     --------
     >>> u, v = np.meshgrid(np.linspace(-0.2, 0.2, 21), np.linspace(-0.2, 0.2, 21))

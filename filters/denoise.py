@@ -25,6 +25,25 @@ def median_filter(image: ArrayLike, size: int = 3, mode: str = "reflect", *, mas
     """Each channel's median over the ``size x size`` block around each pixel: removes spikes (a
     scanner's outliers) that smoothing would spread.
 
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    size : int
+        The block's side, odd.
+    mode : str
+        The boundary rule beyond the edges: ``reflect``, ``linear``, ``wrap`` or ``octahedral``
+        (:mod:`filters.padding`).
+    mask : array_like or None
+        Where the operation acts (booleans or weights in [0, 1], (H, W)); None means everywhere.
+    feather : float
+        Pixels over which the result blends back into the input outside the mask.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
+
     Examples
     --------
     >>> spike = np.zeros((5, 5))
@@ -42,6 +61,25 @@ def denoise_tv(image: ArrayLike, weight: float, mode: str = "reflect", *, mask: 
                feather: float = 0.0) -> np.ndarray:
     """Total-variation denoising (scikit-image's Chambolle), channels together; ``weight`` in the image's
     units: larger removes more and flattens more.
+
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    weight : float
+        The denoising weight, in the image's units.
+    mode : str
+        The boundary rule beyond the edges: ``reflect``, ``linear``, ``wrap`` or ``octahedral``
+        (:mod:`filters.padding`).
+    mask : array_like or None
+        Where the operation acts (booleans or weights in [0, 1], (H, W)); None means everywhere.
+    feather : float
+        Pixels over which the result blends back into the input outside the mask.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
 
     Examples
     --------
@@ -61,6 +99,29 @@ def denoise_nl_means(image: ArrayLike, h: float, mode: str = "reflect", *, patch
     """Non-local means (scikit-image, fast mode): each pixel the average of pixels whose ``patch_size``
     patches within ``patch_distance`` look alike; ``h`` in the image's units (about the noise's standard
     deviation).
+
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    h : float
+        The filtering strength, in the image's units.
+    mode : str
+        The boundary rule beyond the edges: ``reflect``, ``linear``, ``wrap`` or ``octahedral``
+        (:mod:`filters.padding`).
+    patch_size : int
+        Side of the patches compared, pixels.
+    patch_distance : int
+        How far patches are searched, pixels.
+    mask : array_like or None
+        Where the operation acts (booleans or weights in [0, 1], (H, W)); None means everywhere.
+    feather : float
+        Pixels over which the result blends back into the input outside the mask.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
 
     Examples
     --------

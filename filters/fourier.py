@@ -33,6 +33,11 @@ def fourier_filter(image: ArrayLike, gain: Any, mode: str = "reflect") -> np.nda
         ``reflect`` is computed as a DCT-I (the transform of the symmetric extension), so only the
         gain's even part (``gain(|fy|, |fx|)``, real) acts. float32 images are transformed in float32.
 
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
+
     Examples
     --------
     >>> img = np.random.default_rng(1).normal(size=(6, 7))
@@ -82,6 +87,22 @@ def butterworth(cutoff: float, order: int = 2):
 def lowpass(image: ArrayLike, cutoff: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
     """Butterworth low-pass: frequencies above ``cutoff`` cycles per pixel (0.5: Nyquist) fade out.
 
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    cutoff : float
+        Cycles per pixel, in (0, 0.5].
+    mode : str
+        The periodic extension: ``reflect``, ``wrap`` or ``octahedral`` (:mod:`filters.padding`).
+    order : int
+        The Butterworth filter's order: larger is steeper.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
+
     Examples
     --------
     >>> wave = np.cos(np.linspace(0, np.pi, 9))[None, :].repeat(4, axis=0)   # 1/16 cycle per pixel
@@ -92,13 +113,60 @@ def lowpass(image: ArrayLike, cutoff: float, mode: str = "reflect", *, order: in
 
 
 def highpass(image: ArrayLike, cutoff: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
-    """The detail the low-pass removes: ``image - lowpass(image)`` (zero mean; add it to another shape)."""
+    """The detail the low-pass removes: ``image - lowpass(image)`` (zero mean; add it to another shape).
+
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    cutoff : float
+        Cycles per pixel, in (0, 0.5].
+    mode : str
+        The periodic extension: ``reflect``, ``wrap`` or ``octahedral`` (:mod:`filters.padding`).
+    order : int
+        The Butterworth filter's order: larger is steeper.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
+
+    Examples
+    --------
+    >>> flat = np.full((8, 8), 3.0)
+    >>> float(abs(highpass(flat, 0.2)).max()) < 1e-12          # a constant has no detail
+    True
+    """
     lp = butterworth(cutoff, order)
     return fourier_filter(image, lambda fy, fx: 1.0 - lp(fy, fx), mode)
 
 
 def bandpass(image: ArrayLike, low: float, high: float, mode: str = "reflect", *, order: int = 2) -> np.ndarray:
-    """Frequencies between ``low`` and ``high`` cycles per pixel: ``lowpass(high) - lowpass(low)``."""
+    """Frequencies between ``low`` and ``high`` cycles per pixel: ``lowpass(high) - lowpass(low)``.
+
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    low, high : float
+        The band's edges, cycles per pixel, ``0 <= low < high <= 0.5``.
+    mode : str
+        The periodic extension: ``reflect``, ``wrap`` or ``octahedral`` (:mod:`filters.padding`).
+    order : int
+        The Butterworth filter's order: larger is steeper.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
+
+    Examples
+    --------
+    >>> flat = np.full((16, 16), 3.0)
+    >>> band = bandpass(flat, 0.1, 0.3)                  # a constant lies below every band
+    >>> band.shape, bool(abs(band).max() < 1e-12)
+    ((16, 16), True)
+    """
     positive(low, "low")
     positive(high, "high")
     if not low < high:

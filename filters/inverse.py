@@ -72,6 +72,16 @@ def inverse_filter(image: ArrayLike, blur: str = "mean", size: int = 3, sigma: f
         ``max_gain`` (the sign of ``H`` kept). ``nsr`` is the noise-to-signal power ratio: larger
         values sharpen less and amplify noise and float32 rounding less.
 
+    nsr : float
+        The noise-to-signal power ratio of ``wiener``.
+    max_gain : float
+        The largest gain magnitude of ``clamp``.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
+
     Examples
     --------
     >>> from filters import mean_filter
@@ -105,6 +115,23 @@ def inverse_filter(image: ArrayLike, blur: str = "mean", size: int = 3, sigma: f
 
 def unsharp_mask(image: ArrayLike, sigma: float = 1.0, amount: float = 1.0, mode: str = "reflect") -> np.ndarray:
     """``image + amount (image - gaussian_filter(image, sigma))``: the simple sharpening.
+
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    sigma : float
+        The Gaussian's standard deviation, pixels.
+    amount : float
+        How much of the detail is added back.
+    mode : str
+        The boundary rule beyond the edges: ``reflect``, ``linear``, ``wrap`` or ``octahedral``
+        (:mod:`filters.padding`).
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
 
     Examples
     --------

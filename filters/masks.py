@@ -20,6 +20,21 @@ def feather(mask: ArrayLike | None, width: float = 0.0, mode: str = "reflect") -
     through the boundary rule ``mode``) to the nearest pixel of weight >= 0.5; it is exactly 0 from
     ``width`` pixels on, so pixels far from the mask stay untouched.
 
+    Parameters
+    ----------
+    mask : array_like or None
+        Booleans or weights in [0, 1], (H, W); None gives ones (everywhere).
+    width : float
+        The falloff's width, pixels (0: the mask itself).
+    mode : str
+        The boundary rule beyond the edges: ``reflect``, ``linear``, ``wrap`` or ``octahedral``
+        (:mod:`filters.padding`).
+
+    Returns
+    -------
+    numpy.ndarray
+        float64 weights (H, W).
+
     Examples
     --------
     >>> m = np.zeros((1, 7), bool); m[0, 0] = True
@@ -52,6 +67,18 @@ def feather(mask: ArrayLike | None, width: float = 0.0, mode: str = "reflect") -
 def apply_masked(original: ArrayLike, filtered: ArrayLike, weights: ArrayLike) -> np.ndarray:
     """``original + w (filtered - original)``: exactly ``original`` where ``w == 0`` and exactly
     ``filtered`` where ``w == 1``.
+
+    Parameters
+    ----------
+    original, filtered : array_like
+        The image before and after an operation, of one shape.
+    weights : array_like
+        (H, W) weights in [0, 1], as :func:`feather` gives.
+
+    Returns
+    -------
+    numpy.ndarray
+        The blend, of the inputs' shape.
 
     Examples
     --------

@@ -154,6 +154,18 @@ def periodic_extension(image: ArrayLike, mode: str = "reflect") -> np.ndarray:
     transform. ``reflect``: 2(H-1) x 2(W-1) (symmetric extension); ``wrap``: the image itself;
     ``octahedral``: the 2M x 2M unfolding. The image is its top-left H x W block.
 
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    mode : str
+        The periodic extension: ``reflect``, ``wrap`` or ``octahedral`` (:mod:`filters.padding`).
+
+    Returns
+    -------
+    numpy.ndarray
+        The extension, image first in its top-left corner.
+
     Examples
     --------
     >>> periodic_extension(np.array([[0.0, 1.0, 3.0]]), "reflect").tolist()

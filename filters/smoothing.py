@@ -38,6 +38,27 @@ def mean_filter(image: ArrayLike, size: int = 3, mode: str = "reflect", *, itera
                 mask: ArrayLike | None = None, feather: float = 0.0) -> np.ndarray:
     """The paper's mean filter: each pixel becomes the mean of the ``size x size`` block around it.
 
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    size : int
+        The block's side, odd.
+    mode : str
+        The boundary rule beyond the edges: ``reflect``, ``linear``, ``wrap`` or ``octahedral``
+        (:mod:`filters.padding`).
+    iterations : int
+        How many times the filter is applied.
+    mask : array_like or None
+        Where the operation acts (booleans or weights in [0, 1], (H, W)); None means everywhere.
+    feather : float
+        Pixels over which the result blends back into the input outside the mask.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
+
     Examples
     --------
     >>> mean_filter(np.array([[0.0, 3.0, 0.0]]), 3, "wrap").tolist()
@@ -64,6 +85,25 @@ def gaussian_filter(image: ArrayLike, sigma: float = 1.0, mode: str = "reflect",
                     feather: float = 0.0) -> np.ndarray:
     """Gaussian smoothing, standard deviation ``sigma`` pixels (kernel of half-width ``ceil(4 sigma)``).
 
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    sigma : float
+        Standard deviation, pixels.
+    mode : str
+        The boundary rule beyond the edges: ``reflect``, ``linear``, ``wrap`` or ``octahedral``
+        (:mod:`filters.padding`).
+    mask : array_like or None
+        Where the operation acts (booleans or weights in [0, 1], (H, W)); None means everywhere.
+    feather : float
+        Pixels over which the result blends back into the input outside the mask.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
+
     Examples
     --------
     >>> img = np.full((5, 5, 3), 2.0)
@@ -88,6 +128,27 @@ def bilateral_filter(image: ArrayLike, sigma_space: float = 2.0, sigma_range: fl
 
     ``sigma_range`` is in the image's units (for a geometry image: coordinate units; OpenCV measures the
     difference of two pixels as the sum of the channels' absolute differences).
+
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    sigma_space : float
+        The spatial Gaussian's standard deviation, pixels.
+    sigma_range : float
+        The range Gaussian's standard deviation, image units.
+    mode : str
+        The boundary rule beyond the edges: ``reflect``, ``linear``, ``wrap`` or ``octahedral``
+        (:mod:`filters.padding`).
+    mask : array_like or None
+        Where the operation acts (booleans or weights in [0, 1], (H, W)); None means everywhere.
+    feather : float
+        Pixels over which the result blends back into the input outside the mask.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
 
     Examples
     --------
@@ -114,6 +175,29 @@ def guided_filter(image: ArrayLike, radius: int = 4, eps: float = 1e-4, mode: st
 
     ``eps`` is the regularization in squared image units: structure with variance well above ``eps``
     within a window is kept, below it is smoothed. The guide defaults to the image itself.
+
+    Parameters
+    ----------
+    image : array_like
+        (H, W) or (H, W, C).
+    radius : int
+        The window's radius, pixels.
+    eps : float
+        The regularization, squared image units.
+    mode : str
+        The boundary rule beyond the edges: ``reflect``, ``linear``, ``wrap`` or ``octahedral``
+        (:mod:`filters.padding`).
+    guide : array_like or None
+        The guide image (H, W) or (H, W, C); the image itself by default.
+    mask : array_like or None
+        Where the operation acts (booleans or weights in [0, 1], (H, W)); None means everywhere.
+    feather : float
+        Pixels over which the result blends back into the input outside the mask.
+
+    Returns
+    -------
+    numpy.ndarray
+        The filtered image, of the input's shape; float32 stays float32.
 
     Examples
     --------

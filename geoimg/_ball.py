@@ -20,6 +20,22 @@ def ball_weights(points: ArrayLike, centre: ArrayLike, radius: float, feather: f
     """Weights of points (..., D) for the ball ``|p - centre| <= radius``, falling off smoothly
     (smoothstep) over ``feather`` beyond it.
 
+    Parameters
+    ----------
+    points : array_like
+        (..., D) points.
+    centre : array_like
+        (D,) the ball's centre.
+    radius : float
+        The ball's radius (weight 1 within it), at least 0.
+    feather : float
+        The width of the falloff beyond the radius, at least 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        Weights in [0, 1] of shape ``points.shape[:-1]``.
+
     Examples
     --------
     >>> ball_weights(np.array([[0.0], [1.5], [2.0], [3.0]]), [0.0], 1.0, 2.0).tolist()

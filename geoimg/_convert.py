@@ -60,6 +60,37 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
     A piece whose map is refused (a lone triangle has no four corners for a square) is left out with a
     warning, the others converted; when every piece is refused, the first refusal is raised.
 
+    Parameters
+    ----------
+    mesh_or_path : Mesh or path-like
+        The mesh, or a mesh file (read by :func:`geoimg.load_mesh`).
+    resolution : int or None
+        Pixels along the longer side (see :func:`mesh_to_image`).
+    s : float, array_like or None
+        The smoothness (see :func:`mesh_to_image`).
+    method : str
+        The parametrization's method (see :func:`geoimg.parametrize`).
+    component : {"all", "largest"} or int
+        Which pieces: all of them, the largest, or the K-th (0: the largest).
+    progress : callable or None
+        Called with each stage's progress.
+    timings : dict or None
+        Filled with seconds per stage, summed over the pieces.
+    **options
+        The other options of :func:`mesh_to_image`.
+
+    Returns
+    -------
+    list of GeometryImage
+        One image per piece converted, largest first.
+
+    Raises
+    ------
+    ParametrizationError
+        When every piece's map is refused.
+    InputError
+        On bad options.
+
     Examples
     --------
     >>> import geoimg, warnings

@@ -1,4 +1,8 @@
-"""What sticks out of a disk: Spot (from tests/data) opened at the belly, mapped onto the square by mean-value
+"""
+What sticks out of a disk: balancing a disk map
+===============================================
+
+What sticks out of a disk: Spot (from tests/data) opened at the belly, mapped onto the square by mean-value
 coordinates alone (`--balance none`), relaxed by SLIM with the boundary held (`--balance slim`) and area-balanced
 with the boundary sliding along the square's sides (`--balance area`, the default).
 

@@ -1,4 +1,8 @@
-"""A mesh with a handle, cut open (Gu, Gortler & Hoppe 2002): Keenan Crane's Bob (genus 1) as a cut-open
+"""
+A mesh with a handle, cut open
+==============================
+
+A mesh with a handle, cut open (Gu, Gortler & Hoppe 2002): Keenan Crane's Bob (genus 1) as a cut-open
 geometry image and back as a closed genus-1 quad mesh.
 
     python samples/cut_open.py [OUT_DIR] [--res 257]

@@ -1,4 +1,8 @@
-"""Denoising a mesh through its geometry image: the bundled terrain with scanner-like noise, cleaned by
+"""
+Denoising a terrain through its geometry image
+==============================================
+
+Denoising a mesh through its geometry image: the bundled terrain with scanner-like noise, cleaned by
 non-local means on its image, next to mesh-space Taubin smoothing (trimesh).
 
     python samples/denoise.py [OUT_DIR] [--res 161]

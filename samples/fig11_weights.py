@@ -1,4 +1,8 @@
-"""Paper Fig. 11: rational Gaussian weights (s = 1, 2, 3) against locally supported weights (n = 5, 10, 15),
+"""
+Fig. 11: rational Gaussian against locally supported weights
+============================================================
+
+Paper Fig. 11: rational Gaussian weights (s = 1, 2, 3) against locally supported weights (n = 5, 10, 15),
 with the time each took.
 
     python samples/fig11_weights.py [OUT_DIR] [--res 257]

@@ -1,4 +1,8 @@
-"""Paper Fig. 2: a terrain's weighted-mean surface at s = 2, 4, 8 with its Gaussian and mean curvature.
+"""
+Fig. 2: a terrain at s = 2, 4, 8 with its curvature
+===================================================
+
+Paper Fig. 2: a terrain's weighted-mean surface at s = 2, 4, 8 with its Gaussian and mean curvature.
 
     python samples/fig2_terrain.py [OUT_DIR] [--res 257] [--step 2]
 

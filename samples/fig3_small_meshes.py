@@ -1,4 +1,8 @@
-"""Paper Figs. 3, 6, 7, 8: small meshes and their weighted-mean surfaces at increasing s, mesh overlaid.
+"""
+Figs. 3, 6, 7, 8: small meshes at increasing s
+==============================================
+
+Paper Figs. 3, 6, 7, 8: small meshes and their weighted-mean surfaces at increasing s, mesh overlaid.
 
     python samples/fig3_small_meshes.py [OUT_DIR] [--res 129]
 

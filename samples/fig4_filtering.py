@@ -1,4 +1,8 @@
-"""Paper Fig. 4: a closed genus-0 shape as an octahedral geometry image, mean-filtered, inverse-filtered
+"""
+Fig. 4: filtering a closed shape's octahedral image
+===================================================
+
+Paper Fig. 4: a closed genus-0 shape as an octahedral geometry image, mean-filtered, inverse-filtered
 and partially smoothed, with the quad meshes they give.
 
     python samples/fig4_filtering.py [OUT_DIR] [--res 129]

@@ -1,4 +1,8 @@
-"""Paper Fig. 5: a terrain morph by blending geometry images, Mount St. Helens 2004 -> 2007 (the lava dome
+"""
+Fig. 5: a terrain morph, Mount St. Helens 2004 to 2007
+======================================================
+
+Paper Fig. 5: a terrain morph by blending geometry images, Mount St. Helens 2004 -> 2007 (the lava dome
 grew by up to 208 m), at blend ratios 3:1, 1:1, 1:3, with the per-vertex blend as ground truth.
 
     python samples/fig5_morph.py [OUT_DIR] [--res 257] [--step 1]

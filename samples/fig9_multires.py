@@ -1,4 +1,8 @@
-"""Paper Fig. 9: multiresolution. One shape at five s values, each sampled on the grid its smoothness
+"""
+Fig. 9: multiresolution
+=======================
+
+Paper Fig. 9: multiresolution. One shape at five s values, each sampled on the grid its smoothness
 asks for (the paper's spacing: coarser for larger s), 13² to 193² for an octahedral image.
 
     python samples/fig9_multires.py [OUT_DIR] [--finest 193]

@@ -1,4 +1,8 @@
-"""Partial smoothing two ways (paper 4.5, Fig. 10): in the surface domain (a smoothness s(u, v) that
+"""
+Fig. 10: partial smoothing, in the surface and in the image
+===========================================================
+
+Partial smoothing two ways (paper 4.5, Fig. 10): in the surface domain (a smoothness s(u, v) that
 varies with the point) and in the image domain (a masked, feathered Gaussian filter of the geometry
 image); a region smoothed, and everything but the region smoothed.
 

@@ -1,4 +1,8 @@
-"""A textured mesh through geometry images: Spot with its texture (both in tests/data) to an octahedral
+"""
+A textured mesh through geometry images
+=======================================
+
+A textured mesh through geometry images: Spot with its texture (both in tests/data) to an octahedral
 image whose colour channels hold the texture, smoothed, to a textured quad mesh and a GLB read back.
 
     python samples/textured.py [OUT_DIR] [--res 257]

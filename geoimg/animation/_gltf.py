@@ -101,6 +101,24 @@ def save_glb(morph: Morph, path: PathLike, *, fps: float = 24.0, overwrite: bool
              progress: Progress | None = None) -> Path:
     """Write the morph as a binary glTF 2.0 file with morph targets and a weights animation.
 
+    Parameters
+    ----------
+    morph : Morph
+        The morph to write.
+    path : path-like
+        The ``.glb`` file.
+    fps : float
+        Frames per second of the weights animation.
+    overwrite : bool
+        Replace the file if it exists.
+    progress : callable or None
+        Called as ``progress(done, total)`` after each frame.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -185,6 +203,32 @@ def save_glb(morph: Morph, path: PathLike, *, fps: float = 24.0, overwrite: bool
 def frame_jobs(morph: Morph, folder: PathLike, fmt: str = "obj", progress: Progress | None = None) -> list:
     """``(path, write)`` for every frame file ``folder/frame_0000.<fmt>`` (see :func:`save_frames`), for
     :func:`geoimg._atomic.write_all`; each frame is made when it is written.
+
+    Parameters
+    ----------
+    morph : Morph
+        The morph whose frames are written.
+    folder : path-like
+        The folder the frames go to.
+    fmt : {"obj", "ply", "off", "exr"}
+        The frames' file format.
+    progress : callable or None
+        Called as ``progress(done, total)`` after each frame.
+
+    Returns
+    -------
+    list of tuple
+        ``(path, write)`` pairs; ``write(tmp_path)`` writes one frame.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geoimg import GeometryImage
+    >>> from geoimg.animation import morph
+    >>> m = morph(GeometryImage(np.zeros((3, 3, 3), np.float32)), GeometryImage(np.ones((3, 3, 3), np.float32)),
+    ...           frames=3, align="none")
+    >>> [p.name for p, _ in frame_jobs(m, "frames", "ply")]
+    ['frame_0000.ply', 'frame_0001.ply', 'frame_0002.ply']
     """
     if fmt not in FRAME_FORMATS:
         raise InputError(f"fmt: expected one of {FRAME_FORMATS}, got {fmt!r}")
@@ -210,6 +254,34 @@ def save_frames(morph: Morph, folder: PathLike, fmt: str = "obj", *, overwrite: 
                 progress: Progress | None = None) -> list[Path]:
     """Write every frame to ``folder/frame_0000.<fmt>``: a quad mesh (obj, ply, off) or the geometry
     image (exr); all of them or, on any failure, none. Returns the paths.
+
+    Parameters
+    ----------
+    morph : Morph
+        The morph whose frames are written.
+    folder : path-like
+        The folder the frames go to (made if missing).
+    fmt : {"obj", "ply", "off", "exr"}
+        The frames' file format.
+    overwrite : bool
+        Replace frame files that exist (else refused before anything is written).
+    progress : callable or None
+        Called as ``progress(done, total)`` after each frame.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The frame files, in order.
+
+    Examples
+    --------
+    >>> import tempfile, numpy as np
+    >>> from geoimg import GeometryImage
+    >>> from geoimg.animation import morph
+    >>> m = morph(GeometryImage(np.zeros((3, 3, 3), np.float32)), GeometryImage(np.ones((3, 3, 3), np.float32)),
+    ...           frames=2, align="none")
+    >>> [p.name for p in save_frames(m, tempfile.mkdtemp(), "obj")]
+    ['frame_0000.obj', 'frame_0001.obj']
     """
     jobs = frame_jobs(morph, folder, fmt, progress)
     Path(folder).mkdir(parents=True, exist_ok=True)

@@ -292,6 +292,31 @@ class Morph:
     ``times`` are the frames' positions along the keys, from 0 (key 0) to ``len(keys) - 1`` (last key);
     :meth:`frame` blends the two keys around a time. ``weights``/``lag``: per-pixel timing (pixels of
     weight 1 run ``lag`` ahead of those of weight 0 within each segment).
+
+    Parameters
+    ----------
+    keys : list of GeometryImage
+        The aligned keys, of one domain and size.
+    times : numpy.ndarray
+        (frames,) the frames' times, from 0 to ``len(keys) - 1``.
+    easing : callable
+        ``f(t)`` applied to each segment's local time.
+    weights : numpy.ndarray or None
+        (H, W) per-pixel timing weights in [0, 1].
+    lag : float
+        How far pixels of weight 1 run ahead, as a share of a segment.
+    report : list
+        What the alignment did to each key (a dict per key).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geoimg import GeometryImage
+    >>> from geoimg.animation import morph
+    >>> m = morph(GeometryImage(np.zeros((3, 3, 3), np.float32)), GeometryImage(np.ones((3, 3, 3), np.float32)),
+    ...           frames=5, align="none")
+    >>> isinstance(m, Morph), m.times.tolist()
+    (True, [0.0, 0.25, 0.5, 0.75, 1.0])
     """
 
     keys: list
@@ -377,6 +402,12 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         :func:`geoimg.mesh.suggest_landmarks`.) ``"auto"``: each key's suggested extremities, matched to key
         0's on the rigidly turned spheres (within 40 degrees); the report's ``auto_landmarks`` says which
         were matched.
+    lag : float, default 0.5
+        How far the mask's pixels of weight 1 run ahead, as a share of a segment.
+    resolution : int, default 129
+        Pixels per side for keys given as meshes.
+    progress : callable, optional
+        Called with each key's conversion progress.
 
     Returns
     -------

@@ -86,7 +86,23 @@ void main() { color = vec4(line_color, 1.0); }
 
 @dataclass(frozen=True)
 class Camera:
-    """A perspective camera looking at ``target`` from ``eye``; light directions follow it."""
+    """A perspective camera looking at ``target`` from ``eye``; light directions follow it.
+
+    Parameters
+    ----------
+    eye, target, up : numpy.ndarray
+        (3,) the camera's position, the point it looks at, and its up direction.
+    fov_deg : float
+        The vertical field of view, degrees.
+    near, far : float
+        The clipping planes' distances.
+
+    Examples
+    --------
+    >>> cam = Camera(eye=np.array([0.0, 0.0, 5.0]), target=np.zeros(3), up=np.array([0.0, 1.0, 0.0]))
+    >>> cam.fov_deg, float(np.linalg.norm(cam.eye - cam.target))
+    (30.0, 5.0)
+    """
 
     eye: np.ndarray
     target: np.ndarray
@@ -183,6 +199,21 @@ def _fitting_distance(p: np.ndarray, d: np.ndarray, up: np.ndarray, t: float, as
 def up_axis(obj: Any) -> str:
     """The up axis a picture of ``obj`` uses by default: the one a geometry image records (``metadata["up"]``,
     a terrain's), else ``"y"``.
+
+    Parameters
+    ----------
+    obj : Mesh or GeometryImage
+        The shape to be drawn.
+
+    Returns
+    -------
+    str
+        ``"x"``, ``"y"`` or ``"z"``.
+
+    Examples
+    --------
+    >>> up_axis(Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]))
+    'y'
     """
     up = obj.metadata.get("up") if isinstance(obj, GeometryImage) else None
     return up if up in UP_AXES else "y"
@@ -217,6 +248,25 @@ class Renderer:
     ------
     RenderError
         When no EGL/OpenGL 3.3 context can be made (the message says what to install).
+
+    Parameters
+    ----------
+    width, height : int
+        The pictures' size, pixels.
+    samples : int
+        Multisampling (antialiasing) samples per pixel.
+    background : tuple of float or None
+        RGB in [0, 1]; None for a transparent background.
+    albedo : tuple of float
+        RGB in [0, 1] of shapes without colours.
+
+    Examples
+    --------
+    >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+    >>> with Renderer(64, 48) as r:
+    ...     picture = r.render(m, r.camera_for(m))
+    >>> picture.shape, picture.dtype
+    ((48, 64, 3), dtype('uint8'))
     """
 
     def __init__(self, width: int = 800, height: int = 600, *, samples: int = 4,
@@ -344,6 +394,29 @@ def render(obj: Any, width: int = 800, height: int = 600, *, azimuth: float = 30
     """Shade a mesh or geometry image to an (H, W, 3) uint8 picture ((H, W, 4) when ``transparent``), the
     camera fitted tightly to it, its up axis ``up`` (default: :func:`up_axis`).
 
+    Parameters
+    ----------
+    obj : Mesh or GeometryImage
+        What to draw.
+    width, height : int
+        The picture's size, pixels.
+    azimuth, elevation : float
+        The view direction, degrees around and above the shape.
+    up : {"x", "y", "z"} or None
+        The up axis; None for :func:`up_axis`.
+    transparent : bool
+        A transparent background (RGBA).
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W, 3) or (H, W, 4) uint8.
+
+    Raises
+    ------
+    RenderError
+        When no OpenGL context can be made.
+
     Examples
     --------
     >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
@@ -357,6 +430,22 @@ def render(obj: Any, width: int = 800, height: int = 600, *, azimuth: float = 30
 def label_points(rgb: np.ndarray, points: ArrayLike, camera: Camera, labels: list | None = None) -> np.ndarray:
     """The picture with each 3-D point (k, 3) drawn as a ring and numbered (``labels``, default 0, 1, ...)
     where ``camera`` sees it: a copy; points behind the camera are left out.
+
+    Parameters
+    ----------
+    rgb : numpy.ndarray
+        (H, W, 3) uint8, the picture ``camera`` made.
+    points : array_like
+        (k, 3) the points.
+    camera : Camera
+        The camera of the picture.
+    labels : list or None
+        The text of each point; 0, 1, ... by default.
+
+    Returns
+    -------
+    numpy.ndarray
+        The labelled copy.
 
     Examples
     --------
@@ -382,7 +471,28 @@ def label_points(rgb: np.ndarray, points: ArrayLike, camera: Camera, labels: lis
 
 
 def save_png(rgb: np.ndarray, path: PathLike, *, overwrite: bool = False) -> Path:
-    """Write an (H, W, 3) or (H, W, 4) uint8 picture as PNG (atomically)."""
+    """Write an (H, W, 3) or (H, W, 4) uint8 picture as PNG (atomically).
+
+    Parameters
+    ----------
+    rgb : numpy.ndarray
+        (H, W, 3) or (H, W, 4) uint8.
+    path : path-like
+        The ``.png`` file.
+    overwrite : bool
+        Replace the file if it exists.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> save_png(np.zeros((4, 4, 3), np.uint8), pathlib.Path(tempfile.mkdtemp()) / "black.png").name
+    'black.png'
+    """
     iio = require("imageio.v3", "writing pictures")
     path = Path(path)
     if path.suffix.lower() != ".png":
@@ -408,6 +518,34 @@ def _write_gif(frames: np.ndarray, path: Path, fps: float) -> None:
 def save_animation(frames: Any, path: PathLike, *, fps: float = 24.0, overwrite: bool = False) -> Path:
     """Write pictures (each (H, W, 3) uint8) as an animated GIF (looping) or an H.264 MP4 (needs the
     ``imageio-ffmpeg`` package: ``pip install geoimg[video]``).
+
+    Parameters
+    ----------
+    frames : iterable of numpy.ndarray
+        The pictures, (H, W, 3) uint8, one size.
+    path : path-like
+        A ``.gif`` or ``.mp4`` file.
+    fps : float
+        Frames per second.
+    overwrite : bool
+        Replace the file if it exists.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Raises
+    ------
+    MissingDependency
+        For an MP4 without ``imageio-ffmpeg``.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> frames = [np.full((8, 8, 3), v, np.uint8) for v in (0, 128, 255)]
+    >>> save_animation(frames, pathlib.Path(tempfile.mkdtemp()) / "a.gif").suffix
+    '.gif'
     """
     iio = require("imageio.v3", "writing animations")
     path = Path(path)

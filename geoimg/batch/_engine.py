@@ -162,6 +162,12 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
         unless ``component`` says otherwise; needs ``resolution``).
     manifest : path, optional
         The manifest (CSV, one row per input); default ``out/manifest.csv``.
+    workers : int, optional
+        Worker processes of the embedded cluster (default: one per core).
+    memory_limit : str or int, optional
+        Memory of each embedded worker (``"4GB"``, bytes, or ``"auto"``: the machine's memory shared out).
+    scheduler : str, optional
+        The address of an existing Dask scheduler (``tcp://HOST:8786``) to run on.
     force : bool
         Redo every input, and write into a folder (or replace a store) that holds something else. Without
         it, an input is skipped when an earlier run with the same options converted it (its outputs still
@@ -184,6 +190,19 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
     ------
     InputError, FileNotFoundError, FileExistsError
         Bad options, missing inputs, an output folder or store that holds something else: before any work.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, distributed, geoimg
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0.2], [0, 1, 0]], [[0, 1, 2, 3]])
+    >>> (folder / "meshes").mkdir()
+    >>> _ = geoimg.save_mesh(m, folder / "meshes" / "quad.obj")
+    >>> with distributed.Client(processes=False, n_workers=1, dashboard_address=None) as client:
+    ...     table = convert([folder / "meshes"], folder / "images", client, resolution=9, method="heightfield",
+    ...                     axis="z")
+    >>> table["status"].tolist(), (folder / "images" / "quad.exr").exists()
+    (['ok'], True)
     """
     pandas = require("pandas", "geoimg batch")
     if zarr is not None:

@@ -36,6 +36,16 @@ def find_inputs(specs: Any) -> list[Path]:
     InputError
         No input at all.
 
+    Parameters
+    ----------
+    specs : path or sequence of paths
+        Files, folders and glob patterns.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files, each once.
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -77,6 +87,16 @@ def output_stems(inputs: Any) -> list[PurePath]:
     """For each input, its output name without extension, relative to the output folder: the input's path
     below the inputs' common folder, so that equal names in different folders stay apart; inputs that differ
     only in their extension keep it in the name (``x_obj``, ``x_ply``).
+
+    Parameters
+    ----------
+    inputs : sequence of paths
+        The input files, as :func:`find_inputs` gives them.
+
+    Returns
+    -------
+    list of pathlib.PurePath
+        One relative name per input, in order.
 
     Examples
     --------

@@ -27,6 +27,16 @@ def _row(row: dict) -> dict:
 def read_manifest(path: PathLike) -> dict[str, dict]:
     """The rows of a manifest by input (the last row of an input wins); empty when there is no file.
 
+    Parameters
+    ----------
+    path : path-like
+        The manifest (CSV).
+
+    Returns
+    -------
+    dict
+        ``input path -> row`` (a dict of the columns' text).
+
     Examples
     --------
     >>> import tempfile, pathlib

@@ -39,6 +39,54 @@ class ConvertOptions:
     measure (``psnr``: the quad mesh against the input; below ``min_psnr`` dB or with a Hausdorff distance
     above ``max_hausdorff`` of the diagonal the input is marked ``poor``).
 
+    Parameters
+    ----------
+    resolution : int or None
+        Pixels along the longer side; None: from ``s`` (see :func:`geoimg.mesh_to_image`).
+    s : float or None
+        The smoothness; None: the width that serves the resolution.
+    method : str
+        The parametrization's method (see :func:`geoimg.parametrize`).
+    axis : {"x", "y", "z"} or None
+        A terrain's up axis.
+    boundary : {"square", "keep"}
+        A disk's boundary: on the unit square, or its own convex outline.
+    balance : {"area", "slim", "none"}
+        How a disk or cut-open map is relaxed.
+    weights : {"coverage", "gaussian", "local"}
+        The surface's weights.
+    n : int
+        Faces per weight of ``local`` weights.
+    tol : float
+        The truncation tolerance of Gaussian weights (0: exact sums).
+    sliver_rule : {"robust", "paper"}
+        How long thin faces are treated.
+    component : {"all", "largest"} or int
+        Which pieces of a mesh of several.
+    normals, colors : bool
+        Keep the surface's normals and the mesh's colours in the images.
+    steps : tuple
+        Filter steps, ``(name, values)`` pairs, applied in order.
+    mode : str or None
+        The filters' boundary rule; None: the domain's.
+    nsr : float
+        The noise-to-signal ratio of a ``sharpen`` step.
+    quads : bool
+        Also write each image's quad mesh.
+    quads_format : {"obj", "ply", "off"}
+        The quad meshes' format.
+    psnr : bool
+        Measure each quad mesh against its input.
+    min_psnr : float
+        Below this PSNR (dB) an input is marked ``poor``.
+    max_hausdorff : float
+        Above this Hausdorff distance (a share of the diagonal) an input is marked ``poor``.
+
+    Raises
+    ------
+    InputError
+        When an option is out of range or unknown.
+
     Examples
     --------
     >>> ConvertOptions(resolution=65, steps=[("mean", [3])]).steps

@@ -91,7 +91,27 @@ def write_records(path, records: dict[int, dict]) -> None:
 
 
 def store_records(path: PathLike) -> list[dict | None]:
-    """Each item's record, None for an item not written."""
+    """Each item's record, None for an item not written.
+
+    Parameters
+    ----------
+    path : path-like
+        The Zarr store.
+
+    Returns
+    -------
+    list of dict or None
+        One record per item: source, shape, domain, metadata, PSNR and timings.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geoimg.batch._store import open_store                 # what convert does first
+    >>> store = pathlib.Path(tempfile.mkdtemp()) / "data.zarr"
+    >>> _ = open_store(store, ["a.obj", "b.obj"], 5, normals=True, options_hash="x")
+    >>> store_records(store)                                     # nothing written yet
+    [None, None]
+    """
     return list(dict(_zarr().open_group(str(path), mode="r").attrs)[KEY]["items"])
 
 
@@ -102,6 +122,30 @@ def read_item(path: PathLike, index: int) -> GeometryImage:
     ------
     InputError
         If the item was not written.
+
+    Parameters
+    ----------
+    path : path-like
+        The Zarr store :func:`convert` wrote.
+    index : int
+        The item's number (the input's row in the store's order).
+
+    Returns
+    -------
+    GeometryImage
+        The item's image, mask and normals.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geoimg import GeometryImage
+    >>> from geoimg.batch._store import open_store, write_item, write_records   # what convert's workers do
+    >>> store = pathlib.Path(tempfile.mkdtemp()) / "data.zarr"
+    >>> _ = open_store(store, ["a.obj"], 3, normals=False, options_hash="x")
+    >>> write_item(store, 0, GeometryImage(np.ones((3, 3, 3), np.float32)))
+    >>> write_records(store, {0: {"source": "a.obj", "domain": "planar", "shape": [3, 3], "metadata": {}}})
+    >>> read_item(store, 0).pixels.sum().item(), store_records(store)[0]["source"]
+    (27.0, 'a.obj')
     """
     group = _zarr().open_group(str(path), mode="r")
     records = dict(group.attrs)[KEY]["items"]

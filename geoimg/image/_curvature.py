@@ -14,6 +14,16 @@ def image_curvature(image: GeometryImage) -> tuple[np.ndarray, np.ndarray]:
     """``(K, H)`` of a geometry image from its grid (:func:`filters.grid_curvature`), continuing the
     surface beyond the edges by its domain's rule (``domain.extension``) and oriented like it.
 
+    Parameters
+    ----------
+    image : GeometryImage
+        The image.
+
+    Returns
+    -------
+    K, H : numpy.ndarray
+        Gaussian and mean curvature per pixel, (H, W) each.
+
     Examples
     --------
     >>> x, y = np.meshgrid(np.linspace(-1, 1, 9), np.linspace(-1, 1, 9))

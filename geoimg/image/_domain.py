@@ -35,6 +35,18 @@ DOMAIN_KINDS: dict = {}      # kind name -> Domain subclass, filled as subclasse
 def grid_normals(pixels: np.ndarray, orientation: int = 1) -> np.ndarray:
     """Unit normals of a geometry image from central differences of the grid (one-sided at the edges).
 
+    Parameters
+    ----------
+    pixels : numpy.ndarray
+        (H, W, 3) positions.
+    orientation : int
+        +1 or -1: the sign of ``P_u x P_v``.
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W, 3) unit normals (float32 for float32 pixels).
+
     Examples
     --------
     >>> u, v = np.meshgrid(np.linspace(0, 1, 4), np.linspace(0, 1, 3))
@@ -69,11 +81,14 @@ def _check_orientation(value) -> int:
 class Domain(ABC):
     """The kind of a geometry image and everything that depends on it (see the module's description).
 
-    Attributes
+    Parameters
     ----------
     orientation : int
         +1 when ``dP/du x dP/dv`` (u along columns, v along rows) points along the mesh's face normals,
         else -1: quads of the quad mesh are wound to match.
+
+    Attributes
+    ----------
     kind : str (class attribute)
         The name written to files (``geoimg:domain``).
     boundary : str or None (class attribute)
@@ -88,6 +103,11 @@ class Domain(ABC):
     rotations : bool (class attribute)
         Whether the parameter space can turn onto itself (the sphere), so that two images can be
         aligned by a rotation of it.
+
+    Examples
+    --------
+    >>> Domain.named("octahedral")
+    OctahedralDomain(orientation=1)
     """
 
     orientation: int = 1
@@ -300,6 +320,13 @@ class PlanarDomain(Domain):
     Nothing is glued; filters reflect at the edges (``mode="linear"`` keeps a border in place), and
     derivatives continue the surface linearly. Pixels outside the parametrized region are masked.
 
+    Parameters
+    ----------
+    orientation : int
+        +1 or -1: the winding of the quad mesh's faces (see :class:`Domain`).
+    extent : tuple of float
+        The parameter rectangle's width and height (the longer side 1).
+
     Examples
     --------
     >>> d = PlanarDomain(extent=(1.0, 0.5))
@@ -347,6 +374,11 @@ class OctahedralDomain(Domain):
     one point (see :mod:`geoimg.parametrization._octahedral`): filters continue across the sides by a
     half-turn, glued pixels are averaged after a filter, and the quad mesh welds them by index into a
     closed genus-0 surface. The image covers the whole sphere, so it takes no mask.
+
+    Parameters
+    ----------
+    orientation : int
+        +1 or -1: the winding of the quad mesh's faces (see :class:`Domain`).
 
     Examples
     --------
@@ -411,6 +443,15 @@ class CutDomain(Domain):
     boundary pixel on one side of a cut has an exact twin. Twins are glued (averaged after filters, welded
     in the quad mesh, which then has the mesh's genus and boundary loops), and filters see across a cut
     the twin's side of it.
+
+    Parameters
+    ----------
+    orientation : int
+        +1 or -1: the winding of the quad mesh's faces (see :class:`Domain`).
+    quantum : int
+        Quanta per side of the square; an image's ``N - 1`` is a multiple of it.
+    segments : tuple
+        ``(start, length, twin)`` of each perimeter segment, in quanta.
 
     Examples
     --------

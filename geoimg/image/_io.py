@@ -122,6 +122,29 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
     ImageFileError
         If the file cannot be read, has no R, G, B channels, has no geoimg metadata and no ``assume``, or
         is not a geoimg archive.
+
+    Parameters
+    ----------
+    path : path-like
+        An ``.exr``, ``.npz``, ``.tif``/``.tiff`` or ``.npy`` file (or a geoimg ``.png`` preview).
+    assume : {"planar", "octahedral"} or None
+        The domain of a file without geoimg's metadata.
+    approximate : bool
+        Read a 16-bit PNG preview as approximate geometry.
+
+    Returns
+    -------
+    GeometryImage
+        The image, bit for bit as it was saved, domain included.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, numpy as np
+    >>> from geoimg import GeometryImage, save_image
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "flat.exr"
+    >>> _ = save_image(GeometryImage(np.zeros((3, 4, 3), np.float32)), p)
+    >>> load_image(p).shape, load_image(p).domain.kind
+    ((3, 4), 'planar')
     """
     path = as_path(path)
     suffix = path.suffix.lower()
@@ -233,12 +256,57 @@ def _load_npz(path, assume: str | None) -> GeometryImage:
 def save_preview(image: GeometryImage, path: PathLike, *, overwrite: bool = False) -> Path:
     """Write a 16-bit RGB PNG: X, Y, Z each stretched to [0, 65535] over the valid pixels, masked pixels
     black (see :meth:`GeometryImage.preview`).
+
+    Parameters
+    ----------
+    image : GeometryImage
+        The image to show.
+    path : path-like
+        The ``.png`` file.
+    overwrite : bool
+        Replace the file if it exists.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from geoimg import GeometryImage
+    >>> img = GeometryImage(np.random.default_rng(0).random((4, 4, 3)).astype(np.float32))
+    >>> save_preview(img, pathlib.Path(tempfile.mkdtemp()) / "preview.png").name
+    'preview.png'
     """
     return image.preview(path, overwrite=overwrite)
 
 
 def save_scalar(values: np.ndarray, path: PathLike, name: str = "Y", *, overwrite: bool = False) -> Path:
-    """Write an (H, W) float map (a curvature, a mask) to a one-channel float32 OpenEXR."""
+    """Write an (H, W) float map (a curvature, a mask) to a one-channel float32 OpenEXR.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        (H, W) floats.
+    path : path-like
+        The ``.exr`` file.
+    name : str
+        The channel's name.
+    overwrite : bool
+        Replace the file if it exists.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> save_scalar(np.zeros((2, 3)), pathlib.Path(tempfile.mkdtemp()) / "k.exr", "K").name
+    'k.exr'
+    """
     path = Path(path)
     if path.suffix.lower() != ".exr":
         raise ImageFileError(f"{path}: scalar maps are written as OpenEXR; use a .exr name")
@@ -252,7 +320,21 @@ def save_scalar(values: np.ndarray, path: PathLike, name: str = "Y", *, overwrit
 
 def diverging_colors(values: np.ndarray, valid: np.ndarray | None = None, scale: float | None = None) -> np.ndarray:
     """8-bit RGB (H, W, 3) of a signed map: blue (negative), white (0), red (positive), full colour at
-    ``|value| = scale`` (default: the 99th percentile of |value| over valid pixels); invalid pixels black.
+    ``|value| = scale`` (default: the 99th percentile of ``|value|`` over valid pixels); invalid pixels black.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        (H, W) signed values.
+    valid : numpy.ndarray or None
+        (H, W) booleans: the pixels that hold a value.
+    scale : float or None
+        The magnitude drawn in full colour.
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W, 3) uint8.
 
     Examples
     --------
@@ -273,7 +355,30 @@ def diverging_colors(values: np.ndarray, valid: np.ndarray | None = None, scale:
 
 def save_colormap(values: np.ndarray, path: PathLike, valid: np.ndarray | None = None, *,
                   overwrite: bool = False) -> Path:
-    """Write a signed (H, W) map as an 8-bit PNG with :func:`diverging_colors`."""
+    """Write a signed (H, W) map as an 8-bit PNG with :func:`diverging_colors`.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        (H, W) signed values.
+    path : path-like
+        The ``.png`` file.
+    valid : numpy.ndarray or None
+        (H, W) booleans: the pixels that hold a value.
+    overwrite : bool
+        Replace the file if it exists.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> save_colormap(np.linspace(-1, 1, 6).reshape(2, 3), pathlib.Path(tempfile.mkdtemp()) / "k.png").name
+    'k.png'
+    """
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise ImageFileError(f"{path}: colour maps are PNG; use a .png name")
@@ -285,7 +390,31 @@ def save_colormap(values: np.ndarray, path: PathLike, valid: np.ndarray | None =
 
 def save_normal_map(normals: np.ndarray, path: PathLike, valid: np.ndarray | None = None, *,
                     overwrite: bool = False) -> Path:
-    """Write unit normals (H, W, 3) as an 8-bit PNG normal map, ``(n + 1) / 2`` per channel; invalid black."""
+    """Write unit normals (H, W, 3) as an 8-bit PNG normal map, ``(n + 1) / 2`` per channel; invalid black.
+
+    Parameters
+    ----------
+    normals : numpy.ndarray
+        (H, W, 3) unit normals.
+    path : path-like
+        The ``.png`` file.
+    valid : numpy.ndarray or None
+        (H, W) booleans: the pixels that hold a normal.
+    overwrite : bool
+        Replace the file if it exists.
+
+    Returns
+    -------
+    pathlib.Path
+        The file written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> up = np.zeros((2, 2, 3)); up[..., 2] = 1
+    >>> save_normal_map(up, pathlib.Path(tempfile.mkdtemp()) / "n.png").suffix
+    '.png'
+    """
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise ImageFileError(f"{path}: normal maps are PNG; use a .png name")

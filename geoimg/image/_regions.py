@@ -24,6 +24,22 @@ def image_region(image: GeometryImage, centre: ArrayLike, radius: float, feather
     """Weights (H, W) of the pixels whose surface point lies in the ball around ``centre`` (3-D, the
     mesh's units): smooth, for example, the region around a point of the mesh.
 
+    Parameters
+    ----------
+    image : GeometryImage
+        The image whose pixels are weighed.
+    centre : array_like
+        (3,) the ball's centre.
+    radius : float
+        The ball's radius.
+    feather : float
+        The width of the falloff beyond the radius, in the mesh's units.
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W) weights in [0, 1]; 0 at masked pixels.
+
     Examples
     --------
     >>> x, y = np.meshgrid(np.arange(5.0), np.arange(3.0))
@@ -38,6 +54,22 @@ def image_region(image: GeometryImage, centre: ArrayLike, radius: float, feather
 def uv_region(shape: tuple[int, int], centre: ArrayLike, radius: float, feather: float = 0.0) -> np.ndarray:
     """Weights (H, W) of a disk in the image's [0, 1]^2 coordinates (u along columns, v along rows).
 
+    Parameters
+    ----------
+    shape : tuple of int
+        The image's (H, W).
+    centre : array_like
+        (u, v) of the disk's centre.
+    radius : float
+        The disk's radius, in image coordinates.
+    feather : float
+        The width of the falloff beyond the radius, in image coordinates.
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W) weights in [0, 1].
+
     Examples
     --------
     >>> uv_region((3, 3), (0.5, 0.5), 0.1).astype(int).tolist()
@@ -51,6 +83,33 @@ def uv_region(shape: tuple[int, int], centre: ArrayLike, radius: float, feather:
 def load_mask(path: PathLike, shape: tuple[int, int]) -> np.ndarray:
     """Weights (H, W) in [0, 1] from an image file (PNG, EXR, ...: the first channel, scaled by its
     type's range; 8-bit 255 is 1). The file must have the geometry image's size.
+
+    Parameters
+    ----------
+    path : path-like
+        An image file.
+    shape : tuple of int
+        The geometry image's (H, W), which the file must have.
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W) float64 weights.
+
+    Raises
+    ------
+    ImageFileError
+        When the file cannot be read.
+    InputError
+        When it has another size, or values outside [0, 1].
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, cv2
+    >>> p = str(pathlib.Path(tempfile.mkdtemp()) / "mask.png")
+    >>> _ = cv2.imwrite(p, np.array([[0, 255]], np.uint8))
+    >>> load_mask(p, (1, 2)).tolist()
+    [[0.0, 1.0]]
     """
     path = Path(path)
     data, _, _ = read_raster(path, what="mask image")

@@ -127,6 +127,25 @@ def mesh_file_jobs(mesh: Mesh, path: PathLike) -> list:
     """``(path, write)`` for every file that writing ``mesh`` to ``path`` makes (a textured OBJ: the OBJ, its
     ``.mtl`` and its ``.png``), for :func:`geoimg._atomic.write_all`: all of them or none. Warns when the
     format keeps no colours or texture that the mesh has.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh to write.
+    path : path-like
+        The mesh file (its extension says the format).
+
+    Returns
+    -------
+    list of tuple
+        ``(path, write)`` pairs; ``write(tmp_path)`` writes one file.
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> square = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+    >>> [p.name for p, _ in mesh_file_jobs(square, "square.obj")]
+    ['square.obj']
     """
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")

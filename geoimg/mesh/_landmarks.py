@@ -44,6 +44,18 @@ def average_geodesic_distance(mesh: Mesh, sources: int = SOURCES) -> np.ndarray:
     MeshError
         If the mesh has several pieces (distances between them are infinite): repair it into pieces first.
 
+    Parameters
+    ----------
+    mesh : Mesh
+        A mesh of one piece.
+    sources : int
+        How many source vertices (fewer when the mesh has fewer).
+
+    Returns
+    -------
+    numpy.ndarray
+        (N,) the mean distance per vertex, in the mesh's units.
+
     Examples
     --------
     >>> m = Mesh([[0, 0, 0], [1, 0, 0], [2, 0, 0.1], [0, 1, 0]], [[0, 1, 3], [1, 2, 3]])
@@ -77,6 +89,22 @@ def suggest_landmarks(mesh: Mesh, count: int = 8, *, radius: float = RADIUS, spr
     :func:`average_geodesic_distance` over a geodesic ball of ``radius`` times its largest value, no two
     closer than that. With ``spread``, exactly ``count`` (as many as the mesh has vertices at most): after
     the extremities, each further point the vertex geodesically farthest from all those picked.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        A mesh of one piece.
+    count : int
+        How many landmarks at most.
+    radius : float
+        The share of the largest average distance within which a maximum must be the largest.
+    spread : bool
+        Fill up to ``count`` with the farthest points.
+
+    Returns
+    -------
+    numpy.ndarray
+        Vertex indices (int64), most extreme first.
 
     Examples
     --------

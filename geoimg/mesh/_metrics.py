@@ -15,6 +15,18 @@ def point_mesh_distance(points: np.ndarray, mesh: Mesh) -> np.ndarray:
     with libigl's AABB tree (quads split along their shorter diagonal, as geometry images are drawn;
     larger polygons fanned).
 
+    Parameters
+    ----------
+    points : numpy.ndarray
+        (k, 3) points.
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    numpy.ndarray
+        (k,) distances, in the mesh's units.
+
     Examples
     --------
     >>> square = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
@@ -37,6 +49,27 @@ def point_mesh_distance(points: np.ndarray, mesh: Mesh) -> np.ndarray:
 def sample_surface(mesh: Mesh, n: int, seed: int = 0) -> np.ndarray:
     """``n`` points spread uniformly over the mesh's area (quads split along their shorter diagonal),
     followed by its vertices.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+    n : int
+        How many area samples.
+    seed : int
+        The random generator's seed (the same seed, the same points).
+
+    Returns
+    -------
+    numpy.ndarray
+        (n + N, 3) points.
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> square = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+    >>> sample_surface(square, 100).shape
+    (104, 3)
     """
     tris, _ = mesh.triangulate(quads="shorter")
     p = mesh.vertices[tris]
@@ -58,6 +91,20 @@ def surface_distance(reference: Mesh, other: Mesh, n: int = 200000) -> dict:
     mean over the surfaces, whatever their vertex counts), each side's ``rms``, ``diagonal`` (the
     reference's bounding-box diagonal), and relative to it ``psnr_db = 20 log10(diagonal / rms)`` and
     ``hausdorff_rel = hausdorff / diagonal``. This is Praun and Hoppe's measure (``MeshDistance -bothdir 1``).
+
+    Parameters
+    ----------
+    reference : Mesh
+        The mesh measured against (its diagonal is the scale).
+    other : Mesh
+        The other mesh (a geometry image's quad mesh).
+    n : int
+        Area samples on each side.
+
+    Returns
+    -------
+    dict
+        ``hausdorff, rms, rms_ab, rms_ba, diagonal, psnr_db, hausdorff_rel`` (floats).
 
     Examples
     --------

@@ -39,6 +39,27 @@ class Repair:
     """What :func:`repair` did to one piece: the piece, where its vertices came from in the input
     (``source_vertices``, (N,)), and the counts of split pinch vertices, separated non-manifold edges and
     turned faces.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The repaired piece.
+    source_vertices : numpy.ndarray
+        (N,) each vertex's index in the input.
+    pinches : int
+        Pinch vertices split.
+    nonmanifold_edges : int
+        Non-manifold edges separated.
+    flipped_faces : int
+        Faces turned.
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> square = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+    >>> r = repair(square)[0]
+    >>> r.mesh.n_faces, r.source_vertices.tolist(), r.pinches
+    (1, [0, 1, 2, 3], 0)
     """
 
     mesh: Mesh
@@ -60,6 +81,18 @@ def _edge_face_counts(mesh: Mesh):
 def drop_degenerate_faces(mesh: Mesh) -> tuple[Mesh, int]:
     """The mesh without faces of zero area: a vertex repeated (fewer than three distinct corners) or all
     corners on a line. Returns the mesh and how many faces were left out.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    mesh : Mesh
+        The new mesh (the input is left as it is).
+    count : int
+        How many faces were left out.
 
     Examples
     --------
@@ -87,6 +120,18 @@ def drop_duplicate_faces(mesh: Mesh) -> tuple[Mesh, int]:
     """The mesh without faces that repeat an earlier face's corners (in any order or winding: a surface
     stored twice, or two-sided). Returns the mesh and how many faces were left out.
 
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    mesh : Mesh
+        The new mesh (the input is left as it is).
+    count : int
+        How many faces were left out.
+
     Examples
     --------
     >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], [[0, 1, 2], [0, 2, 1], [0, 1, 3], [1, 2, 0]])
@@ -108,6 +153,22 @@ def split_fans(mesh: Mesh) -> tuple[Mesh, np.ndarray, int, int]:
     """One vertex per fan of faces (see :func:`geoimg.mesh.corner_fans`), faces not joined across edges
     that more than two faces share. Returns the new mesh, each new vertex's source vertex, the number of
     pinch vertices split and the number of non-manifold edges separated.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    mesh : Mesh
+        The mesh with one vertex per fan.
+    source : numpy.ndarray
+        (N',) each new vertex's vertex in the input.
+    pinches : int
+        Pinch vertices split.
+    nonmanifold_edges : int
+        Non-manifold edges separated.
 
     Examples
     --------
@@ -145,6 +206,25 @@ def orient_faces(mesh: Mesh) -> tuple[Mesh, int]:
     ------
     MeshError
         If a piece is not orientable (a Moebius strip, a Klein bottle).
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    mesh : Mesh
+        The mesh with its faces turned (a new one).
+    count : int
+        How many faces were turned.
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2], [0, 2, 3], [3, 2, 0][::-1]][:2])
+    >>> orient_faces(geoimg.Mesh(m.vertices, [[0, 1, 2], [0, 3, 2]]))[1]
+    1
     """
     a, b, valid, inv, counts = _edge_face_counts(mesh)
     face_of = np.nonzero(valid)[0]
@@ -177,6 +257,23 @@ def orient_faces(mesh: Mesh) -> tuple[Mesh, int]:
 def split_components(mesh: Mesh) -> list[tuple[Mesh, np.ndarray]]:
     """One mesh per connected piece (faces joined by shared vertices), largest first (by face count),
     each with the indices of its vertices in ``mesh``; unreferenced vertices are dropped.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    list of tuple
+        ``(piece, vertex_indices)`` per piece, largest first.
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> two = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [5, 0, 0], [6, 0, 0], [5, 1, 0]], [[0, 1, 2], [3, 4, 5]])
+    >>> [idx.tolist() for _, idx in split_components(two)]
+    [[0, 1, 2], [3, 4, 5]]
     """
     f = mesh.faces
     valid = f >= 0
@@ -203,6 +300,21 @@ def repair(mesh: Mesh) -> list[Repair]:
     """The mesh as manifold, consistently oriented pieces, largest first: pinch vertices split, non-manifold
     edges separated, faces turned to agree, pieces apart. Each repair is announced with a warning giving
     its count.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    list of Repair
+        One per piece, largest first.
+
+    Raises
+    ------
+    MeshError
+        When a piece cannot be oriented.
 
     Examples
     --------

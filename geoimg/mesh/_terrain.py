@@ -27,6 +27,11 @@ def grid_mesh(heights: ArrayLike, spacing: tuple[float, float] = (1.0, 1.0)) -> 
     spacing : (float, float)
         Cell size (dx, dy), positive.
 
+    Returns
+    -------
+    Mesh
+        H x W vertices and 2 (H - 1)(W - 1) triangles.
+
     Examples
     --------
     >>> m = grid_mesh([[0, 1, 2], [3, 4, 5]])
@@ -52,6 +57,16 @@ def grid_triangles(rows: int, cols: int) -> np.ndarray:
     diagonal from each cell's first corner: (T, 3) indices, counter-clockwise seen from +z when row ``r``,
     column ``c`` lies at (c, -r) (the way :func:`grid_mesh` lays a DEM out).
 
+    Parameters
+    ----------
+    rows, cols : int
+        The grid's size in points, at least 2 each.
+
+    Returns
+    -------
+    numpy.ndarray
+        (2 (rows - 1)(cols - 1), 3) int64 indices.
+
     Examples
     --------
     >>> grid_triangles(2, 2).tolist()
@@ -66,6 +81,29 @@ def grid_triangles(rows: int, cols: int) -> np.ndarray:
 def load_dem(path: PathLike) -> np.ndarray:
     """Elevations (H, W) float64 of a single-band raster (GeoTIFF, EXR, ...) through OpenImageIO, or of
     the first array in an ``.npz``. Georeferencing is not read: give :func:`grid_mesh` the cell size.
+
+    Parameters
+    ----------
+    path : path-like
+        The raster file (or ``.npz``).
+
+    Returns
+    -------
+    numpy.ndarray
+        (H, W) float64 elevations.
+
+    Raises
+    ------
+    MeshFileError
+        When the file cannot be read or holds no finite grid.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, numpy as np
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "dem.npz"
+    >>> np.savez(p, heights=np.arange(6.0).reshape(2, 3))
+    >>> load_dem(p).shape
+    (2, 3)
     """
     path = Path(path)
     if path.suffix.lower() == ".npz":

@@ -19,6 +19,30 @@ class Topology:
 
     ``genus`` is ``(2 components - euler - boundary_loops) / 2``, valid for a manifold mesh; it is None
     when some edge has more than two faces.
+
+    Parameters
+    ----------
+    vertices, edges, faces : int
+        The counts of referenced vertices, distinct edges and faces.
+    components : int
+        Connected pieces.
+    boundary_loops, boundary_edges : int
+        Boundary loops and edges with one face.
+    nonmanifold_edges : int
+        Edges with more than two faces.
+    euler : int
+        ``vertices - edges + faces``.
+    genus : int or None
+        The genus (None when not manifold).
+    nonmanifold_vertices : int
+        Pinch vertices (several fans of faces).
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> t = topology(geoimg.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]))
+    >>> t.euler, t.genus, t.boundary_edges
+    (1, 0, 3)
     """
 
     vertices: int           # referenced by faces
@@ -63,6 +87,16 @@ class Topology:
 def topology(mesh: Mesh) -> Topology:
     """Count the topology of a mesh by position indices (UV seams do not split it).
 
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    Topology
+        The counts.
+
     Examples
     --------
     >>> t = topology(Mesh(np.eye(4, 3), [[0, 1, 2], [0, 2, 3]]))
@@ -100,6 +134,28 @@ def corner_fans(mesh: Mesh, *, across_nonmanifold: bool = True) -> tuple[np.ndar
     across the edges at that vertex. Returns each valid corner's vertex (in ``mesh.faces[mesh.faces >= 0]``
     order) and its fan label. ``across_nonmanifold=False`` does not join faces across an edge that more
     than two faces share, so each of those faces starts a fan of its own there.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+    across_nonmanifold : bool
+        Join faces across edges of more than two faces.
+
+    Returns
+    -------
+    vertex : numpy.ndarray
+        Each valid corner's vertex.
+    fan : numpy.ndarray
+        Each valid corner's fan label (one label per fan, over the whole mesh).
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> bowtie = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [-1, 0, 0], [-1, -1, 0]], [[0, 1, 2], [0, 3, 4]])
+    >>> v, fan = corner_fans(bowtie)
+    >>> len(set(fan[v == 0].tolist()))                  # the pinch vertex 0 has two fans
+    2
     """
     f = mesh.faces
     valid = f >= 0
@@ -141,6 +197,16 @@ def _pinch_vertices(mesh: Mesh) -> int:
 def boundary_loops(mesh: Mesh) -> list[np.ndarray]:
     """The boundary loops of a manifold mesh as ordered vertex indices, each running the way its faces'
     edges do (counter-clockwise around the surface for counter-clockwise faces).
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        One array of vertex indices per loop.
 
     Examples
     --------

@@ -28,6 +28,25 @@ class Weld:
     """What :func:`weld_vertices` did: the welded mesh, each input vertex's new index (``vertex_map``, (N,)),
     how many vertices were joined into others, and notes on the attributes that the joined copies disagreed
     on.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The welded mesh.
+    vertex_map : numpy.ndarray
+        (N,) each input vertex's index in ``mesh``.
+    joined : int
+        How many vertices were joined into others.
+    notes : tuple of str
+        What the joined copies disagreed on.
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> soup = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2], [3, 4, 5]])
+    >>> w = weld_vertices(soup, seams_only=False)
+    >>> w.mesh.n_vertices, w.joined, w.vertex_map.tolist()
+    (4, 2, [0, 1, 2, 1, 3, 2])
     """
 
     mesh: Mesh
@@ -106,9 +125,10 @@ def weld_vertices(mesh: Mesh, *, seams_only: bool = True) -> Weld:
     >>> w = weld_vertices(m)
     >>> w.mesh.faces.tolist(), w.joined, w.mesh.uv is None, w.mesh.face_uv[1, 0].tolist()
     ([[0, 1, 2], [0, 2, 3]], 2, True, [0.5, 0.0])
-    >>> w.describe()
-    'joined 2 exactly coincident vertices (copies of one position); texture coordinates differ at 1 of them: kept per
-    face corner'
+    >>> for part in w.describe().split("; "):
+    ...     print(part)
+    joined 2 exactly coincident vertices (copies of one position)
+    texture coordinates differ at 1 of them: kept per face corner
     """
     used = mesh.referenced_vertices()
     ids = np.flatnonzero(used)

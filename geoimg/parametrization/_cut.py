@@ -247,6 +247,18 @@ def perimeter_point(t: ArrayLike, quanta_per_side: int) -> np.ndarray:
     counter-clockwise from (0, 0) in (u, v), i.e. along row 0, down the last column, back along the last
     row, up column 0.
 
+    Parameters
+    ----------
+    t : array_like
+        Perimeter positions, in quanta.
+    quanta_per_side : int
+        Quanta per side of the square.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 2) (u, v).
+
     Examples
     --------
     >>> perimeter_point([0, 2, 5, 7.5], 2).tolist()
@@ -265,6 +277,18 @@ def layout_quanta(segments: int, quanta_per_side: int | None = None) -> int:
     else :data:`QUANTA_PER_SIDE` doubled until the perimeter's four sides hold a quantum per segment (a mesh
     of high genus or many holes has hundreds of segments; its image then needs N - 1 a multiple of the
     larger quantum).
+
+    Parameters
+    ----------
+    segments : int
+        The boundary's segment count.
+    quanta_per_side : int or None
+        A quantum asked for (checked).
+
+    Returns
+    -------
+    int
+        Quanta per side.
 
     Examples
     --------
@@ -285,6 +309,18 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str =
 
     ``quanta_per_side`` is the boundary layout's unit (see :func:`layout_quanta`; default: the smallest of
     64, 128, 256, ... that holds the boundary's segments).
+
+    Parameters
+    ----------
+    mesh : Mesh
+        A manifold, oriented, connected mesh (not a disk or a closed genus-0 surface: those have maps of
+        their own, though they may be cut too).
+    quanta_per_side : int or None
+        The boundary layout's unit.
+    balance : {"area", "slim", "none"}
+        How the map inside is relaxed.
+    progress : callable or None
+        Called with the area balancing's progress.
 
     Returns
     -------

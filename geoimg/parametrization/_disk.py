@@ -159,6 +159,17 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DIS
     square's straight sides, a kept or bowed outline is held) or relaxed by SLIM with the boundary held
     (``"slim"``).
 
+    Parameters
+    ----------
+    mesh : Mesh
+        A manifold, oriented mesh of one piece with one boundary loop and genus 0.
+    boundary : {"square", "keep"}
+        The boundary on the unit square, or on the mesh's own convex planar outline.
+    balance : {"area", "slim", "none"}
+        How the map inside is relaxed.
+    progress : callable or None
+        Called with the area balancing's progress.
+
     Returns
     -------
     coords : (N, 2) float64

@@ -48,6 +48,22 @@ def _unfold(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def square_jacobian(uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Derivatives ``dq/du`` and ``dq/dv`` (..., 3) of the unit direction at image points ``uv``
     (one-sided on the creases, where the map bends).
+
+    Parameters
+    ----------
+    uv : numpy.ndarray
+        (..., 2) image points in ``[0, 1]^2``.
+
+    Returns
+    -------
+    dq_du, dq_dv : numpy.ndarray
+        (..., 3) each.
+
+    Examples
+    --------
+    >>> du, dv = square_jacobian(np.array([[0.5, 0.5]]))
+    >>> bool(abs(du @ [0, 0, 1]).max() < 1e-12)         # at the north pole the derivatives are tangent
+    True
     """
     uv = np.asarray(uv, dtype=np.float64)
     a = 2.0 * uv[..., 0] - 1.0
@@ -70,6 +86,22 @@ def square_jacobian(uv: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def grid_directions(n: int) -> np.ndarray:
     """Unit directions of the ``n x n`` octahedral grid (rows v, columns u), computed from integers so
     that glued pixels get bit-identical directions.
+
+    Parameters
+    ----------
+    n : int
+        The image's side, odd.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n, n, 3) float64 unit directions.
+
+    Examples
+    --------
+    >>> d = grid_directions(5)
+    >>> d.shape, d[2, 2].tolist(), bool((d[0, 1] == d[0, 3] * [-1, 1, 1]).all() or (d[0, 1] == d[0, 3]).all())
+    ((5, 5, 3), [0.0, 0.0, 1.0], True)
     """
     n = check_size(n)
     a = (2.0 * np.arange(n) - (n - 1)) / (n - 1)
@@ -80,6 +112,16 @@ def grid_directions(n: int) -> np.ndarray:
 
 def square_to_sphere(uv: np.ndarray) -> np.ndarray:
     """Unit directions of image points ``uv`` (..., 2) in ``[0, 1]^2``.
+
+    Parameters
+    ----------
+    uv : numpy.ndarray
+        (..., 2) image points.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 3) unit directions.
 
     Examples
     --------
@@ -121,6 +163,16 @@ def directions(p: ArrayLike, name: str = "p") -> np.ndarray:
 def sphere_to_square(p: np.ndarray) -> np.ndarray:
     """Image points ``uv`` in ``[0, 1]^2`` of directions ``p`` (..., 3) (need not be unit length).
 
+    Parameters
+    ----------
+    p : numpy.ndarray
+        (..., 3) directions, not zero.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., 2) image points.
+
     Examples
     --------
     >>> q = square_to_sphere(np.array([[0.3, 0.9], [0.8, 0.6]]))
@@ -139,6 +191,16 @@ def sphere_to_square(p: np.ndarray) -> np.ndarray:
 def area_ratio(p: np.ndarray) -> np.ndarray:
     """Square area per sphere area at directions ``p`` (..., 3): ``1 / (|x| + |y| + |z|)^3`` for unit ``p``
     (in the ``[-1, 1]^2`` square's units; between ``3^-1.5`` and 1).
+
+    Parameters
+    ----------
+    p : numpy.ndarray
+        (..., 3) directions.
+
+    Returns
+    -------
+    numpy.ndarray
+        (...,) the ratio.
 
     Examples
     --------

@@ -38,7 +38,7 @@ COORD_DIMS = {
 class Parametrization:
     """Per-vertex parameter coordinates of a mesh.
 
-    Attributes
+    Parameters
     ----------
     coords : numpy.ndarray, shape (N, 2) or (N, 3)
         Planar: (u, v) of every vertex, inside ``[0, extent[0]] x [0, extent[1]]``.
@@ -67,6 +67,14 @@ class Parametrization:
     domain_fields : dict
         Fields of the image's :class:`~geoimg.Domain` that the method sets (``cut``: the layout of the cut
         on the square).
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> m = geoimg.grid_mesh([[0.0, 1.0], [2.0, 3.0]], (1.0, 1.0))
+    >>> p = geoimg.parametrize(m, "heightfield", axis="z")
+    >>> type(p).__name__, p.domain, p.coords.shape, p.extent
+    ('Parametrization', 'planar', (4, 2), (1.0, 1.0))
     """
 
     coords: np.ndarray
@@ -99,6 +107,18 @@ class Parametrization:
 
 def signed_face_areas(mesh: Mesh, coords: np.ndarray) -> np.ndarray:
     """Signed area of every face in 2-D coordinates (shoelace formula; positive = counter-clockwise).
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+    coords : numpy.ndarray
+        (N, 2) per-vertex coordinates.
+
+    Returns
+    -------
+    numpy.ndarray
+        (F,) signed areas.
 
     Examples
     --------

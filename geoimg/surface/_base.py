@@ -80,6 +80,14 @@ class Surface(ABC):
         The kind of geometry image it samples into, with its extent and orientation.
     s, weights, n, tol, sliver_rule
         The fit's settings (``s`` the smallest when it varies).
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+    >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+    >>> isinstance(surf, geoimg.Surface), surf.evaluate([[0.5, 0.5]]).shape, surf.sample(5).shape
+    (True, (1, 3), (5, 5))
     """
 
     domain: Domain

@@ -75,6 +75,27 @@ def check_s(s) -> float:
 def prefilter_s(surface: CoverageSurface, resolution: int) -> float:
     """The ``s`` whose width ``sigma = s * dbar`` is :data:`PREFILTER` of the pixel spacing of a
     ``resolution`` image of ``surface``'s domain (the mean spacing on the sphere).
+
+    Parameters
+    ----------
+    surface : CoverageSurface
+        A surface with coverage weights.
+    resolution : int
+        The image's pixels along its longer side.
+
+    Returns
+    -------
+    float
+        The s to fit with.
+
+    Examples
+    --------
+    >>> import geoimg
+    >>> m = geoimg.grid_mesh(np.zeros((5, 5)), (1.0, 1.0))
+    >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), weights="coverage")
+    >>> s = prefilter_s(surf, 33)
+    >>> bool(0 < s < prefilter_s(surf, 9))               # a finer grid, a narrower prefilter
+    True
     """
     return PREFILTER * surface.pixel_spacing(resolution) / surface.dbar
 

@@ -24,6 +24,18 @@ def shape_operator_curvatures(J1: np.ndarray, J2: np.ndarray, N1: np.ndarray,
                               N2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(K, H)`` from tangents ``J1, J2`` (k, 3) and the normal's derivatives ``N1, N2`` along them.
 
+    Parameters
+    ----------
+    J1, J2 : numpy.ndarray
+        (k, 3) tangent vectors.
+    N1, N2 : numpy.ndarray
+        (k, 3) the unit normal's derivatives along them.
+
+    Returns
+    -------
+    K, H : numpy.ndarray
+        (k,) Gaussian and mean curvature.
+
     Examples
     --------
     >>> e = np.eye(3)[None]
@@ -85,6 +97,18 @@ def sphere_curvature(surface, resolution):
 def surface_curvature(surface: Any, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Gaussian and mean curvature ``(K, H)`` of a fitted surface on the grid ``surface.sample(resolution)``
     uses, each (H, W) float64.
+
+    Parameters
+    ----------
+    surface : Surface
+        A fitted surface.
+    resolution : int or None
+        The grid's size, as :meth:`Surface.sample` takes it.
+
+    Returns
+    -------
+    K, H : numpy.ndarray
+        (H, W) each.
 
     Examples
     --------

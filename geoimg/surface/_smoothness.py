@@ -21,6 +21,24 @@ def smoothness_field(mesh: Mesh, centre: ArrayLike, radius: float, inside: float
     """Per-face ``s`` for :func:`geoimg.fit_surface`: ``inside`` for faces whose centroid lies in the
     ball around ``centre`` (3-D), ``outside`` elsewhere, blended over ``feather``.
 
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh whose faces get an s each.
+    centre : array_like
+        (3,) the ball's centre, in the mesh's units.
+    radius : float
+        The ball's radius.
+    inside, outside : float
+        s in the ball, and beyond ``radius + feather``.
+    feather : float
+        The width of the blend between, in the mesh's units.
+
+    Returns
+    -------
+    numpy.ndarray
+        (F,) per-face s.
+
     Examples
     --------
     >>> m = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [5, 0, 0]], [[0, 1, 2], [1, 4, 2]])
@@ -42,6 +60,17 @@ class SmoothnessMap:
     smoothstep between. Every face's Gaussian at a point uses that point's s, so a region is kept sharp
     (or smoothed) whatever the faces around it do; the surface's derivatives include the map's own, so
     normals stay exact. Pass it as ``s`` to :func:`geoimg.fit_surface` (planar parametrizations).
+
+    Parameters
+    ----------
+    centre : array_like
+        (u, v) of the region's centre.
+    radius : float
+        The region's radius, in the parameter domain's units.
+    inside, outside : float
+        s within the radius, and beyond ``radius + feather``.
+    feather : float
+        The width of the smoothstep between.
 
     Examples
     --------
@@ -76,5 +105,28 @@ class SmoothnessMap:
 
 def uv_smoothness(centre: ArrayLike, radius: float, inside: float, outside: float = 1.0,
                   feather: float = 0.05) -> SmoothnessMap:
-    """A :class:`SmoothnessMap` round ``centre`` in the parameter domain (the image's u, v)."""
+    """A :class:`SmoothnessMap` round ``centre`` in the parameter domain (the image's u, v).
+
+    Parameters
+    ----------
+    centre : array_like
+        (u, v) of the region's centre.
+    radius : float
+        The region's radius, in the parameter domain's units.
+    inside, outside : float
+        s within the radius, and beyond ``radius + feather``.
+    feather : float
+        The width of the smoothstep between.
+
+    Returns
+    -------
+    SmoothnessMap
+        The map, to pass as ``s``.
+
+    Examples
+    --------
+    >>> sm = uv_smoothness((0.5, 0.5), 0.1, inside=4.0, outside=1.0)
+    >>> sm(np.array([[0.5, 0.5], [0.0, 0.0]]))[0].tolist()
+    [4.0, 1.0]
+    """
     return SmoothnessMap(centre, radius, inside, outside, feather)
