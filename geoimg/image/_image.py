@@ -51,7 +51,7 @@ def _boundary_aware(op):
 class GeometryImage:
     """A geometry image.
 
-    Attributes
+    Parameters
     ----------
     pixels : numpy.ndarray, shape (H, W, 3)
         X, Y, Z of the surface at each grid point (float32 or float64, kept as given).
