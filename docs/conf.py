@@ -14,7 +14,6 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE / "_ext"))
 
 import api_pages  # noqa: E402
-import png_scraper  # noqa: E402
 
 project = "geoimg"
 author = "the geoimg developers"
@@ -71,5 +70,6 @@ sphinx_gallery_conf = {
 
 
 def setup(app):
+    """Write the API pages before Sphinx reads the sources."""
     api_pages.write(HERE / "api")
     return {"parallel_read_safe": True}

@@ -98,7 +98,8 @@ def sample_main(run, doc: str, argv=None, **options):
     """The command line of a sample: ``OUT_DIR`` and its ``--options`` (name=default); runs it and prints
     what it measured, then the picture it wrote.
     """
-    ap = argparse.ArgumentParser(description=(doc or "").strip().split("\n", 1)[0] or None)   # no __doc__ in the gallery
+    # no __doc__ when sphinx-gallery runs the script
+    ap = argparse.ArgumentParser(description=(doc or "").strip().split("\n", 1)[0] or None)
     ap.add_argument("out_dir", nargs="?", default="samples-out")
     for name, default in options.items():
         ap.add_argument(f"--{name}", type=type(default), default=default)

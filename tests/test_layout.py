@@ -147,3 +147,11 @@ def test_public_names_exist_and_private_modules_stay_private(package):
     module = importlib.import_module(package)
     assert all(hasattr(module, n) for n in module.__all__)
     assert not any(n.startswith("_") for n in module.__all__)
+
+
+def test_ruff_check_is_clean():
+    """The linter configured in pyproject.toml (style, bugs, docstrings of the public API) finds nothing."""
+    pytest.importorskip("ruff")
+    run = subprocess.run([sys.executable, "-m", "ruff", "check", "--no-cache", str(ROOT)], capture_output=True,
+                         text=True, cwd=ROOT)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-2000:]

@@ -1,7 +1,8 @@
-"""Every command the README shows runs as written on the bundled data: its ``bash`` and ``python`` blocks, in the
-README's order, in one fresh folder that holds the package and the bundled data (``geoimg``, ``samples``,
-``tests/data``) where a clone has them. The set-up commands of the quick start (a virtual environment, pip) are left
-to CI, which runs them; ``geoimg demo``, the first one's last step, runs here."""
+"""Every command the README and the documentation's pages show runs as written on the bundled data: each page's
+``bash`` and ``python`` blocks, in the page's order, in a fresh folder of its own that holds the package and the
+bundled data (``geoimg``, ``samples``, ``tests/data``) where a clone has them. The set-up commands of the quick
+start (a virtual environment, pip) are left to CI, which runs them; ``geoimg demo``, the first one's last step,
+runs here. ``text`` blocks (the documentation's own build command, which CI runs) are not run."""
 from __future__ import annotations
 
 import os
@@ -14,6 +15,19 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 SET_UP = ("python3 -m venv", ". .venv/bin/activate", "pip install", "python -m pytest", "python -m mypy")
+GUIDES = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "docs" / "guide").glob("*.md"))
+PAGES = ["README.md", "docs/getting_started.md", *GUIDES]
+# What a page's commands must leave behind (a command can exit 0 and write nothing).
+OUTPUTS = {
+    "README.md": ["mountain.exr", "smooth_quads.obj", "smooth_py.obj", "morph.gif"],
+    "docs/getting_started.md": ["geoimg-demo/mountain.exr", "mountain_quads.obj"],
+    "docs/guide/converting.md": ["mountain_quads.obj"],
+    "docs/guide/filtering.md": ["smooth.obj", "part.exr", "clean.obj", "mountain_curv_mean.exr"],
+    "docs/guide/morphs.md": ["morph.gif", "frames", "landmarked.glb", "points.csv"],
+    "docs/guide/batch.md": ["images/manifest.csv", "run/data.zarr", "from_python/manifest.csv"],
+    "docs/guide/formats.md": ["mountain.npz", "rgba.exr", "approx.obj", "spot.glb"],
+    "docs/guide/python.md": ["terrain_quads.obj", "terrain_morph.gif"],
+}
 
 
 def blocks(text: str) -> list[tuple[str, str]]:
@@ -33,25 +47,30 @@ def blocks(text: str) -> list[tuple[str, str]]:
 
 
 def test_the_blocks_are_found():
-    found = blocks((ROOT / "README.md").read_text())
-    assert sum(lang == "bash" for lang, _ in found) >= 8 and sum(lang == "python" for lang, _ in found) >= 3
+    readme = (ROOT / "README.md").read_text()
+    found = blocks(readme)
+    assert sum(lang == "bash" for lang, _ in found) >= 3 and sum(lang == "python" for lang, _ in found) >= 1
     assert any(code.strip() == "geoimg demo" for _, code in found)           # the quick start's demo
     assert not any("pip install" in code for _, code in found)
+    assert len(readme.splitlines()) <= 150
+    assert set(OUTPUTS) <= set(PAGES) and len(PAGES) >= 10
+    for page in PAGES:                                                       # every link between pages holds
+        for target in re.findall(r"\]\(([^)#:]+\.md)\)", (ROOT / page).read_text()):
+            assert (ROOT / page).parent.joinpath(target).exists(), f"{page}: {target}"
 
 
-def test_every_readme_command_runs_as_written(tmp_path):
+@pytest.mark.parametrize("page", PAGES)
+def test_every_command_of_a_page_runs_as_written(page, tmp_path):
     pytest.importorskip("moderngl")
     pytest.importorskip("distributed")
     for rel in ("geoimg", "samples", "tests/data"):        # as in a clone (python -c imports ./geoimg)
         (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
         (tmp_path / rel).symlink_to(ROOT / rel, target_is_directory=True)
     env = {**os.environ, "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"}
-    for k, (lang, code) in enumerate(blocks((ROOT / "README.md").read_text())):
+    for k, (lang, code) in enumerate(blocks((ROOT / page).read_text())):
         argv = ["bash", "-euo", "pipefail", "-c", code] if lang == "bash" else [sys.executable, "-c", code]
         run = subprocess.run(argv, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
-        assert run.returncode == 0, f"README block {k} ({lang}) failed:\n{code}\n{run.stderr[-3000:]}"
+        assert run.returncode == 0, f"{page} block {k} ({lang}) failed:\n{code}\n{run.stderr[-3000:]}"
         assert "Traceback" not in run.stderr, run.stderr[-3000:]
-    for name in ("geoimg-demo/mountain.exr", "mountain_quads.obj", "clean.obj", "spot.glb", "morph.gif",
-                 "frames", "landmarked.glb", "images/manifest.csv", "run/data.zarr", "from_python/manifest.csv",
-                 "terrain_morph.gif"):
-        assert (tmp_path / name).exists(), name
+    for name in OUTPUTS.get(page, []):
+        assert (tmp_path / name).exists(), f"{page}: {name}"

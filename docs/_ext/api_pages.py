@@ -1,6 +1,7 @@
 """The API reference, written from the packages' ``__all__`` at each build: a page per package, a page per
 public function and class (autosummary), each documented once, on the page of the package that defines it;
-the names a package re-exports link there."""
+the names a package re-exports link there.
+"""
 from __future__ import annotations
 
 import importlib

@@ -1,5 +1,6 @@
 """The gallery's pictures: each sample script writes PNGs into the output folder given as its argument
-(``reset_argv``); after each code block, the PNGs it wrote there are moved into the gallery."""
+(``reset_argv``); after each code block, the PNGs it wrote there are moved into the gallery.
+"""
 from __future__ import annotations
 
 import shutil
