@@ -13,4 +13,5 @@ from .image import (CutDomain as CutDomain, Domain as Domain, GeometryImage as G
     load_image as load_image, save_image as save_image, save_preview as save_preview)
 from .surface import (Surface as Surface, fit_surface as fit_surface)
 from ._convert import (mesh_to_image as mesh_to_image, mesh_to_images as mesh_to_images)
+from ._options import ConversionOptions as ConversionOptions
 __version__: str

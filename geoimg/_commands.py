@@ -13,6 +13,7 @@ import numpy as np
 
 import filters
 from ._convert import COMPONENT_CHOICES, mesh_to_image, mesh_to_images
+from ._options import ConversionOptions
 from ._atomic import check_writable, write_all
 from ._budget import check_memory
 from ._steps import apply_steps
@@ -110,10 +111,10 @@ def cmd_image(args) -> int:
                    (args.preview, (".png",), "the preview"))
     progress = Progress(args.quiet, always=args.progress)
     component = _component(args.component or "all")
-    images = mesh_to_images(args.mesh, args.res, args.s, args.method, component=component, axis=args.axis,
-                            boundary=args.boundary, balance=args.balance, weights=args.weights, n=args.n,
-                            tol=args.tol, sliver_rule=args.sliver_rule, colors=not args.no_colors, backend=args.backend,
-                            progress=progress)
+    options = ConversionOptions(resolution=args.res, s=args.s, method=args.method, component=component,
+                                axis=args.axis, boundary=args.boundary, balance=args.balance, weights=args.weights,
+                                n=args.n, tol=args.tol, sliver_rule=args.sliver_rule, colors=not args.no_colors)
+    images = mesh_to_images(args.mesh, **options.conversion(), backend=args.backend, progress=progress)
     many = len(images) > 1
     outputs = [(img, _numbered(args.output, img.metadata.get("component", 0), many),
                 _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]

@@ -1,7 +1,7 @@
 """Mesh to geometry image in one call: load, repair, parametrize, fit the weighted-mean surface, sample."""
 from __future__ import annotations
 
-import numbers
+import dataclasses
 import time
 import warnings
 from contextlib import contextmanager
@@ -11,12 +11,13 @@ from typing import Any
 import numpy as np
 
 from ._choices import COMPONENT_CHOICES, DEFAULT_DISK_BALANCE, POOR_HAUSDORFF, POOR_PSNR_DB
-from .errors import InputError, InputTypeError, MeshError, ParametrizationError
+from ._options import ConversionOptions
+from .errors import InputTypeError, MeshError, ParametrizationError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair, surface_distance
 from .parametrization import Parametrization, parametrize
 from .surface import fit_surface
-from .surface._coverage import check_s, prefilter_s
+from .surface._coverage import prefilter_s
 from .surface._attributes import sample_colors
 from .surface._base import check_backend
 from ._types import Progress
@@ -25,6 +26,7 @@ __all__ = ["mesh_to_image", "mesh_to_images", "measure_fidelity", "poor_reason",
            "FIDELITY_SAMPLES", "LIMIT_S", "POOR_PSNR_DB", "POOR_HAUSDORFF"]
 
 FIDELITY_SAMPLES = 20000     # area samples a side for the fidelity every conversion reports (about 0.1 dB)
+CONVERSION_FIELDS = frozenset(f.name for f in dataclasses.fields(ConversionOptions))
 LIMIT_S = 1e-4               # coverage weights this narrow: the mesh resampled as it is (the limit s -> 0)
 
 
@@ -102,6 +104,8 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
     ([0, 1], 3.0)
     """
     check_backend(options.get("backend", "cpu"))    # before the work: a GPU asked for and missing is said at once
+    ConversionOptions(resolution=resolution, s=s, method=method, component=component,     # and the options
+                      **{k: v for k, v in options.items() if k in CONVERSION_FIELDS})
     say = progress or (lambda message: None)
     with _timed(timings, "load"):
         mesh, source = _load(mesh_or_path, say)
@@ -208,9 +212,10 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
     ((9, 9), 'heightfield')
     """
     check_backend(backend)
-    if s is not None and weights == "coverage":
-        check_s(s)                                      # before the work
-    check_resolution(resolution)                        # before the work, not after it
+    opts = ConversionOptions(resolution=resolution, s=s, method=method, axis=axis, boundary=boundary,
+                             balance=balance, weights=weights, n=n, tol=tol, sliver_rule=sliver_rule,
+                             normals=normals, colors=colors)     # checked before the work, not after it
+    resolution, s = opts.resolution, opts.s
     say = progress or (lambda message: None)
     with _timed(timings, "load"):
         mesh, source = _load(mesh_or_path, say)
@@ -262,13 +267,6 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
 
 def _distance(image: GeometryImage, mesh: Mesh) -> dict:
     return surface_distance(mesh, image.to_mesh(), n=FIDELITY_SAMPLES)
-
-
-def check_resolution(resolution) -> None:
-    """Refuse a resolution that is not None or a whole number of pixels of at least 2."""
-    if resolution is not None and (isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral)
-                                   or resolution < 2):
-        raise InputError(f"resolution: expected a whole number of pixels of at least 2, got {resolution!r}")
 
 
 def measure_fidelity(image: GeometryImage, mesh: Mesh, measured: dict | None = None) -> dict:

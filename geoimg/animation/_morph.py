@@ -24,6 +24,7 @@ import filters
 from .._choices import ALIGNMENTS, EASINGS
 from ..errors import InputError, InputTypeError
 from .._convert import mesh_to_image
+from .._options import ConversionOptions
 from ..image import GeometryImage
 from ..mesh import Mesh, grid_triangles, suggest_landmarks
 from ..parametrization import grid_directions, parametrize, sphere_to_square
@@ -431,6 +432,7 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
     if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or not 2 <= frames <= MAX_FRAMES:
         raise InputError(f"frames: expected an integer from 2 to {MAX_FRAMES}, got {frames!r}")
     ease = _ease(easing)
+    resolution = ConversionOptions(resolution=resolution).resolution      # checked before any key is mapped
     if align not in ALIGNMENTS:
         raise InputError(f"align: expected one of {ALIGNMENTS}, got {align!r}")
     if not (isinstance(lag, numbers.Real) and 0 <= lag < 1):

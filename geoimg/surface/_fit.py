@@ -15,7 +15,7 @@ from ._planar import fit_planar_surface
 from ._smoothness import SmoothnessMap
 from ._sphere import fit_sphere_surface
 
-__all__ = ["fit_surface", "WEIGHTS"]
+__all__ = ["fit_surface", "WEIGHTS", "check_s_range"]
 
 _FITTERS = {2: fit_planar_surface, 3: fit_sphere_surface}     # by the dimension of the parameter coordinates
 
@@ -23,7 +23,7 @@ _FITTERS = {2: fit_planar_surface, 3: fit_sphere_surface}     # by the dimension
 S_RANGE = (1e-3, 1e3)     # sigma = s d: beyond these the Gaussians are a face's own plane, or the mean of all
 
 
-def _check_s_range(values: np.ndarray) -> None:
+def check_s_range(values: np.ndarray) -> None:
     lo, hi = float(np.min(values)), float(np.max(values))
     if lo < S_RANGE[0] or hi > S_RANGE[1]:
         raise InputError(f"s: expected values from {S_RANGE[0]:g} to {S_RANGE[1]:g} (sigma = s d_i; outside that "
@@ -36,12 +36,12 @@ def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None, object]:
     is conservative).
     """
     if isinstance(s, SmoothnessMap):
-        _check_s_range(np.array([s.min, s.max]))
+        check_s_range(np.array([s.min, s.max]))
         return float(s.min), None, s
     if isinstance(s, (int, float, np.number)) and not isinstance(s, bool):
         if not (np.isfinite(s) and s > 0):
             raise InputError(f"s: expected a positive finite number, got {s!r}")
-        _check_s_range(np.array([s], np.float64))
+        check_s_range(np.array([s], np.float64))
         return float(s), None, None
     arr = np.asarray(s) if not isinstance(s, (str, bytes, bool)) else np.asarray([])
     if arr.dtype == object or not np.issubdtype(arr.dtype, np.number) or arr.shape != (n_faces,):
@@ -49,7 +49,7 @@ def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None, object]:
     arr = arr.astype(np.float64)
     if not (np.isfinite(arr).all() and (arr > 0).all()):
         raise InputError("s: per-face values must be positive and finite")
-    _check_s_range(arr)
+    check_s_range(arr)
     return float(arr.min()), arr, None
 
 
