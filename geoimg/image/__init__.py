@@ -6,7 +6,10 @@
 >>> img.to_mesh().n_vertices          # glued pixels welded: (5 - 1)^2 + 2
 18
 """
-from ._domain import DOMAIN_KINDS, CutDomain, Domain, OctahedralDomain, PlanarDomain, grid_normals
+from ._domain import DOMAIN_KINDS, Domain, grid_normals
+from ._planar_domain import PlanarDomain
+from ._octahedral_domain import OctahedralDomain
+from ._cut_domain import CutDomain
 from ._image import DEFAULT_PAD, EXR_LAYOUTS, GeometryImage
 from ._io import (
     ASSUMABLE_DOMAINS,

@@ -132,7 +132,7 @@ def test_failed_write_leaves_nothing(tmp_path, monkeypatch, mixed):
 
     def boom(*a):
         raise OSError("disk full")
-    monkeypatch.setattr(mio, "_write_obj", boom)
+    monkeypatch.setattr(mio, "write_obj", boom)
     with pytest.raises(OSError, match="disk full"):
         save_mesh(mixed, tmp_path / "m.obj")
     assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,221 @@
+"""The cut-open domain: the unit square whose boundary is glued to itself along a cut (any genus, any holes)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse.csgraph import connected_components
+
+import filters
+from ..errors import ImageError
+from ..parametrization import perimeter_point
+
+from ._domain import Domain
+
+__all__ = ["CutDomain"]
+
+
+@dataclass(frozen=True)
+class CutDomain(Domain):
+    """The unit square whose boundary is glued to itself along a cut (Gu, Gortler & Hoppe 2002): the
+    image of a mesh of any genus and any number of boundary loops, cut open into one disk (see
+    :mod:`geoimg.parametrization._cut`).
+
+    The perimeter, counter-clockwise from pixel (0, 0) along row 0, is laid out in ``4 * quantum``
+    quanta: ``segments`` are ``(start, length, twin)`` in quanta, ``twin`` the segment on the other side
+    of the cut (-1: the mesh's own boundary, left open). Offset ``j`` along a segment is offset
+    ``length - j`` along its twin, so on an ``N x N`` image with ``N - 1`` a multiple of ``quantum`` every
+    boundary pixel on one side of a cut has an exact twin. Twins are glued (averaged after filters, welded
+    in the quad mesh, which then has the mesh's genus and boundary loops), and filters see across a cut
+    the twin's side of it.
+
+    Parameters
+    ----------
+    orientation : int
+        +1 or -1: the winding of the quad mesh's faces (see :class:`Domain`).
+    quantum : int
+        Quanta per side of the square; an image's ``N - 1`` is a multiple of it.
+    segments : tuple
+        ``(start, length, twin)`` of each perimeter segment, in quanta.
+
+    Examples
+    --------
+    >>> d = CutDomain(quantum=4, segments=((0, 4, 2), (4, 4, 3), (8, 4, 0), (12, 4, 1)))   # a torus
+    >>> reps, group = d.glue((5, 5))
+    >>> len(reps), int(group[0]) == int(group[4]) == int(group[20]) == int(group[24])    # 4 x 4 quads + 0
+    (16, True)
+    """
+
+    quantum: int = 64
+    segments: tuple = ()
+
+    kind: ClassVar[str] = "cut"
+    boundary: ClassVar[str | None] = None        # no filters rule: the domain pads itself (pad)
+
+    def __post_init__(self):
+        super().__post_init__()
+        q = self.quantum
+        if isinstance(q, bool) or not isinstance(q, (int, np.integer)) or q < 1:
+            raise ImageError(f"quantum: expected a positive integer, got {q!r}")
+        try:
+            segs = tuple((int(a), int(n), int(t)) for a, n, t in self.segments)
+        except (TypeError, ValueError):
+            raise ImageError(f"segments: expected (start, length, twin) triples, got {self.segments!r:.80}") from None
+        total = 4 * int(q)
+        ok = len(segs) > 0 and segs[0][0] == 0 and all(n >= 1 for _, n, _ in segs) \
+            and all(a + n == b for (a, n, _), (b, _, _) in zip(segs, segs[1:])) and segs[-1][0] + segs[-1][1] == total
+        ok = ok and all(t == -1 or (0 <= t < len(segs) and segs[t][2] == i and segs[t][1] == n)
+                        for i, (_, n, t) in enumerate(segs))
+        if not ok:
+            raise ImageError("segments: expected consecutive (start, length, twin) segments from 0 around the "
+                             f"{total} quanta of the perimeter, twins of equal length naming each other")
+        object.__setattr__(self, "quantum", int(q))
+        object.__setattr__(self, "segments", segs)
+
+    @classmethod
+    def _from_fields(cls, metadata: dict) -> CutDomain:
+        return cls(orientation=metadata.get("orientation", 1), quantum=metadata.get("quantum", 64),
+                   segments=tuple(tuple(s) for s in metadata.get("segments", ())))
+
+    def to_metadata(self) -> dict:
+        return {**super().to_metadata(), "quantum": self.quantum, "segments": [list(s) for s in self.segments]}
+
+    METADATA_KEYS: ClassVar[tuple] = Domain.METADATA_KEYS + ("quantum", "segments")
+
+    def same_kind(self, other: Domain) -> bool:
+        """Cut-open images pair up pixel for pixel only when their cuts are laid out alike (the same mesh's
+        faces, or the same layout).
+        """
+        return type(self) is type(other) and (self.quantum, self.segments) == (other.quantum, other.segments)
+
+    def check_shape(self, shape: tuple[int, int]) -> None:
+        h, w = shape
+        if h != w or (h - 1) % self.quantum:
+            raise ImageError(f"pixels: a cut-open image is N x N with N - 1 a multiple of {self.quantum} (so that "
+                             f"the two sides of the cut pair up pixel for pixel, e.g. "
+                             f"{self.round_resolution(max(h, w))}), got {h} x {w}")
+
+    def grid_shape(self, resolution: int) -> tuple[int, int]:
+        if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 2:
+            raise ImageError(f"resolution: expected an integer >= 2, got {resolution!r}")
+        self.check_shape((resolution, resolution))
+        return int(resolution), int(resolution)
+
+    def round_resolution(self, resolution: int) -> int:
+        q = self.quantum
+        return int(-(-(max(int(resolution), 2) - 1) // q) * q + 1)
+
+    def size_rule(self) -> str:
+        return (f"a cut-open image is N x N with N - 1 a multiple of {self.quantum} (the two sides of the cut pair "
+                "up pixel for pixel)")
+
+    def _perimeter_pixels(self, n: int) -> np.ndarray:
+        """Flat pixel index of each perimeter position 0 .. 4 (n - 1) (the last one is pixel 0 again)."""
+        m = n - 1
+        t = np.arange(4 * m + 1)
+        side, f = np.minimum(t // m, 3), t - np.minimum(t // m, 3) * m
+        row = np.choose(side, [np.zeros_like(f), f, np.full_like(f, m), m - f])
+        col = np.choose(side, [f, np.full_like(f, m), m - f, np.zeros_like(f)])
+        return row * n + col
+
+    def _twin_pairs(self, n: int):
+        """Perimeter positions ``(p, p')`` of twin pixels (both directions), in pixels."""
+        scale = (n - 1) // self.quantum
+        ps, qs = [], []
+        for a, length, t in self.segments:
+            if t < 0:
+                continue
+            j = np.arange(length * scale + 1)
+            ps.append(a * scale + j)
+            qs.append(self.segments[t][0] * scale + length * scale - j)
+        if not ps:
+            return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        return np.concatenate(ps), np.concatenate(qs)
+
+    def _make_glue(self, shape):
+        self.check_shape(shape)
+        n = shape[0]
+        per = self._perimeter_pixels(n)
+        p, q = self._twin_pairs(n)
+        rows, cols = per[p], per[q]
+        graph = sparse.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n * n, n * n))
+        _, label = connected_components(graph, directed=False)
+        first = np.full(label.max() + 1, n * n, np.int64)
+        np.minimum.at(first, label, np.arange(n * n))
+        return np.unique(first[label], return_inverse=True)
+
+    def _pieces(self):
+        """Straight pieces of the twinned segments: ``(a, b, a', b')`` perimeter positions (quanta) of a
+        piece on one side of a cut and of its twin on the other (``a`` pairs with ``a'``).
+        """
+        q = self.quantum
+        corners = np.arange(0, 4 * q + 1, q)
+        out = []
+        for start, length, t in self.segments:
+            if t < 0:
+                continue
+            tstart = self.segments[t][0]
+            cuts = {0, length}
+            cuts.update(int(c - start) for c in corners if start < c < start + length)
+            cuts.update(int(tstart + length - c) for c in corners if tstart < c < tstart + length)
+            cuts = sorted(cuts)
+            for o1, o2 in zip(cuts[:-1], cuts[1:]):
+                out.append((start + o1, start + o2, tstart + length - o1, tstart + length - o2))
+        return out
+
+    def ghosts(self, centres: np.ndarray, reach: np.ndarray) -> list:
+        """Across each cut, the faces near its other side, turned and moved rigidly onto this side's
+        outside: the weighted mean at a cut then sees the surface continue, as inside. Each face goes
+        with the straight piece of a cut nearest to it, if its weights reach that far.
+        """
+        c = np.asarray(centres, np.float64)
+        reach = np.minimum(np.asarray(reach, np.float64), 0.5)
+        pieces = self._pieces()
+        if not pieces:
+            return []
+        dist = np.empty((len(pieces), len(c)))
+        maps = []
+        for k, (a, b, ta, tb) in enumerate(pieces):
+            (p0, p1), (q0, q1) = perimeter_point([a, b], self.quantum), perimeter_point([ta, tb], self.quantum)
+            ds, dt = p1 - p0, q1 - q0
+            length2 = float(dt @ dt)
+            along = np.clip((c - q0) @ dt / max(length2, 1e-300), 0.0, 1.0)
+            dist[k] = np.linalg.norm(c - (q0 + along[:, None] * dt), axis=1)    # to the twin piece
+            cos, sin = (dt @ ds) / max(length2, 1e-300), (dt[0] * ds[1] - dt[1] * ds[0]) / max(length2, 1e-300)
+            R = np.array([[cos, -sin], [sin, cos]])
+            maps.append((R, p0 - R @ q0))
+        nearest = np.argmin(dist, axis=0)
+        out = []
+        for k, (R, b) in enumerate(maps):
+            take = np.flatnonzero((nearest == k) & (dist[k] < reach))
+            if len(take):
+                out.append((take, R, b))
+        return out
+
+    def pad(self, array: np.ndarray, width: int) -> np.ndarray:
+        """Reflected at the mesh's own boundary; across a cut, the pixels inward of the twin, so a filter
+        sees the surface continue (exact along straight stretches of a side, approximate at the corners).
+        """
+        a = np.asarray(array)
+        out = filters.pad(a, width, "reflect")
+        if width == 0:
+            return out
+        n = a.shape[0]
+        m = n - 1
+        p, q = self._twin_pairs(n)
+        inward = np.array([[1, 0], [0, -1], [-1, 0], [0, 1]])     # (row, col) steps into the image, by side
+        per = self._perimeter_pixels(n)
+        side_p, side_q = np.minimum(p // m, 3), np.minimum(q // m, 3)
+        keep = (p % m != 0) & (q % m != 0)          # corners have two sides: leave them reflected
+        p, q, side_p, side_q = p[keep], q[keep], side_p[keep], side_q[keep]
+        rp, cp = per[p] // n, per[p] % n
+        rq, cq = per[q] // n, per[q] % n
+        for k in range(1, width + 1):
+            src_r = np.clip(rq + k * inward[side_q, 0], 0, m)
+            src_c = np.clip(cq + k * inward[side_q, 1], 0, m)
+            dst_r = rp - k * inward[side_p, 0] + width
+            dst_c = cp - k * inward[side_p, 1] + width
+            out[dst_r, dst_c] = a[src_r, src_c]
+        return out

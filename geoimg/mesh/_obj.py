@@ -1,0 +1,149 @@
+r"""Wavefront OBJ files: faces of any size, ``vt`` and ``vn`` per corner, ``v x y z r g b`` colours, an MTL
+material's texture, ``\\`` continuations.
+"""
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MeshFileError
+from ._appearance import obj_colors, read_mtl_texture
+from ._mesh import Mesh, pad_faces
+
+__all__ = ["read_obj", "write_obj"]
+
+
+def _obj_index(tok: str, count: int) -> int:
+    i = int(tok)
+    if i < 0:
+        return count + i
+    if i == 0:
+        raise MeshFileError("OBJ indices start at 1; found 0")
+    return i - 1
+
+
+def _obj_lines(fh):
+    """The logical lines of an OBJ file: a line that ends with a backslash goes on in the next one."""
+    held = ""
+    for line in fh:
+        stripped = line.rstrip("\r\n")
+        if stripped.rstrip().endswith("\\"):
+            held += stripped.rstrip()[:-1] + " "
+            continue
+        yield held + line
+        held = ""
+    if held:
+        yield held
+
+
+def read_obj(path: Path) -> Mesh:
+    verts, tex, faces, face_vt, libraries, used = [], [], [], [], [], []
+    with open(path, encoding="utf-8-sig", errors="replace") as fh:    # -sig: a byte-order mark is dropped
+        for line in _obj_lines(fh):
+            line = line.lstrip()                                            # indented lines count too
+            if not line or line[0] not in "vfmu":
+                continue
+            parts = line.split()
+            if not parts:
+                continue
+            key = parts[0]
+            if key == "mtllib" and len(parts) > 1:
+                libraries.append(" ".join(parts[1:]))
+            elif key == "usemtl" and len(parts) > 1:
+                used.append(" ".join(parts[1:]))
+            elif key == "v":
+                verts.append(parts[1:8])
+            elif key == "vt":
+                tex.append(parts[1:3])
+            elif key == "f":
+                nv, nt = len(verts), len(tex)
+                fv, ft = [], []
+                for tok in parts[1:]:
+                    sub = tok.split("/")
+                    fv.append(_obj_index(sub[0], nv))
+                    ft.append(_obj_index(sub[1], nt) if len(sub) > 1 and sub[1] else -1)
+                faces.append(fv)
+                face_vt.append(ft)
+    if not verts:
+        raise MeshFileError("no vertices ('v' lines) found")
+    if not faces:
+        raise MeshFileError("no faces ('f' lines) found")
+    short = [i for i, fv in enumerate(faces) if len(fv) < 3]
+    if short:                                 # an 'f' of one or two corners is a point or a line, not a face
+        if len(short) == len(faces):
+            raise MeshFileError(f"no faces: all {len(faces)} 'f' lines have fewer than 3 corners")
+        warnings.warn(f"{path}: left out {len(short)} 'f' lines of fewer than 3 corners (points or lines, not "
+                      f"faces; the first is face {short[0] + 1})", stacklevel=4)
+        drop = set(short)
+        faces = [fv for i, fv in enumerate(faces) if i not in drop]
+        face_vt = [ft for i, ft in enumerate(face_vt) if i not in drop]
+    if any(len(v) < 3 for v in verts):
+        raise MeshFileError("a 'v' line has fewer than 3 coordinates")
+    vertices = np.array([v[:3] for v in verts], dtype=np.float64)
+    colors = obj_colors(verts, path)
+    f = pad_faces(faces)
+    uv = face_uv = texture = None
+    if tex:
+        t = pad_faces(face_vt)
+        uv, face_uv = _obj_uv(f, t, np.array([x + ["0"] * (2 - len(x)) for x in tex], dtype=np.float64),
+                              len(vertices), path)
+        if face_uv is not None and libraries:
+            texture = read_mtl_texture(path, libraries, used)
+    return Mesh(vertices, f, uv=uv, colors=colors, face_uv=face_uv, texture=texture)
+
+
+def _obj_uv(f: np.ndarray, t: np.ndarray, tex: np.ndarray, n: int, path: Path):
+    """``(uv, face_uv)``: texture coordinates per corner when every corner has a vt, and per vertex as well
+    when each position is used with a single vt (a UV seam gives per-corner ones only); (None, None) when
+    some corners have none (with a warning).
+    """
+    used = f >= 0
+    if np.any(t[used] < 0):
+        warnings.warn(f"{path}: some faces have no vt indices; texture coordinates not read", stacklevel=4)
+        return None, None
+    if np.any(t[used] >= len(tex)):
+        raise MeshFileError(f"a face refers to vt {int(t.max()) + 1} but there are only {len(tex)}")
+    face_uv = tex[np.where(used, t, 0)]
+    pv, pt = f[used], t[used]
+    pairs = np.unique(np.stack([pv, pt], axis=1), axis=0)
+    if len(pairs) != len(np.unique(pv)):    # UV seams: (position, vt) pairs not one-to-one
+        return None, face_uv
+    uv = np.zeros((n, 2))
+    uv[pairs[:, 0]] = tex[pairs[:, 1]]
+    return uv, face_uv
+
+
+def write_obj(mesh: Mesh, tmp: Path, _ext: str, material: str | None = None) -> None:
+    """OBJ: ``v`` (with ``r g b`` when the mesh has colours), ``vt`` per vertex or, with ``face_uv``, per
+    distinct corner value, ``vn``; ``material`` names the MTL library (written beside) to use.
+    """
+    with open(tmp, "w", encoding="utf-8") as fh:
+        fh.write("# written by geoimg\n")
+        if material is not None:
+            fh.write(f"mtllib {material}.mtl\n")
+        if mesh.colors is not None:
+            np.savetxt(fh, np.hstack([mesh.vertices, mesh.colors[:, :3]]), fmt="v %.17g %.17g %.17g %.6g %.6g %.6g")
+        else:
+            np.savetxt(fh, mesh.vertices, fmt="v %.17g %.17g %.17g")
+        vt: np.ndarray | None = None
+        if mesh.face_uv is not None:
+            table, inverse = np.unique(mesh.face_uv.reshape(-1, 2), axis=0, return_inverse=True)
+            np.savetxt(fh, table, fmt="vt %.17g %.17g")
+            vt = inverse.reshape(mesh.faces.shape) + 1
+        elif mesh.uv is not None:
+            np.savetxt(fh, mesh.uv, fmt="vt %.17g %.17g")
+            vt = mesh.faces + 1
+        if mesh.normals is not None:
+            np.savetxt(fh, mesh.normals, fmt="vn %.9g %.9g %.9g")
+        if material is not None:
+            fh.write("usemtl geoimg\n")
+        one = (mesh.faces + 1).tolist()
+        tok = "{0}/{1}/{0}" if vt is not None and mesh.normals is not None else "{0}/{1}" if vt is not None \
+            else "{0}//{0}" if mesh.normals is not None else "{0}"
+        corners = one if vt is None else vt.tolist()
+        lines = []
+        for row, trow, k in zip(one, corners, mesh.face_sizes.tolist()):
+            lines.append("f " + " ".join(tok.format(i, j) for i, j in zip(row[:k], trow[:k])) + "\n")
+        fh.write("".join(lines))
