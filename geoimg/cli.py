@@ -11,6 +11,7 @@ import signal
 import sys
 import threading
 import warnings
+from dataclasses import dataclass, field
 from typing import Any
 
 from filters.padding import PAD_MODES
@@ -130,218 +131,439 @@ class _Parser(argparse.ArgumentParser):
         return parsed
 
 
+def arg(*flags: str, **options: Any) -> tuple:
+    """One argument of a command, as :meth:`argparse.ArgumentParser.add_argument` takes it."""
+    return flags, options
+
+
+# Arguments that several commands share (argparse's parents).
+GROUPS: dict[str, list] = {
+    "common": [
+        arg("--quiet", "-q", action="store_true", help="print nothing but errors"),
+        arg(
+            "--progress",
+            action="store_true",
+            help="show progress off a terminal too (logs, CI); on a terminal it is always shown",
+        ),
+    ],
+    "conversion": [
+        arg("--res", type=_positive(int), default=None, help="pixels along the longer side (default: from s)"),
+        arg(
+            "--s",
+            type=_positive(float),
+            default=None,
+            help="smoothness s: the weights' width over the mean face size (sigma = s d); default: "
+            "the width that serves --res, 0.4 of a pixel (a prefilter for the grid, not a "
+            "smoothing: the image as close to the mesh as its resolution allows); 1 with "
+            "--weights gaussian or local",
+        ),
+        arg("--method", choices=PARAMETRIZATION_METHODS, default="auto", help="parametrization (default auto)"),
+        arg("--axis", choices=AXES, default=None, help="up axis of a height field"),
+        arg(
+            "--boundary",
+            choices=DISK_BOUNDARIES,
+            default="square",
+            help="disk meshes: boundary on the unit square (default) or kept (a convex planar outline)",
+        ),
+        arg(
+            "--balance",
+            choices=DISK_BALANCES,
+            default=DEFAULT_DISK_BALANCE,
+            help="disk and cut-open meshes: balance the mean-value map's area, a disk's boundary "
+            "sliding along the square's sides (default area), relax it with SLIM, the boundary "
+            "held (slim), or keep it (none); either balancing opens up squeezed parts",
+        ),
+        arg(
+            "--weights",
+            choices=WEIGHTS,
+            default="coverage",
+            help="the weight of each face: the share of a Gaussian footprint it covers (default "
+            "coverage: the surface tends to the mesh as s falls), the paper's rational "
+            "Gaussian of the distance to its centre (gaussian), or local (its n nearest face "
+            "centres)",
+        ),
+        arg("--n", type=int, default=10, help="face centres per local weight (--weights local; default 10)"),
+        arg("--tol", type=float, default=1e-10, help="truncation tolerance; 0 = exact sum (default 1e-10)"),
+        arg(
+            "--sliver-rule",
+            choices=SLIVER_RULES,
+            default="robust",
+            help="long thin faces: a smaller Gaussian and the plane of their neighbours (default "
+            "robust), or the paper's enclosing circle (paper)",
+        ),
+        arg(
+            "--component",
+            default=None,
+            metavar="all|largest|K",
+            help="a mesh of several pieces gives NAME_0.exr, NAME_1.exr, ... (largest first; "
+            "the default, all), or keep one (the default with --zarr: largest)",
+        ),
+        arg(
+            "--no-colors",
+            action="store_true",
+            help="leave out the mesh's colours (an OBJ's texture, PLY or OBJ vertex colours), which "
+            "are resampled into the image by default",
+        ),
+    ],
+    "steps": [
+        *(
+            arg(
+                f"--{name}",
+                dest=name,
+                action=_Op,
+                nargs=len(kinds) if len(kinds) > 1 else None,
+                metavar=metavar,
+                help=text,
+            )
+            for name, (_, kinds, metavar, text) in FILTER_STEPS.items()
+        ),
+        arg(
+            "--nsr",
+            type=_positive(float),
+            default=1e-3,
+            help="Wiener noise-to-signal ratio of --sharpen (default 0.001)",
+        ),
+        arg(
+            "--mode",
+            choices=PAD_MODES,
+            default=None,
+            help="boundary rule (default: octahedral for spherical images, reflect for planar ones)",
+        ),
+    ],
+    "reading": [
+        arg(
+            "--assume",
+            choices=ASSUMABLE_DOMAINS,
+            default=None,
+            help="read an image without geoimg metadata (from another program) as this domain (default: refuse it)",
+        ),
+        arg(
+            "--approximate",
+            action="store_true",
+            help="read a 16-bit PNG preview written by geoimg as geometry, to within half of its "
+            "1/65534 steps (default: refuse it)",
+        ),
+    ],
+    "writing": [
+        arg(
+            "--layout",
+            choices=EXR_LAYOUTS,
+            default="geoimg",
+            help="EXR channels: R, G, B, mask, N.X, N.Y, N.Z (geoimg, the default) or the mask as A "
+            "(rgba: alpha for compositing tools)",
+        ),
+    ],
+    "view": [
+        arg("--width", type=_positive(int), default=800, help="picture width in pixels (default 800)"),
+        arg("--height", type=_positive(int), default=600, help="picture height in pixels (default 600)"),
+        arg("--azimuth", type=float, default=30.0, help="degrees about the up axis (default 30)"),
+        arg("--elevation", type=float, default=20.0, help="degrees above the horizon (default 20)"),
+        arg(
+            "--up",
+            choices=UP_AXES,
+            default=None,
+            help="the shape's up axis (default: the one a geometry image records, a terrain's; else y)",
+        ),
+    ],
+}
+
+
+@dataclass(frozen=True)
+class Command:
+    """A command's declaration: its one-line help, the shared groups it takes, its own arguments, and its
+    description and defaults; :func:`build_parser` makes its parser from this, with :data:`EXAMPLES` below.
+    """
+
+    help: str
+    groups: tuple[str, ...]
+    args: list
+    description: str | None = None
+    defaults: dict = field(default_factory=dict)
+
+
+COMMANDS: dict[str, Command] = {
+    "image": Command(
+        "mesh -> geometry image (OpenEXR)",
+        ("common", "conversion", "writing"),
+        [
+            arg("mesh", help=f"input mesh ({', '.join(MESH_READ_FORMATS)})"),
+            arg(
+                "-o",
+                "--output",
+                required=True,
+                help=f"output geometry image ({_IMAGES}: OpenEXR, NumPy arrays, float TIFF, one NumPy array)",
+            ),
+            arg("--preview", default=None, help="also write a 16-bit PNG preview"),
+            arg("--force", action="store_true", help="overwrite existing files"),
+            arg(
+                "--backend",
+                choices=BACKENDS,
+                default="cpu",
+                help="where planar images' Gaussian sums run: the CPU's cores (default) or a CUDA GPU "
+                "through numba.cuda (cuda)",
+            ),
+        ],
+    ),
+    "mesh": Command(
+        "geometry image -> quad mesh",
+        ("common", "reading"),
+        [
+            arg("image", help=f"input geometry image ({_IMAGES})"),
+            arg("-o", "--output", required=True, help="output mesh (.obj/.ply/.off keep quads)"),
+            arg("--force", action="store_true", help="overwrite an existing file"),
+        ],
+    ),
+    "filter": Command(
+        "smooth, sharpen or Fourier-filter a geometry image",
+        ("common", "steps", "reading", "writing"),
+        [
+            arg("image", help=f"input geometry image ({_IMAGES})"),
+            arg("-o", "--output", required=True, help=f"output geometry image ({_IMAGES})"),
+            arg("--mask", default=None, help="image file (same size): where to filter, 0..1"),
+            arg(
+                "--region",
+                type=float,
+                nargs=4,
+                metavar=("X", "Y", "Z", "R"),
+                default=None,
+                help="filter within distance R of the point (X, Y, Z) of the surface",
+            ),
+            arg(
+                "--uv-region",
+                type=float,
+                nargs=3,
+                metavar=("U", "V", "R"),
+                default=None,
+                help="filter within the disk of radius R around (U, V) of the image, in [0, 1]",
+            ),
+            arg("--feather", type=float, default=4.0, help="mask transition width in pixels (default 4)"),
+            arg("--preview", default=None, help="also write a 16-bit PNG preview"),
+            arg("--mesh", default=None, help="also write the quad mesh"),
+            arg("--force", action="store_true", help="overwrite existing files"),
+        ],
+        description="Operations run in the order given; a mask restricts every one of them.",
+        defaults=dict(ops=None),
+    ),
+    "curvature": Command(
+        "Gaussian and mean curvature maps and a normal map of a geometry image",
+        ("common", "reading"),
+        [
+            arg("image", help=f"input geometry image ({_IMAGES})"),
+            arg(
+                "-o",
+                "--output",
+                required=True,
+                help="output stem: writes STEM_gaussian.exr/.png, STEM_mean.exr/.png, STEM_normals.png "
+                "(a folder: the input's name in it)",
+            ),
+            arg("--force", action="store_true", help="overwrite existing files"),
+        ],
+    ),
+    "render": Command(
+        "shade a mesh or geometry image to PNG (headless)",
+        ("common", "view", "reading"),
+        [
+            arg("file", help=f"mesh or geometry image ({_IMAGES})"),
+            arg("-o", "--output", required=True, help="output .png"),
+            arg("--force", action="store_true", help="overwrite an existing file"),
+            arg(
+                "--transparent",
+                action="store_true",
+                help="a transparent background (an RGBA PNG) instead of white (default: white)",
+            ),
+        ],
+    ),
+    "morph": Command(
+        "morph between shapes: glTF with morph targets, GIF/MP4, frame files",
+        ("common", "view", "reading"),
+        [
+            arg("shapes", nargs="+", help=f"two or more meshes or geometry images ({_IMAGES}), in order"),
+            arg("-o", "--output", default=None, help="output .glb (morph targets + weights animation)"),
+            arg("--frames", type=int, default=30, help="frames in all (default 30)"),
+            arg("--fps", type=_positive(float), default=24.0, help="frames per second (default 24)"),
+            arg(
+                "--easing",
+                default="smoothstep",
+                choices=tuple(EASINGS),
+                help="how the blend moves between keys (default smoothstep)",
+            ),
+            arg(
+                "--align",
+                choices=ALIGNMENTS,
+                default="similarity",
+                help="bring shapes 2.. onto shape 1: centre, centre and scale (similarity, the default), or none",
+            ),
+            arg("--no-rotate", action="store_true", help="spherical images: keep the spheres as they are"),
+            arg(
+                "--landmarks",
+                default=None,
+                metavar="CSV",
+                help="corresponding features: a row per feature, a vertex index of each key's mesh per column "
+                "(see geoimg landmarks), or 'auto' (suggested extremities matched on the turned spheres); "
+                "each later key is resampled through a fold-free warp of the sphere that makes them meet "
+                "(default: none, only the best turn of the sphere)",
+            ),
+            arg("--res", type=_positive(int), default=129, help="pixels per side for meshes (default 129)"),
+            arg("--gif", default=None, help="also render an animated GIF"),
+            arg("--mp4", default=None, help="also render an MP4 (needs imageio-ffmpeg)"),
+            arg("--frames-dir", default=None, help="also write every frame to this folder"),
+            arg(
+                "--frame-format",
+                choices=FRAME_FORMATS,
+                default="obj",
+                help="file format of --frames-dir's frames (default obj)",
+            ),
+            arg("--force", action="store_true", help="overwrite existing files"),
+        ],
+    ),
+    "batch": Command(
+        "many meshes -> geometry images on Dask (resumable, with a manifest)",
+        ("common", "conversion", "steps"),
+        [
+            arg("inputs", nargs="+", help="mesh files, folders (searched recursively) and glob patterns"),
+            arg(
+                "-o",
+                "--output",
+                required=True,
+                help="output folder: NAME.exr per input (its path below the inputs' common folder), the manifest",
+            ),
+            arg(
+                "--zarr",
+                default=None,
+                metavar="STORE",
+                help="write the images into this Zarr store instead: (N, R, R, 3) float32, mask, normals, colors "
+                "(needs --res; one image per input, the largest piece unless --component K)",
+            ),
+            arg(
+                "--quads",
+                nargs="?",
+                const="obj",
+                default=None,
+                choices=QUAD_FORMATS,
+                help="also write the quad mesh, NAME_quads.obj (or .ply, .off)",
+            ),
+            arg("--no-normals", action="store_true", help="leave out the exact normals"),
+            arg("--no-psnr", action="store_true", help="do not measure the quad mesh against the input"),
+            arg(
+                "--min-psnr",
+                type=float,
+                default=POOR_PSNR_DB,
+                metavar="DB",
+                help="below this PSNR to the input an image is marked poor, and the exit status is 1 "
+                f"(default {POOR_PSNR_DB:g})",
+            ),
+            arg(
+                "--max-hausdorff",
+                type=float,
+                default=POOR_HAUSDORFF,
+                metavar="FRACTION",
+                help="above this Hausdorff distance to the input, as a fraction of its bounding-box diagonal, an "
+                f"image is marked poor (default {POOR_HAUSDORFF:g})",
+            ),
+            arg("--manifest", default=None, metavar="CSV", help="manifest CSV (default OUTPUT/manifest.csv)"),
+            arg(
+                "--workers",
+                type=_positive(int),
+                default=None,
+                metavar="N",
+                help="local worker processes (default: one per core)",
+            ),
+            arg(
+                "--memory-limit",
+                default="auto",
+                metavar="SIZE",
+                help="memory per local worker, e.g. 4GB (default: shared out)",
+            ),
+            arg(
+                "--scheduler",
+                default=None,
+                metavar="ADDRESS",
+                help="run on this existing Dask scheduler (e.g. tcp://host:8786) instead of a local cluster",
+            ),
+            arg(
+                "--progress-every",
+                type=_positive(float),
+                default=5.0,
+                metavar="SECONDS",
+                help="off a terminal: a progress line every SECONDS (default 5)",
+            ),
+            arg(
+                "--force",
+                action="store_true",
+                help="redo every input; write into a folder (or replace a store) that holds something else",
+            ),
+        ],
+        description="Convert every mesh of the inputs, on an embedded local Dask cluster or an "
+        "existing one.\nA second run skips what the first finished with the same "
+        "options; refused or failed inputs are listed\nin the manifest and never stop "
+        "the batch (exit status 1 when there are some).",
+        defaults=dict(ops=None),
+    ),
+    "landmarks": Command(
+        "suggest landmarks: a mesh's extremities (tips of limbs, ears, tail)",
+        ("common", "view"),
+        [
+            arg("mesh", help="a mesh file of one piece"),
+            arg("-o", "--output", required=True, help="output .csv: index,x,y,z per landmark, most extreme first"),
+            arg("--count", type=_positive(int), default=8, help="how many landmarks at most (default 8)"),
+            arg(
+                "--spread",
+                action="store_true",
+                help="exactly --count: after the extremities, the points farthest from those picked",
+            ),
+            arg("--picture", default=None, help="also draw them numbered on a render (.png)"),
+            arg("--force", action="store_true", help="overwrite existing files"),
+        ],
+    ),
+    "info": Command(
+        "describe a mesh or geometry-image file",
+        ("common", "reading"),
+        [
+            arg("file", help=f"a mesh file or a geometry image ({_IMAGES})"),
+        ],
+    ),
+    "demo": Command(
+        "run the whole pipeline on the bundled terrain",
+        ("common",),
+        [
+            arg("-o", "--output", default="geoimg-demo", help="output folder (default ./geoimg-demo)"),
+            arg("--res", type=_positive(int), default=256, help="pixels along the longer side (default 256)"),
+            arg("--s", type=_positive(float), default=None, help="smoothness s (default: the width that serves --res)"),
+            arg("--mesh", default=None, help="another mesh instead of the bundled sample"),
+            arg(
+                "--force",
+                action="store_true",
+                help="write into a folder that an earlier demo did not make (its files are replaced)",
+            ),
+        ],
+    ),
+}
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The ``geoimg`` command line's parser: its subcommands, their options and help."""
+    """The ``geoimg`` command line's parser, built from :data:`COMMANDS`, :data:`GROUPS` and :data:`EXAMPLES`."""
     top = _Parser(prog="geoimg", description="Polygon meshes to geometry images and back.")
-    p: argparse.ArgumentParser = top
-    p.add_argument("--version", action="version", version=f"geoimg {__version__}")
-    common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--quiet", "-q", action="store_true", help="print nothing but errors")
-    common.add_argument("--progress", action="store_true",
-                        help="show progress off a terminal too (logs, CI); on a terminal it is always shown")
-    sub = p.add_subparsers(dest="command", required=True)
+    top.add_argument("--version", action="version", version=f"geoimg {__version__}")
+    sub = top.add_subparsers(dest="command", required=True)
     top.commands = sub
-
-    conversion = argparse.ArgumentParser(add_help=False)        # mesh -> image: geoimg image and geoimg batch
-    conversion.add_argument("--res", type=_positive(int), default=None,
-                            help="pixels along the longer side (default: from s)")
-    conversion.add_argument("--s", type=_positive(float), default=None,
-                            help="smoothness s: the weights' width over the mean face size (sigma = s d); default: "
-                                 "the width that serves --res, 0.4 of a pixel (a prefilter for the grid, not a "
-                                 "smoothing: the image as close to the mesh as its resolution allows); 1 with "
-                                 "--weights gaussian or local")
-    conversion.add_argument("--method", choices=PARAMETRIZATION_METHODS, default="auto",
-                            help="parametrization (default auto)")
-    conversion.add_argument("--axis", choices=AXES, default=None, help="up axis of a height field")
-    conversion.add_argument("--boundary", choices=DISK_BOUNDARIES, default="square",
-                            help="disk meshes: boundary on the unit square (default) or kept (a convex planar outline)")
-    conversion.add_argument("--balance", choices=DISK_BALANCES, default=DEFAULT_DISK_BALANCE,
-                            help="disk and cut-open meshes: balance the mean-value map's area, a disk's boundary "
-                                 "sliding along the square's sides (default area), relax it with SLIM, the boundary "
-                                 "held (slim), or keep it (none); either balancing opens up squeezed parts")
-    conversion.add_argument("--weights", choices=WEIGHTS, default="coverage",
-                            help="the weight of each face: the share of a Gaussian footprint it covers (default "
-                                 "coverage: the surface tends to the mesh as s falls), the paper's rational "
-                                 "Gaussian of the distance to its centre (gaussian), or local (its n nearest face "
-                                 "centres)")
-    conversion.add_argument("--n", type=int, default=10,
-                            help="face centres per local weight (--weights local; default 10)")
-    conversion.add_argument("--tol", type=float, default=1e-10,
-                            help="truncation tolerance; 0 = exact sum (default 1e-10)")
-    conversion.add_argument("--sliver-rule", choices=SLIVER_RULES, default="robust",
-                            help="long thin faces: a smaller Gaussian and the plane of their neighbours (default "
-                                 "robust), or the paper's enclosing circle (paper)")
-    conversion.add_argument("--component", default=None, metavar="all|largest|K",
-                            help="a mesh of several pieces gives NAME_0.exr, NAME_1.exr, ... (largest first; "
-                                 "the default, all), or keep one (the default with --zarr: largest)")
-    conversion.add_argument("--no-colors", action="store_true",
-                            help="leave out the mesh's colours (an OBJ's texture, PLY or OBJ vertex colours), which "
-                                 "are resampled into the image by default")
-    steps = argparse.ArgumentParser(add_help=False)             # filter steps: geoimg filter and geoimg batch
-    for name, (_, kinds, metavar, text) in FILTER_STEPS.items():
-        steps.add_argument(f"--{name}", dest=name, action=_Op, nargs=len(kinds) if len(kinds) > 1 else None,
-                           metavar=metavar, help=text)
-    steps.add_argument("--nsr", type=_positive(float), default=1e-3,
-                       help="Wiener noise-to-signal ratio of --sharpen (default 0.001)")
-    steps.add_argument("--mode", choices=PAD_MODES, default=None,
-                       help="boundary rule (default: octahedral for spherical images, reflect for planar ones)")
-
-    reading = argparse.ArgumentParser(add_help=False)           # commands that read geometry images
-    reading.add_argument("--assume", choices=ASSUMABLE_DOMAINS, default=None,
-                         help="read an image without geoimg metadata (from another program) as this domain "
-                              "(default: refuse it)")
-    reading.add_argument("--approximate", action="store_true",
-                         help="read a 16-bit PNG preview written by geoimg as geometry, to within half of its "
-                              "1/65534 steps (default: refuse it)")
-    writing = argparse.ArgumentParser(add_help=False)           # commands that write geometry images
-    writing.add_argument("--layout", choices=EXR_LAYOUTS, default="geoimg",
-                         help="EXR channels: R, G, B, mask, N.X, N.Y, N.Z (geoimg, the default) or the mask as A "
-                              "(rgba: alpha for compositing tools)")
-
-    im = sub.add_parser("image", help="mesh -> geometry image (OpenEXR)", parents=[common, conversion, writing])
-    im.add_argument("mesh", help=f"input mesh ({', '.join(MESH_READ_FORMATS)})")
-    im.add_argument("-o", "--output", required=True,
-                    help=f"output geometry image ({_IMAGES}: OpenEXR, NumPy arrays, float TIFF, one NumPy array)")
-    im.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")
-    im.add_argument("--force", action="store_true", help="overwrite existing files")
-    im.add_argument("--backend", choices=BACKENDS, default="cpu",
-                    help="where planar images' Gaussian sums run: the CPU's cores (default) or a CUDA GPU "
-                         "through numba.cuda (cuda)")
-
-    me = sub.add_parser("mesh", help="geometry image -> quad mesh", parents=[common, reading])
-    me.add_argument("image", help=f"input geometry image ({_IMAGES})")
-    me.add_argument("-o", "--output", required=True, help="output mesh (.obj/.ply/.off keep quads)")
-    me.add_argument("--force", action="store_true", help="overwrite an existing file")
-
-    fi = sub.add_parser("filter", help="smooth, sharpen or Fourier-filter a geometry image",
-                        parents=[common, steps, reading, writing],
-                        description="Operations run in the order given; a mask restricts every one of them.")
-    fi.add_argument("image", help=f"input geometry image ({_IMAGES})")
-    fi.add_argument("-o", "--output", required=True, help=f"output geometry image ({_IMAGES})")
-    fi.add_argument("--mask", default=None, help="image file (same size): where to filter, 0..1")
-    fi.add_argument("--region", type=float, nargs=4, metavar=("X", "Y", "Z", "R"), default=None,
-                    help="filter within distance R of the point (X, Y, Z) of the surface")
-    fi.add_argument("--uv-region", type=float, nargs=3, metavar=("U", "V", "R"), default=None,
-                    help="filter within the disk of radius R around (U, V) of the image, in [0, 1]")
-    fi.add_argument("--feather", type=float, default=4.0, help="mask transition width in pixels (default 4)")
-    fi.add_argument("--preview", default=None, help="also write a 16-bit PNG preview")
-    fi.add_argument("--mesh", default=None, help="also write the quad mesh")
-    fi.add_argument("--force", action="store_true", help="overwrite existing files")
-    fi.set_defaults(ops=None)
-
-    cu = sub.add_parser("curvature", help="Gaussian and mean curvature maps and a normal map of a geometry image",
-                        parents=[common, reading])
-    cu.add_argument("image", help=f"input geometry image ({_IMAGES})")
-    cu.add_argument("-o", "--output", required=True,
-                    help="output stem: writes STEM_gaussian.exr/.png, STEM_mean.exr/.png, STEM_normals.png "
-                         "(a folder: the input's name in it)")
-    cu.add_argument("--force", action="store_true", help="overwrite existing files")
-
-    view = argparse.ArgumentParser(add_help=False)
-    view.add_argument("--width", type=_positive(int), default=800, help="picture width in pixels (default 800)")
-    view.add_argument("--height", type=_positive(int), default=600, help="picture height in pixels (default 600)")
-    view.add_argument("--azimuth", type=float, default=30.0, help="degrees about the up axis (default 30)")
-    view.add_argument("--elevation", type=float, default=20.0, help="degrees above the horizon (default 20)")
-    view.add_argument("--up", choices=UP_AXES, default=None,
-                      help="the shape's up axis (default: the one a geometry image records, a terrain's; else y)")
-
-    re_ = sub.add_parser("render", help="shade a mesh or geometry image to PNG (headless)",
-                         parents=[common, view, reading])
-    re_.add_argument("file", help=f"mesh or geometry image ({_IMAGES})")
-    re_.add_argument("-o", "--output", required=True, help="output .png")
-    re_.add_argument("--force", action="store_true", help="overwrite an existing file")
-    re_.add_argument("--transparent", action="store_true",
-                     help="a transparent background (an RGBA PNG) instead of white (default: white)")
-
-    mo = sub.add_parser("morph", help="morph between shapes: glTF with morph targets, GIF/MP4, frame files",
-                        parents=[common, view, reading])
-    mo.add_argument("shapes", nargs="+", help=f"two or more meshes or geometry images ({_IMAGES}), in order")
-    mo.add_argument("-o", "--output", default=None, help="output .glb (morph targets + weights animation)")
-    mo.add_argument("--frames", type=int, default=30, help="frames in all (default 30)")
-    mo.add_argument("--fps", type=_positive(float), default=24.0, help="frames per second (default 24)")
-    mo.add_argument("--easing", default="smoothstep", choices=tuple(EASINGS),
-                    help="how the blend moves between keys (default smoothstep)")
-    mo.add_argument("--align", choices=ALIGNMENTS, default="similarity",
-                    help="bring shapes 2.. onto shape 1: centre, centre and scale (similarity, the default), "
-                         "or none")
-    mo.add_argument("--no-rotate", action="store_true", help="spherical images: keep the spheres as they are")
-    mo.add_argument("--landmarks", default=None, metavar="CSV",
-                    help="corresponding features: a row per feature, a vertex index of each key's mesh per column "
-                         "(see geoimg landmarks), or 'auto' (suggested extremities matched on the turned spheres); "
-                         "each later key is resampled through a fold-free warp of the sphere that makes them meet "
-                         "(default: none, only the best turn of the sphere)")
-    mo.add_argument("--res", type=_positive(int), default=129, help="pixels per side for meshes (default 129)")
-    mo.add_argument("--gif", default=None, help="also render an animated GIF")
-    mo.add_argument("--mp4", default=None, help="also render an MP4 (needs imageio-ffmpeg)")
-    mo.add_argument("--frames-dir", default=None, help="also write every frame to this folder")
-    mo.add_argument("--frame-format", choices=FRAME_FORMATS, default="obj",
-                    help="file format of --frames-dir's frames (default obj)")
-    mo.add_argument("--force", action="store_true", help="overwrite existing files")
-
-    ba = sub.add_parser("batch", help="many meshes -> geometry images on Dask (resumable, with a manifest)",
-                        parents=[common, conversion, steps], formatter_class=argparse.RawDescriptionHelpFormatter,
-                        description="Convert every mesh of the inputs, on an embedded local Dask cluster or an "
-                                    "existing one.\nA second run skips what the first finished with the same "
-                                    "options; refused or failed inputs are listed\nin the manifest and never stop "
-                                    "the batch (exit status 1 when there are some).",
-                        epilog="examples:\n"
-                               "  geoimg batch meshes/ -o images --res 257\n"
-                               "  geoimg batch 'scans/**/*.ply' -o out --zarr out/data.zarr --res 129 --gaussian 1\n"
-                               "  geoimg batch meshes/ -o images --scheduler tcp://10.0.0.5:8786")
-    ba.add_argument("inputs", nargs="+", help="mesh files, folders (searched recursively) and glob patterns")
-    ba.add_argument("-o", "--output", required=True,
-                    help="output folder: NAME.exr per input (its path below the inputs' common folder), the manifest")
-    ba.add_argument("--zarr", default=None, metavar="STORE",
-                    help="write the images into this Zarr store instead: (N, R, R, 3) float32, mask, normals, colors "
-                         "(needs --res; one image per input, the largest piece unless --component K)")
-    ba.add_argument("--quads", nargs="?", const="obj", default=None, choices=QUAD_FORMATS,
-                    help="also write the quad mesh, NAME_quads.obj (or .ply, .off)")
-    ba.add_argument("--no-normals", action="store_true", help="leave out the exact normals")
-    ba.add_argument("--no-psnr", action="store_true", help="do not measure the quad mesh against the input")
-    ba.add_argument("--min-psnr", type=float, default=POOR_PSNR_DB, metavar="DB",
-                    help="below this PSNR to the input an image is marked poor, and the exit status is 1 "
-                         f"(default {POOR_PSNR_DB:g})")
-    ba.add_argument("--max-hausdorff", type=float, default=POOR_HAUSDORFF, metavar="FRACTION",
-                    help="above this Hausdorff distance to the input, as a fraction of its bounding-box diagonal, an "
-                         f"image is marked poor (default {POOR_HAUSDORFF:g})")
-    ba.add_argument("--manifest", default=None, metavar="CSV", help="manifest CSV (default OUTPUT/manifest.csv)")
-    ba.add_argument("--workers", type=_positive(int), default=None, metavar="N",
-                    help="local worker processes (default: one per core)")
-    ba.add_argument("--memory-limit", default="auto", metavar="SIZE",
-                    help="memory per local worker, e.g. 4GB (default: shared out)")
-    ba.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                    help="run on this existing Dask scheduler (e.g. tcp://host:8786) instead of a local cluster")
-    ba.add_argument("--progress-every", type=_positive(float), default=5.0, metavar="SECONDS",
-                    help="off a terminal: a progress line every SECONDS (default 5)")
-    ba.add_argument("--force", action="store_true",
-                    help="redo every input; write into a folder (or replace a store) that holds something else")
-    ba.set_defaults(ops=None)
-
-    lm = sub.add_parser("landmarks", help="suggest landmarks: a mesh's extremities (tips of limbs, ears, tail)",
-                        parents=[common, view])
-    lm.add_argument("mesh", help="a mesh file of one piece")
-    lm.add_argument("-o", "--output", required=True, help="output .csv: index,x,y,z per landmark, most extreme first")
-    lm.add_argument("--count", type=_positive(int), default=8, help="how many landmarks at most (default 8)")
-    lm.add_argument("--spread", action="store_true",
-                    help="exactly --count: after the extremities, the points farthest from those picked")
-    lm.add_argument("--picture", default=None, help="also draw them numbered on a render (.png)")
-    lm.add_argument("--force", action="store_true", help="overwrite existing files")
-
-    info = sub.add_parser("info", help="describe a mesh or geometry-image file", parents=[common, reading])
-    info.add_argument("file", help=f"a mesh file or a geometry image ({_IMAGES})")
-
-    demo = sub.add_parser("demo", help="run the whole pipeline on the bundled terrain", parents=[common])
-    demo.add_argument("-o", "--output", default="geoimg-demo", help="output folder (default ./geoimg-demo)")
-    demo.add_argument("--res", type=_positive(int), default=256, help="pixels along the longer side (default 256)")
-    demo.add_argument("--s", type=_positive(float), default=None,
-                      help="smoothness s (default: the width that serves --res)")
-    demo.add_argument("--mesh", default=None, help="another mesh instead of the bundled sample")
-    demo.add_argument("--force", action="store_true",
-                      help="write into a folder that an earlier demo did not make (its files are replaced)")
-    for name, examples in EXAMPLES.items():          # a few examples under each command's help
-        sub.choices[name].epilog = "examples:\n" + "\n".join(f"  {e}" for e in examples)
-        sub.choices[name].formatter_class = argparse.RawDescriptionHelpFormatter
-    return p
+    shared: dict[str, _Parser] = {}
+    for name, declared in GROUPS.items():
+        shared[name] = _Parser(add_help=False)
+        for flags, options in declared:
+            shared[name].add_argument(*flags, **options)
+    for name, command in COMMANDS.items():
+        parser = sub.add_parser(
+            name,
+            help=command.help,
+            parents=[shared[g] for g in command.groups],
+            description=command.description,
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+            epilog="examples:\n" + "\n".join(f"  {e}" for e in EXAMPLES[name]),
+        )
+        for flags, options in command.args:
+            parser.add_argument(*flags, **options)
+        parser.set_defaults(**command.defaults)
+    return top
 
 
 def _one_line_warning(command: str):
