@@ -61,6 +61,7 @@ sphinx_gallery_conf = {
     "ignore_pattern": r"(_common|make_gallery)\.py",
     "image_scrapers": ("png_scraper.scrape",),
     "reset_argv": "png_scraper.argv",
+    "reset_modules": (),            # the samples draw with OpenGL and OpenCV, not matplotlib
     "abort_on_example_error": True,
     "download_all_examples": False,
     "within_subsection_order": "FileNameSortKey",
