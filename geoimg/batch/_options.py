@@ -29,30 +29,8 @@ class ConvertOptions(ConversionOptions):
 
     Parameters
     ----------
-    resolution : int or None
-        Pixels along the longer side; None: from ``s`` (see :func:`geoimg.mesh_to_image`).
-    s : float or None
-        The smoothness; None: the width that serves the resolution.
-    method : str
-        The parametrization's method (see :func:`geoimg.parametrize`).
-    axis : {"x", "y", "z"} or None
-        A terrain's up axis.
-    boundary : {"square", "keep"}
-        A disk's boundary: on the unit square, or its own convex outline.
-    balance : {"area", "slim", "none"}
-        How a disk or cut-open map is relaxed.
-    weights : {"coverage", "gaussian", "local"}
-        The surface's weights.
-    n : int
-        Faces per weight of ``local`` weights.
-    tol : float
-        The truncation tolerance of Gaussian weights (0: exact sums).
-    sliver_rule : {"robust", "paper"}
-        How long thin faces are treated.
-    component : {"all", "largest"} or int
-        Which pieces of a mesh of several.
-    normals, colors : bool
-        Keep the surface's normals and the mesh's colours in the images.
+    resolution, s, method, axis, boundary, balance, weights, n, tol, sliver_rule, component, normals, colors
+        The conversion's options, as :class:`geoimg.ConversionOptions` takes them (``s`` a number).
     steps : tuple
         Filter steps, ``(name, values)`` pairs, applied in order.
     mode : str or None
