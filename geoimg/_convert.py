@@ -261,7 +261,7 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
     if fidelity:
         say("measuring the image against the mesh")
         with _timed(timings, "fidelity"):
-            measure_fidelity(image, mesh, measured)
+            measure_fidelity(image, mesh, measured, smoothed=not serve)
     return image
 
 
@@ -269,20 +269,24 @@ def _distance(image: GeometryImage, mesh: Mesh) -> dict:
     return surface_distance(mesh, image.to_mesh(), n=FIDELITY_SAMPLES)
 
 
-def measure_fidelity(image: GeometryImage, mesh: Mesh, measured: dict | None = None) -> dict:
+def measure_fidelity(image: GeometryImage, mesh: Mesh, measured: dict | None = None, *,
+                     smoothed: bool = False) -> dict:
     """How close ``image``'s quad mesh lies to ``mesh``: ``psnr_db`` and ``hausdorff`` (relative to the
     mesh's bounding-box diagonal) from :func:`geoimg.mesh.surface_distance` with :data:`FIDELITY_SAMPLES`
     area samples a side (or ``measured``, its result already), recorded in ``image.metadata``; a warning says
     when the image is far from the mesh (PSNR below :data:`POOR_PSNR_DB` or Hausdorff above
-    :data:`POOR_HAUSDORFF`).
+    :data:`POOR_HAUSDORFF`), and names the smoothing asked for (``smoothed``) as a cause.
     """
     d = measured if measured is not None else _distance(image, mesh)
     record = {"psnr_db": round(float(d["psnr_db"]), 2), "hausdorff": float(f"{d['hausdorff_rel']:.4g}")}
     image.metadata.update(record)
     why = poor_reason(record["psnr_db"], record["hausdorff"], POOR_PSNR_DB, POOR_HAUSDORFF)
     if why:
-        warnings.warn(f"the image is far from its mesh ({why}): its map squeezes or folds part of the shape; "
-                      "see the map's stretch in the parametrization, or try another --method", stacklevel=3)
+        cause = (f"the smoothing asked for (s = {image.metadata.get('s')}) rounds it that far, or its map squeezes "
+                 "part of the shape; try a smaller --s" if smoothed else
+                 "its map squeezes or folds part of the shape; see the map's stretch in the parametrization, or try "
+                 "another --method")
+        warnings.warn(f"the image is far from its mesh ({why}): {cause}", stacklevel=3)
     return record
 
 

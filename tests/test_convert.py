@@ -46,6 +46,10 @@ def test_an_image_far_from_its_mesh_says_so(monkeypatch):
     mesh = geoimg.load_mesh(MOUNTAIN)
     with pytest.warns(UserWarning, match=r"far from its mesh \(PSNR .* dB < 500"):
         convert.measure_fidelity(geoimg.mesh_to_image(mesh, 9, fidelity=False), mesh)
+    with pytest.warns(UserWarning, match=r"its map squeezes or folds"):             # the map: nothing asked for
+        convert.measure_fidelity(geoimg.mesh_to_image(mesh, 9, fidelity=False), mesh)
+    with pytest.warns(UserWarning, match=r"the smoothing asked for \(s = 8.0\).*try a smaller --s"):
+        geoimg.mesh_to_image(mesh, 9, s=8.0)                                    # s was asked for: it is named
 
 
 def test_a_given_parametrization_is_used_and_progress_is_reported():

@@ -27,6 +27,7 @@ OUTPUTS = {
     "docs/guide/batch.md": ["images/manifest.csv", "run/data.zarr", "from_python/manifest.csv"],
     "docs/guide/formats.md": ["mountain.npz", "rgba.exr", "approx.obj", "spot.glb"],
     "docs/guide/python.md": ["terrain_quads.obj", "terrain_morph.gif"],
+    "docs/guide/resolution.md": ["faithful.exr", "smooth.exr", "paper.exr"],
 }
 
 
