@@ -40,6 +40,11 @@ def blend(a: ArrayLike, b: ArrayLike, t: float | ArrayLike = 0.5) -> np.ndarray:
     numpy.ndarray
         The blended image, of the inputs' shape.
 
+    Raises
+    ------
+    ValueError
+        When the images' shapes differ or ``t`` is not finite.
+
     Examples
     --------
     >>> blend(np.zeros((1, 2)), np.ones((1, 2)), 0.25).tolist()

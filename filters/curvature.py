@@ -35,6 +35,11 @@ def grid_curvature(image: ArrayLike, mode: str = "linear", orientation: int = 1)
     K, H : numpy.ndarray
         Gaussian and mean curvature, (H, W) each.
 
+    Raises
+    ------
+    ValueError
+        When the image is not (H, W, 3).
+
     Examples
     --------
     >>> u, v = np.meshgrid(np.linspace(-0.2, 0.2, 21), np.linspace(-0.2, 0.2, 21))

@@ -160,6 +160,11 @@ def bandpass(image: ArrayLike, low: float, high: float, mode: str = "reflect", *
     numpy.ndarray
         The filtered image, of the input's shape; float32 stays float32.
 
+    Raises
+    ------
+    ValueError
+        When not ``0 < low < high``.
+
     Examples
     --------
     >>> flat = np.full((16, 16), 3.0)

@@ -82,6 +82,11 @@ def inverse_filter(image: ArrayLike, blur: str = "mean", size: int = 3, sigma: f
     numpy.ndarray
         The filtered image, of the input's shape; float32 stays float32.
 
+    Raises
+    ------
+    ValueError
+        When ``method`` or ``blur`` is unknown.
+
     Examples
     --------
     >>> from filters import mean_filter

@@ -35,6 +35,11 @@ def feather(mask: ArrayLike | None, width: float = 0.0, mode: str = "reflect") -
     numpy.ndarray
         float64 weights (H, W).
 
+    Raises
+    ------
+    ValueError
+        When the mask is not (H, W) or holds values outside [0, 1].
+
     Examples
     --------
     >>> m = np.zeros((1, 7), bool); m[0, 0] = True
@@ -79,6 +84,11 @@ def apply_masked(original: ArrayLike, filtered: ArrayLike, weights: ArrayLike) -
     -------
     numpy.ndarray
         The blend, of the inputs' shape.
+
+    Raises
+    ------
+    ValueError
+        When the images' shapes differ.
 
     Examples
     --------

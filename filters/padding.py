@@ -86,6 +86,11 @@ def pad(image: ArrayLike, width: int, mode: str = "reflect") -> np.ndarray:
     -------
     numpy.ndarray, shape (H + 2 width, W + 2 width[, C]); the input is not modified.
 
+    Raises
+    ------
+    ValueError
+        When ``width`` is not a non-negative integer or ``mode`` is unknown.
+
     Examples
     --------
     >>> pad(np.array([[0.0, 1.0, 3.0]]), 1)[1].tolist()

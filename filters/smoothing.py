@@ -199,6 +199,11 @@ def guided_filter(image: ArrayLike, radius: int = 4, eps: float = 1e-4, mode: st
     numpy.ndarray
         The filtered image, of the input's shape; float32 stays float32.
 
+    Raises
+    ------
+    ValueError
+        When the guide's (H, W) is not the image's.
+
     Examples
     --------
     >>> img = np.random.default_rng(0).normal(size=(16, 16)).astype(np.float32)

@@ -36,6 +36,13 @@ def ball_weights(points: ArrayLike, centre: ArrayLike, radius: float, feather: f
     numpy.ndarray
         Weights in [0, 1] of shape ``points.shape[:-1]``.
 
+    Raises
+    ------
+    InputError
+        When the centre is not finite or not of the points' dimension.
+    ValueError
+        When the radius or feather is negative.
+
     Examples
     --------
     >>> ball_weights(np.array([[0.0], [1.5], [2.0], [3.0]]), [0.0], 1.0, 2.0).tolist()

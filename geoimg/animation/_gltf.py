@@ -119,6 +119,13 @@ def save_glb(morph: Morph, path: PathLike, *, fps: float = 24.0, overwrite: bool
     pathlib.Path
         The file written.
 
+    Raises
+    ------
+    InputError
+        When the name is not a ``.glb`` or ``fps`` is not a positive finite number.
+    MissingDependency
+        Without pygltflib (``pip install geoimg[render]``).
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -219,6 +226,11 @@ def frame_jobs(morph: Morph, folder: PathLike, fmt: str = "obj", progress: Progr
     -------
     list of tuple
         ``(path, write)`` pairs; ``write(tmp_path)`` writes one frame.
+
+    Raises
+    ------
+    InputError
+        When ``fmt`` is not a frame format.
 
     Examples
     --------

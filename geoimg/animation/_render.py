@@ -487,6 +487,11 @@ def save_png(rgb: np.ndarray, path: PathLike, *, overwrite: bool = False) -> Pat
     pathlib.Path
         The file written.
 
+    Raises
+    ------
+    InputError
+        When the name is not a ``.png``.
+
     Examples
     --------
     >>> import tempfile, pathlib

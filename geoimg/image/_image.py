@@ -71,6 +71,14 @@ class GeometryImage:
         the pixels, so filters of the geometry keep them as they are; the quad mesh carries them as vertex
         colours and as a texture over its texture coordinates.
 
+    Raises
+    ------
+    ImageError
+        When the pixels, mask, normals or colours are malformed (shapes, NaN, a mask that selects
+        nothing) or the metadata contradicts the domain.
+    InputTypeError
+        When an array is of the wrong type or the domain is not a Domain or a kind's name.
+
     Examples
     --------
     >>> img = GeometryImage(np.zeros((4, 5, 3), np.float32))

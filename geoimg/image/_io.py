@@ -40,6 +40,13 @@ def save_image(image: GeometryImage, path: PathLike, *, overwrite: bool = False)
     -------
     pathlib.Path
 
+    Raises
+    ------
+    InputTypeError
+        When ``image`` is not a GeometryImage.
+    ImageFileError
+        When the extension is not a geometry-image format.
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -301,6 +308,13 @@ def save_scalar(values: np.ndarray, path: PathLike, name: str = "Y", *, overwrit
     pathlib.Path
         The file written.
 
+    Raises
+    ------
+    ImageFileError
+        When the name is not a ``.exr``.
+    InputError
+        When ``values`` is not (H, W).
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -373,6 +387,11 @@ def save_colormap(values: np.ndarray, path: PathLike, valid: np.ndarray | None =
     pathlib.Path
         The file written.
 
+    Raises
+    ------
+    ImageFileError
+        When the name is not a ``.png``.
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -407,6 +426,11 @@ def save_normal_map(normals: np.ndarray, path: PathLike, valid: np.ndarray | Non
     -------
     pathlib.Path
         The file written.
+
+    Raises
+    ------
+    ImageFileError
+        When the name is not a ``.png``.
 
     Examples
     --------

@@ -135,6 +135,13 @@ def mesh_file_jobs(mesh: Mesh, path: PathLike) -> list:
     list of tuple
         ``(path, write)`` pairs; ``write(tmp_path)`` writes one file.
 
+    Raises
+    ------
+    InputTypeError
+        When ``mesh`` is not a Mesh.
+    MeshFileError
+        When the extension is not a mesh format geoimg writes.
+
     Examples
     --------
     >>> import geoimg

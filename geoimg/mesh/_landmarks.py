@@ -106,6 +106,13 @@ def suggest_landmarks(mesh: Mesh, count: int = 8, *, radius: float = RADIUS, spr
     numpy.ndarray
         Vertex indices (int64), most extreme first.
 
+    Raises
+    ------
+    InputError
+        When ``count`` is not a positive whole number or ``radius`` not in (0, 1).
+    MeshError
+        When the mesh has several pieces.
+
     Examples
     --------
     >>> import numpy as np

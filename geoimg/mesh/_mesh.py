@@ -33,6 +33,11 @@ def pad_faces(faces: Any) -> np.ndarray:
     numpy.ndarray
         ``(F, K)`` int64, shorter faces padded with ``-1``.
 
+    Raises
+    ------
+    MeshError
+        When the indices are not integers, not 2-D, or would not fit in memory.
+
     Examples
     --------
     >>> pad_faces([[0, 1, 2], [0, 2, 3, 4]]).tolist()
@@ -116,6 +121,12 @@ class Mesh:
         entries on a face's padding are ignored. (0, 0) is the texture's bottom-left corner, as in OBJ.
     texture : array_like of uint8, shape (h, w, 3) or (h, w, 4), optional
         The colour texture that ``face_uv`` reads (row 0 at the top, as image files store it).
+
+    Raises
+    ------
+    MeshError
+        When the vertices or faces are malformed (shapes, NaN, indices out of range, faces of fewer than
+        3 corners, coordinates beyond what float32 images hold) or an attribute does not fit them.
 
     Examples
     --------

@@ -27,6 +27,13 @@ def point_mesh_distance(points: np.ndarray, mesh: Mesh) -> np.ndarray:
     numpy.ndarray
         (k,) distances, in the mesh's units.
 
+    Raises
+    ------
+    InputTypeError
+        When ``mesh`` is not a Mesh.
+    InputError
+        When a point holds NaN or infinity.
+
     Examples
     --------
     >>> square = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
@@ -105,6 +112,11 @@ def surface_distance(reference: Mesh, other: Mesh, n: int = 200000) -> dict:
     -------
     dict
         ``hausdorff, rms, rms_ab, rms_ba, diagonal, psnr_db, hausdorff_rel`` (floats).
+
+    Raises
+    ------
+    InputTypeError
+        When either mesh is not a Mesh.
 
     Examples
     --------

@@ -94,6 +94,11 @@ def drop_degenerate_faces(mesh: Mesh) -> tuple[Mesh, int]:
     count : int
         How many faces were left out.
 
+    Raises
+    ------
+    MeshError
+        When every face has zero area.
+
     Examples
     --------
     >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [2, 0, 0]], [[0, 1, 2], [0, 0, 1], [0, 1, 3]])

@@ -32,6 +32,12 @@ def grid_mesh(heights: ArrayLike, spacing: tuple[float, float] = (1.0, 1.0)) -> 
     Mesh
         H x W vertices and 2 (H - 1)(W - 1) triangles.
 
+    Raises
+    ------
+    InputError
+        When the grid is smaller than 2 x 2, holds NaN or infinity, or the spacing is not two positive
+        numbers.
+
     Examples
     --------
     >>> m = grid_mesh([[0, 1, 2], [3, 4, 5]])

@@ -208,6 +208,11 @@ def boundary_loops(mesh: Mesh) -> list[np.ndarray]:
     list of numpy.ndarray
         One array of vertex indices per loop.
 
+    Raises
+    ------
+    InputError
+        When the boundary is not manifold or the faces' orientations disagree.
+
     Examples
     --------
     >>> [loop.tolist() for loop in boundary_loops(Mesh(np.eye(4, 3), [[0, 1, 2], [0, 2, 3]]))]

@@ -342,6 +342,11 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str =
         (``balance="area"``, the default), SLIM (``"slim"``) or not (``"none"``); ``progress`` hears from the
         area balancing every ten steps.
 
+    Raises
+    ------
+    ParametrizationError
+        When ``balance`` is unknown, or cutting does not give one disk.
+
     Examples
     --------
     >>> import geoimg

@@ -180,6 +180,11 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DIS
         of each triangle's share of the parameter area over its share of the surface) of the mean-value
         map (``mean_value_area_log_rms``) and of the result (``area_log_rms``).
 
+    Raises
+    ------
+    ParametrizationError
+        When ``boundary`` or ``balance`` is unknown, or the boundary has zero length.
+
     Examples
     --------
     >>> v = [[0, 0, 0], [1, 0, 0], [2, 0, 1], [2, 1, 1], [1, 1, 0], [0, 1, 0], [1, 0.5, 0.2]]

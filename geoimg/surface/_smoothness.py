@@ -72,6 +72,13 @@ class SmoothnessMap:
     feather : float
         The width of the smoothstep between.
 
+    Raises
+    ------
+    InputError
+        When the centre is not (u, v).
+    ValueError
+        When a smoothness or the feather is not above 0, or the radius is negative.
+
     Examples
     --------
     >>> m = uv_smoothness((0.5, 0.5), 0.1, inside=1.0, outside=4.0, feather=0.2)
