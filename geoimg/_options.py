@@ -152,5 +152,16 @@ class ConversionOptions:
             object.__setattr__(self, name, bool(getattr(self, name)))
 
     def conversion(self) -> dict:
-        """These options as keyword arguments of :func:`geoimg.mesh_to_images` (``component`` included)."""
+        """These options as keyword arguments of :func:`geoimg.mesh_to_images` (``component`` included).
+
+        Returns
+        -------
+        dict
+            ``resolution, s, method, ..., colors`` by name.
+
+        Examples
+        --------
+        >>> ConversionOptions(resolution=65).conversion()["resolution"]
+        65
+        """
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(ConversionOptions)}

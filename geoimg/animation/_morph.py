@@ -331,21 +331,83 @@ class Morph:
         return len(self.times)
 
     def segment(self, t: float) -> tuple[int, float]:
-        """Key index ``k`` and the time ``u`` in [0, 1] between keys ``k`` and ``k + 1``."""
+        """Key index ``k`` and the time ``u`` in [0, 1] between keys ``k`` and ``k + 1``.
+
+        Parameters
+        ----------
+        t : float
+            A time from 0 to ``len(keys) - 1``.
+
+        Returns
+        -------
+        k : int
+            The key before it.
+        u : float
+            The time between keys ``k`` and ``k + 1``.
+
+        Examples
+        --------
+        >>> from geoimg import GeometryImage
+        >>> from geoimg.animation import morph
+        >>> m = morph(GeometryImage(np.zeros((3, 3, 3), np.float32)), GeometryImage(np.ones((3, 3, 3), np.float32)),
+        ...           frames=3, easing="linear", align="none")
+        >>> m.segment(0.5)
+        (0, 0.5)
+        """
         if not (isinstance(t, numbers.Real) and 0 <= t <= len(self.keys) - 1):
             raise InputError(f"t: expected a time in [0, {len(self.keys) - 1}], got {t!r}")
         k = min(int(math.floor(t)), len(self.keys) - 2)
         return k, float(t - k)
 
     def local_time(self, u: float) -> float | np.ndarray:
-        """Eased blend weight at segment time ``u``: a number, or an (H, W) map with a timing mask."""
+        """Eased blend weight at segment time ``u``: a number, or an (H, W) map with a timing mask.
+
+        Parameters
+        ----------
+        u : float
+            The time within a segment, in [0, 1].
+
+        Returns
+        -------
+        float or numpy.ndarray
+            The blend weight.
+
+        Examples
+        --------
+        >>> from geoimg import GeometryImage
+        >>> from geoimg.animation import morph
+        >>> m = morph(GeometryImage(np.zeros((3, 3, 3), np.float32)), GeometryImage(np.ones((3, 3, 3), np.float32)),
+        ...           frames=3, easing="linear", align="none")
+        >>> m.local_time(0.25)
+        0.25
+        """
         if self.weights is None:
             return float(self.easing(u))
         local = np.clip((u - self.lag * (1.0 - self.weights)) / (1.0 - self.lag), 0.0, 1.0)
         return np.clip(self.easing(local), 0.0, 1.0)
 
     def frame(self, t: float) -> GeometryImage:
-        """The blended geometry image at time ``t``."""
+        """The blended geometry image at time ``t``.
+
+        Parameters
+        ----------
+        t : float
+            A time from 0 (key 0) to ``len(keys) - 1``.
+
+        Returns
+        -------
+        GeometryImage
+            The frame.
+
+        Examples
+        --------
+        >>> from geoimg import GeometryImage
+        >>> from geoimg.animation import morph
+        >>> m = morph(GeometryImage(np.zeros((3, 3, 3), np.float32)), GeometryImage(np.ones((3, 3, 3), np.float32)),
+        ...           frames=3, easing="linear", align="none")
+        >>> float(m.frame(0.5).pixels[0, 0, 0])
+        0.5
+        """
         k, u = self.segment(t)
         a, b = self.keys[k], self.keys[k + 1]
         w = self.local_time(u)
@@ -362,7 +424,17 @@ class Morph:
         return GeometryImage(px, mask, domain=a.domain, metadata={"morph_time": float(t)}, colors=colors)
 
     def frames(self) -> Iterator[GeometryImage]:
-        """The frames, in order (a generator)."""
+        """The frames, in order (a generator).
+
+        Examples
+        --------
+        >>> from geoimg import GeometryImage
+        >>> from geoimg.animation import morph
+        >>> m = morph(GeometryImage(np.zeros((3, 3, 3), np.float32)), GeometryImage(np.ones((3, 3, 3), np.float32)),
+        ...           frames=3, easing="linear", align="none")
+        >>> len(list(m.frames()))
+        3
+        """
         for t in self.times:
             yield self.frame(float(t))
 

@@ -117,6 +117,30 @@ class Camera:
         """Frame the box ``lo..hi`` from ``azimuth``, ``elevation`` (degrees) about the ``up`` axis: the
         camera looks at the box's centre from as near as lets every one of ``points`` (default: the box's
         corners) show, with a margin of :data:`MARGIN`.
+
+        Parameters
+        ----------
+        lo, hi : array_like
+            (3,) the box's corners.
+        azimuth, elevation : float
+            The view direction, degrees around and above the shape.
+        up : {"x", "y", "z"}
+            The up axis.
+        aspect : float
+            The picture's width over its height.
+        points : numpy.ndarray or None
+            (k, 3) the shape's points, for a tighter fit than the box's.
+
+        Returns
+        -------
+        Camera
+            The camera.
+
+        Examples
+        --------
+        >>> cam = Camera.fit([-1, -1, -1], [1, 1, 1], aspect=1.0)
+        >>> cam.fov_deg
+        30.0
         """
         if up not in UP_AXES:
             raise InputError(f"up: expected one of {UP_AXES}, got {up!r}")
@@ -147,7 +171,23 @@ class Camera:
         return cls(centre + d * dist, centre, upv, fov, max(dist - radius, dist * 0.01) * 0.5, dist + 2.0 * radius)
 
     def matrices(self, aspect: float) -> np.ndarray:
-        """The view-projection matrix (4 x 4, row-major) for an image of this aspect (width / height)."""
+        """The view-projection matrix (4 x 4, row-major) for an image of this aspect (width / height).
+
+        Parameters
+        ----------
+        aspect : float
+            The picture's width over its height.
+
+        Returns
+        -------
+        numpy.ndarray
+            (4, 4) float32.
+
+        Examples
+        --------
+        >>> Camera.fit([-1, -1, -1], [1, 1, 1], aspect=1.0).matrices(1.0).shape
+        (4, 4)
+        """
         f = self.target - self.eye
         f /= np.linalg.norm(f)
         side, upv = _view_frame(f, self.up)
@@ -163,7 +203,19 @@ class Camera:
         return proj @ view
 
     def lights(self) -> tuple[np.ndarray, np.ndarray]:
-        """Key light from the upper left of the viewer, fill from the right (unit vectors)."""
+        """Key light from the upper left of the viewer, fill from the right (unit vectors).
+
+        Returns
+        -------
+        key, fill : numpy.ndarray
+            (3,) unit directions.
+
+        Examples
+        --------
+        >>> cam = Camera.fit([-1, -1, -1], [1, 1, 1], aspect=1.0)
+        >>> [round(float(np.linalg.norm(d)), 6) for d in cam.lights()]
+        [1.0, 1.0]
+        """
         f = self.target - self.eye
         f /= np.linalg.norm(f)
         side, upv = _view_frame(f, self.up)
@@ -295,6 +347,28 @@ class Renderer:
                    up: str | None = None) -> Camera:
         """A camera framing all the objects (meshes or geometry images) together, tightly; ``up`` defaults
         to the first object's (:func:`up_axis`).
+
+        Parameters
+        ----------
+        *objects : Mesh or GeometryImage
+            The shapes to frame together.
+        azimuth, elevation : float
+            The view direction, degrees.
+        up : {"x", "y", "z"} or None
+            The up axis; None for :func:`up_axis` of the first object.
+
+        Returns
+        -------
+        Camera
+            The camera.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> with Renderer(32, 24) as r:
+        ...     cam = r.camera_for(m, elevation=35)
+        >>> type(cam).__name__
+        'Camera'
         """
         return self._camera([_geometry(o)[0] for o in objects], azimuth, elevation,
                             up_axis(objects[0]) if up is None else up)
@@ -311,6 +385,30 @@ class Renderer:
                edge_color: tuple[float, float, float] = (0.75, 0.1, 0.1)) -> np.ndarray:
         """An (H, W, 3) uint8 picture of the object, (H, W, 4) with a transparent background; ``edges``: a
         mesh whose polygon edges are drawn over it (hidden where the surface is in front).
+
+        Parameters
+        ----------
+        obj : Mesh or GeometryImage
+            What to draw.
+        camera : Camera or None
+            The camera; None for :meth:`camera_for` of the object.
+        edges : Mesh or None
+            A mesh whose edges are drawn over it (a wireframe).
+        edge_color : tuple of float
+            The edges' RGB in [0, 1].
+
+        Returns
+        -------
+        numpy.ndarray
+            (H, W, 3) or (H, W, 4) uint8.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> with Renderer(32, 24, background=None) as r:
+        ...     rgba = r.render(m)
+        >>> rgba.shape
+        (24, 32, 4)
         """
         v, tris, n, c, uv, texture = _geometry(obj)
         self.ctx.__enter__()        # this context made current: another renderer's release unbinds it

@@ -95,12 +95,40 @@ class ConvertOptions(ConversionOptions):
         object.__setattr__(self, "steps", check_steps(self.steps))
 
     def image_options(self) -> dict:
-        """The keyword arguments of :func:`geoimg.mesh_to_images`."""
+        """The keyword arguments of :func:`geoimg.mesh_to_images`.
+
+        Returns
+        -------
+        dict
+            The conversion's options by name, ``s`` and ``tol`` as floats.
+
+        Examples
+        --------
+        >>> ConvertOptions(resolution=65, s=2).image_options()["s"]
+        2.0
+        """
         return {**self.conversion(), "s": None if self.s is None else float(self.s), "tol": float(self.tol)}
 
     def digest(self, *extra: object) -> str:
         """A short hash of the options, this geoimg's version and ``extra`` (say, the output layout): equal
         hashes mean equal outputs.
+
+        Parameters
+        ----------
+        *extra : object
+            Anything else the outputs depend on (written as text).
+
+        Returns
+        -------
+        str
+            16 hexadecimal digits.
+
+        Examples
+        --------
+        >>> ConvertOptions(resolution=65).digest() == ConvertOptions(resolution=65).digest()
+        True
+        >>> ConvertOptions(resolution=65).digest() == ConvertOptions(resolution=129).digest()
+        False
         """
         record = dict(dataclasses.asdict(self), version=__version__, extra=list(map(str, extra)))
         return hashlib.sha256(json.dumps(record, sort_keys=True, default=list).encode()).hexdigest()[:16]

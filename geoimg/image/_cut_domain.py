@@ -87,6 +87,22 @@ class CutDomain(Domain):
     def same_kind(self, other: Domain) -> bool:
         """Cut-open images pair up pixel for pixel only when their cuts are laid out alike (the same mesh's
         faces, or the same layout).
+
+        Parameters
+        ----------
+        other : Domain
+            Another image's domain.
+
+        Returns
+        -------
+        bool
+            Whether they blend pixel for pixel.
+
+        Examples
+        --------
+        >>> d = CutDomain(segments=((0, 256, -1),))
+        >>> d.same_kind(d), d.same_kind(CutDomain(segments=((0, 128, 1), (128, 128, 0))))
+        (True, False)
         """
         return type(self) is type(other) and (self.quantum, self.segments) == (other.quantum, other.segments)
 
@@ -169,6 +185,23 @@ class CutDomain(Domain):
         """Across each cut, the faces near its other side, turned and moved rigidly onto this side's
         outside: the weighted mean at a cut then sees the surface continue, as inside. Each face goes
         with the straight piece of a cut nearest to it, if its weights reach that far.
+
+        Parameters
+        ----------
+        centres : numpy.ndarray
+            (F, 2) the faces' parametric centres.
+        reach : numpy.ndarray
+            (F,) how far each face's weights reach.
+
+        Returns
+        -------
+        list
+            ``(face indices, R, b)`` per copy.
+
+        Examples
+        --------
+        >>> CutDomain(segments=((0, 256, -1),)).ghosts(np.full((1, 2), 0.5), np.full(1, 0.01))
+        []
         """
         c = np.asarray(centres, np.float64)
         reach = np.minimum(np.asarray(reach, np.float64), 0.5)
@@ -197,6 +230,23 @@ class CutDomain(Domain):
     def pad(self, array: np.ndarray, width: int) -> np.ndarray:
         """Reflected at the mesh's own boundary; across a cut, the pixels inward of the twin, so a filter
         sees the surface continue (exact along straight stretches of a side, approximate at the corners).
+
+        Parameters
+        ----------
+        array : numpy.ndarray
+            (N, N) or (N, N, C).
+        width : int
+            Pixels added on each side.
+
+        Returns
+        -------
+        numpy.ndarray
+            The padded array.
+
+        Examples
+        --------
+        >>> CutDomain(segments=((0, 256, -1),)).pad(np.zeros((65, 65, 3)), 4).shape
+        (73, 73, 3)
         """
         a = np.asarray(array)
         out = filters.pad(a, width, "reflect")

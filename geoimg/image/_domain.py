@@ -129,6 +129,18 @@ class Domain(ABC):
     def named(kind: str, **fields) -> Domain:
         """The domain of a kind name (``"planar"``, ``"octahedral"``) with the given fields.
 
+        Parameters
+        ----------
+        kind : str
+            The kind's name.
+        **fields
+            The kind's fields (``orientation``, ``extent``, ...).
+
+        Returns
+        -------
+        Domain
+            The domain.
+
         Examples
         --------
         >>> Domain.named("planar", extent=(1.0, 0.5))
@@ -142,6 +154,18 @@ class Domain(ABC):
     def from_metadata(cls, kind: str, metadata: dict) -> Domain:
         """The domain recorded in a file's metadata (keys ``orientation``, ``extent``); missing keys take
         their defaults.
+
+        Parameters
+        ----------
+        kind : str
+            The kind's name (``"planar"``, ``"octahedral"``, ``"cut"``).
+        metadata : dict
+            A file's metadata.
+
+        Examples
+        --------
+        >>> Domain.from_metadata("planar", {"extent": [1.0, 0.5]})
+        PlanarDomain(orientation=1, extent=(1.0, 0.5))
         """
         if kind not in DOMAIN_KINDS:
             raise ImageError(f"domain: expected one of {tuple(DOMAIN_KINDS)}, got {kind!r}")
@@ -152,48 +176,190 @@ class Domain(ABC):
         return cls(orientation=metadata.get("orientation", 1))
 
     def to_metadata(self) -> dict:
-        """The fields to record in a file (JSON types), read back by :meth:`from_metadata`."""
+        """The fields to record in a file (JSON types), read back by :meth:`from_metadata`.
+
+        Returns
+        -------
+        dict
+            The fields by name.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> PlanarDomain(extent=(1.0, 0.5)).to_metadata()["extent"]
+        [1.0, 0.5]
+        """
         return {"domain": self.kind, "extent": [float(e) for e in self.extent], "orientation": self.orientation}
 
     METADATA_KEYS: ClassVar[tuple] = ("domain", "extent", "orientation")
 
     def same_kind(self, other: Domain) -> bool:
-        """Whether two images are of the same kind (and so can be blended pixel for pixel)."""
+        """Whether two images are of the same kind (and so can be blended pixel for pixel).
+
+        Parameters
+        ----------
+        other : Domain
+            Another image's domain.
+
+        Returns
+        -------
+        bool
+            Whether they blend pixel for pixel.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> OctahedralDomain().same_kind(PlanarDomain())
+        False
+        """
         return type(self) is type(other)
 
     # ------------------------------------------------------------------ grid and parameters
     @property
     def extent(self) -> tuple:
-        """Size of the parameter rectangle the image spans (the longer side 1)."""
+        """Size of the parameter rectangle the image spans (the longer side 1).
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> PlanarDomain(extent=(1.0, 0.5)).extent, OctahedralDomain().extent
+        ((1.0, 0.5), (1.0, 1.0))
+        """
         return (1.0, 1.0)
 
     @abstractmethod
     def check_shape(self, shape: tuple[int, int]) -> None:
-        """Raise :class:`~geoimg.GeoimgError` when an image of ``shape`` (H, W) cannot be of this domain."""
+        """Raise :class:`~geoimg.GeoimgError` when an image of ``shape`` (H, W) cannot be of this domain.
+
+        Parameters
+        ----------
+        shape : tuple of int
+            (H, W).
+
+        Raises
+        ------
+        GeoimgError
+            When the size does not fit this kind of image.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> OctahedralDomain().check_shape((5, 5))             # odd and square: fine
+        """
 
     def check_mask(self, mask: np.ndarray | None) -> None:  # noqa: B027   (a hook: any mask, unless a kind says)
-        """Raise when a validity mask cannot belong to an image of this domain."""
+        """Raise when a validity mask cannot belong to an image of this domain.
+
+        Parameters
+        ----------
+        mask : numpy.ndarray or None
+            (H, W) booleans, or None.
+
+        Raises
+        ------
+        ImageError
+            When this kind of image takes no such mask.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> OctahedralDomain().check_mask(None)              # a sphere image takes no mask
+        """
 
     @abstractmethod
     def grid_shape(self, resolution: int) -> tuple[int, int]:
-        """(H, W) of an image with ``resolution`` pixels along its longer side."""
+        """(H, W) of an image with ``resolution`` pixels along its longer side.
+
+        Parameters
+        ----------
+        resolution : int
+            Pixels along the longer side.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> PlanarDomain(extent=(1.0, 0.5)).grid_shape(9)
+        (5, 9)
+        """
 
     def round_resolution(self, resolution: int) -> int:
-        """The nearest resolution at or above ``resolution`` that this kind of image can have."""
+        """The nearest resolution at or above ``resolution`` that this kind of image can have.
+
+        Parameters
+        ----------
+        resolution : int
+            A resolution asked for.
+
+        Returns
+        -------
+        int
+            The one used.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> OctahedralDomain().round_resolution(64), PlanarDomain().round_resolution(64)
+        (65, 64)
+        """
         return int(resolution)
 
     def size_rule(self) -> str:
-        """Which sizes this kind of image can have, in words."""
+        """Which sizes this kind of image can have, in words.
+
+        Returns
+        -------
+        str
+            The rule.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> "odd" in OctahedralDomain().size_rule()
+        True
+        """
         return "any size"
 
     def pixel_uv(self, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
-        """Image coordinates of the columns (u) and rows (v), from 0 to the extent."""
+        """Image coordinates of the columns (u) and rows (v), from 0 to the extent.
+
+        Parameters
+        ----------
+        shape : tuple of int
+            The image's (H, W).
+
+        Returns
+        -------
+        u, v : numpy.ndarray
+            (W,) and (H,).
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> PlanarDomain().pixel_uv((2, 3))[0].tolist()
+        [0.0, 0.5, 1.0]
+        """
         h, w = shape
         return np.linspace(0.0, self.extent[0], w), np.linspace(0.0, self.extent[1], h)
 
     def parameter_points(self, shape: tuple[int, int]) -> np.ndarray:
         """The parameter of every pixel, row by row, in the space of a parametrization's ``coords``:
         (H * W, 2) image coordinates (u, v) here.
+
+        Parameters
+        ----------
+        shape : tuple of int
+            The image's (H, W).
+
+        Returns
+        -------
+        numpy.ndarray
+            (H * W, 2) or (H * W, 3).
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> PlanarDomain().parameter_points((2, 3)).shape, OctahedralDomain().parameter_points((5, 5)).shape
+        ((6, 2), (25, 3))
         """
         u, v = self.pixel_uv(shape)
         uu, vv = np.meshgrid(u, v)
@@ -203,6 +369,22 @@ class Domain(ABC):
     def glue(self, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray] | None:
         """Groups of pixels that are one point of the surface: each group's first pixel (flat index) and
         each pixel's group number (read-only, kept for the next call), or None when no pixels are glued.
+
+        Parameters
+        ----------
+        shape : tuple of int
+            The image's (H, W).
+
+        Returns
+        -------
+        tuple of numpy.ndarray, or None
+            ``(first, group)``: each group's first pixel, each pixel's group.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> PlanarDomain().glue((3, 3)) is None, int(OctahedralDomain().glue((5, 5))[1].max()) + 1
+        (True, 18)
         """
         return _glue_of(self, (int(shape[0]), int(shape[1])))
 
@@ -211,7 +393,26 @@ class Domain(ABC):
         return None
 
     def average_glued(self, pixels: np.ndarray) -> np.ndarray:
-        """Each group of glued pixels replaced by its mean (the input when nothing is glued)."""
+        """Each group of glued pixels replaced by its mean (the input when nothing is glued).
+
+        Parameters
+        ----------
+        pixels : numpy.ndarray
+            (H, W, C) values per pixel.
+
+        Returns
+        -------
+        numpy.ndarray
+            The pixels with each glued group's mean.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> px = np.arange(75, dtype=np.float64).reshape(5, 5, 3)
+        >>> out = OctahedralDomain().average_glued(px)
+        >>> bool((out[0, 1] == out[0, 3]).all())              # glued: one point
+        True
+        """
         a = np.asarray(pixels)
         glue = self.glue(a.shape[:2])
         if glue is None:
@@ -220,7 +421,25 @@ class Domain(ABC):
         return group_means(a, group)[group].reshape(a.shape).astype(a.dtype)
 
     def symmetric_mask(self, weights: np.ndarray) -> np.ndarray:
-        """The largest weight of each group of glued pixels, given to all of them."""
+        """The largest weight of each group of glued pixels, given to all of them.
+
+        Parameters
+        ----------
+        weights : numpy.ndarray
+            (H, W) weights.
+
+        Returns
+        -------
+        numpy.ndarray
+            (H, W) weights, equal over each glued group.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> w = np.zeros((5, 5)); w[0, 1] = 1.0
+        >>> OctahedralDomain().symmetric_mask(w)[0, 3].item()      # its glued twin
+        1.0
+        """
         w = np.asarray(weights, dtype=np.float64)
         glue = self.glue(w.shape)
         if glue is None:
@@ -234,19 +453,73 @@ class Domain(ABC):
     def pad(self, array: np.ndarray, width: int) -> np.ndarray:
         """``array`` (H, W[, C]) padded by ``width`` pixels on each side with the domain's boundary rule (a
         kind without a :mod:`filters` rule pads itself).
+
+        Parameters
+        ----------
+        array : numpy.ndarray
+            (H, W) or (H, W, C).
+        width : int
+            Pixels added on each side.
+
+        Returns
+        -------
+        numpy.ndarray
+            (H + 2 width, W + 2 width[, C]).
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> PlanarDomain().pad(np.zeros((3, 4)), 2).shape
+        (7, 8)
         """
         assert self.boundary is not None, f"{self.kind}: a domain without a filters rule overrides pad"
         return filters.pad(array, width, self.boundary)
 
     def estimate_normals(self, pixels: np.ndarray) -> np.ndarray | None:
-        """Normals from the grid for a quad mesh, where the image carries no exact ones (None: none)."""
+        """Normals from the grid for a quad mesh, where the image carries no exact ones (None: none).
+
+        Parameters
+        ----------
+        pixels : numpy.ndarray
+            (H, W, C) values per pixel.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            (H, W, 3) unit normals, or None.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> u, v = np.meshgrid(np.arange(3.0), np.arange(3.0))
+        >>> PlanarDomain().estimate_normals(np.dstack([u, v, np.zeros((3, 3))]))[1, 1].tolist()
+        [0.0, 0.0, 1.0]
+        """
         return grid_normals(pixels, self.orientation)
 
     def ghosts(self, centres: np.ndarray, reach: np.ndarray) -> list:
         """Faces that a surface over this domain sees beyond the image's edges, as
         ``(face indices, R (2, 2), b (2,))``: copies of those faces (by their parametric ``centres``
         (F, 2)) with parameters ``R uv + b``, for faces whose weights reach an edge within ``reach`` (F,).
-        None for a domain whose edges are the surface's own.
+        Empty for a domain whose edges are the surface's own.
+
+        Parameters
+        ----------
+        centres : numpy.ndarray
+            (F, 2) the faces' parametric centres.
+        reach : numpy.ndarray
+            (F,) how far each face's weights reach.
+
+        Returns
+        -------
+        list
+            ``(face indices, R, b)`` per copy (empty when nothing is seen beyond the edges).
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> PlanarDomain().ghosts(np.zeros((1, 2)), np.ones(1))
+        []
         """
         return []
 
@@ -263,6 +536,29 @@ class Domain(ABC):
         ------
         GeoimgError
             If no 2 x 2 block of valid pixels exists.
+
+        Parameters
+        ----------
+        pixels : numpy.ndarray
+            (H, W, 3) positions.
+        valid : numpy.ndarray
+            (H, W) booleans.
+        normals : numpy.ndarray or None
+            (H, W, 3) exact normals, or None (estimated).
+        colors : numpy.ndarray or None
+            (H, W, C) colours, or None.
+
+        Returns
+        -------
+        Mesh
+            The quad mesh.
+
+        Examples
+        --------
+        >>> from geoimg import OctahedralDomain, PlanarDomain
+        >>> q = OctahedralDomain().quad_mesh(np.zeros((5, 5, 3)), np.ones((5, 5), bool), None, None)
+        >>> q.n_vertices, q.n_faces
+        (18, 16)
         """
         H, W = valid.shape
         keep = valid[:-1, :-1] & valid[:-1, 1:] & valid[1:, 1:] & valid[1:, :-1]

@@ -167,16 +167,43 @@ class GeometryImage:
 
     @property
     def shape(self) -> tuple[int, int]:
-        """(H, W)."""
+        """(H, W).
+
+        Examples
+        --------
+        >>> img = GeometryImage(np.zeros((3, 4, 3), np.float32))
+        >>> img.shape
+        (3, 4)
+        """
         return self.pixels.shape[:2]
 
     @property
     def valid(self) -> np.ndarray:
-        """The mask, or all True when there is none."""
+        """The mask, or all True when there is none.
+
+        Examples
+        --------
+        >>> img = GeometryImage(np.zeros((3, 4, 3), np.float32))
+        >>> bool(img.valid.all()), img.valid.shape
+        (True, (3, 4))
+        """
         return np.ones(self.shape, bool) if self.mask is None else self.mask
 
     def parameter_grid(self) -> tuple[np.ndarray, np.ndarray]:
-        """The image coordinates (u, v) of the columns and rows (0 to the domain's extent)."""
+        """The image coordinates (u, v) of the columns and rows (0 to the domain's extent).
+
+        Returns
+        -------
+        u, v : numpy.ndarray
+            (W,) and (H,) coordinates.
+
+        Examples
+        --------
+        >>> img = GeometryImage(np.zeros((3, 4, 3), np.float32))
+        >>> u, v = img.parameter_grid()
+        >>> u.shape, v.shape
+        ((4,), (3,))
+        """
         return self.domain.pixel_uv(self.shape)
 
     def to_mesh(self) -> Mesh:
@@ -199,6 +226,13 @@ class GeometryImage:
         ------
         GeoimgError
             If no 2 x 2 block of valid pixels exists.
+
+        Examples
+        --------
+        >>> img = GeometryImage(np.zeros((3, 4, 3), np.float32))
+        >>> q = img.to_mesh()
+        >>> q.n_vertices, q.n_faces
+        (12, 6)
         """
         return self.domain.quad_mesh(self.pixels, self.valid, self.normals, self.colors)
 
@@ -206,6 +240,28 @@ class GeometryImage:
                     colors: Any = ...) -> GeometryImage:
         """A new image of the same domain with other pixels (no exact normals: they belong to the old
         surface); ``mask``, ``metadata`` and ``colors`` are kept unless given.
+
+        Parameters
+        ----------
+        pixels : array_like
+            (H, W, 3) new positions.
+        mask : array_like or None
+            A new mask (the old one by default).
+        metadata : dict or None
+            New metadata (the old one by default).
+        colors : array_like or None
+            New colours (the old ones by default).
+
+        Returns
+        -------
+        GeometryImage
+            The new image.
+
+        Examples
+        --------
+        >>> img = GeometryImage(np.zeros((3, 4, 3), np.float32))
+        >>> img.with_pixels(np.ones((3, 4, 3), np.float32)).pixels.max().item()
+        1.0
         """
         return GeometryImage(pixels, self.mask if mask is ... else mask, self.domain,
                              metadata=dict(self.metadata) if metadata is None else metadata,
@@ -215,6 +271,12 @@ class GeometryImage:
     def boundary_mode(self) -> str | None:
         """The :mod:`filters` boundary rule of the image's domain (``reflect``, ``octahedral``; None for a
         domain that pads images itself).
+
+        Examples
+        --------
+        >>> img = GeometryImage(np.zeros((3, 4, 3), np.float32))
+        >>> img.boundary_mode
+        'reflect'
         """
         return self.domain.boundary
 
@@ -240,6 +302,22 @@ class GeometryImage:
         (through its own mask argument, or by blending its result in); a mask is first made symmetric
         over glued pixels. The exact normals are dropped (the filtered image is no longer the surface);
         the operation is recorded in ``metadata['filters']``.
+
+        Parameters
+        ----------
+        op : callable
+            The operation: ``op(pixels, *args, **kwargs)`` returns an array of the pixels' shape.
+        *args
+            Its further arguments (geometry images stand for their pixels).
+        pad : int or None
+            Pixels of padding for a callable that is not a :mod:`filters` function.
+        **kwargs
+            Its keyword arguments; ``mask=`` and ``feather=`` restrict it to a region.
+
+        Returns
+        -------
+        GeometryImage
+            A new image with the result (its glued pixels averaged, no exact normals).
 
         Examples
         --------
@@ -340,12 +418,47 @@ class GeometryImage:
         Returns
         -------
         pathlib.Path
+
+        Parameters
+        ----------
+        path : path-like
+            ``.exr``, ``.npz``, ``.tif``/``.tiff`` or ``.npy``.
+        overwrite : bool
+            Replace the file if it exists.
+        layout : {"geoimg", "rgba"}
+            EXR channels: geoimg's (R, G, B, mask, normals) or the mask as alpha.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> img = GeometryImage(np.zeros((3, 4, 3), np.float32))
+        >>> p = img.save(pathlib.Path(tempfile.mkdtemp()) / "flat.npz")
+        >>> p.suffix
+        '.npz'
         """
         return write_all(self.save_jobs(path, layout), overwrite=overwrite)[0]
 
     def save_jobs(self, path: PathLike, layout: str = "geoimg") -> list:
         """``(path, write)`` for every file that :meth:`save` makes (a ``.npy`` and its sidecar), for
         :func:`geoimg._atomic.write_all`, which writes them all or none.
+
+        Parameters
+        ----------
+        path : path-like
+            The image file.
+        layout : {"geoimg", "rgba"}
+            EXR channels (see :meth:`save`).
+
+        Returns
+        -------
+        list of tuple
+            ``(path, write)`` pairs.
+
+        Examples
+        --------
+        >>> img = GeometryImage(np.zeros((3, 4, 3), np.float32))
+        >>> [p.name for p, _ in img.save_jobs("flat.npy")]
+        ['flat.npy', 'flat.npy.json']
         """
         if layout not in EXR_LAYOUTS:
             raise InputError(f"layout: expected one of {', '.join(EXR_LAYOUTS)}, got {layout!r}")
@@ -400,6 +513,17 @@ class GeometryImage:
         ------
         ImageError
             If some metadata value cannot be written as JSON.
+
+        Returns
+        -------
+        dict
+            JSON-ready metadata, the domain's kind and fields included.
+
+        Examples
+        --------
+        >>> img = GeometryImage(np.zeros((3, 4, 3), np.float32))
+        >>> img.metadata_record()["domain"]
+        'planar'
         """
         record = {**self.metadata, **self.domain.to_metadata()}
         try:
@@ -436,6 +560,25 @@ class GeometryImage:
         65535, masked pixels black (0). The PNG records each channel's offset and step and the image's
         metadata (text attribute ``geoimg:preview``), so that ``load_image(path, approximate=True)`` can
         read it back as geometry, to within half a step (1/131068 of each axis' range).
+
+        Parameters
+        ----------
+        path : path-like
+            The ``.png`` file.
+        overwrite : bool
+            Replace the file if it exists.
+
+        Returns
+        -------
+        pathlib.Path
+            The file written.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> img = GeometryImage(np.random.default_rng(0).random((3, 4, 3)).astype(np.float32))
+        >>> img.preview(pathlib.Path(tempfile.mkdtemp()) / "p.png").name
+        'p.png'
         """
         path = _suffixed(path, ".png", "previews are PNG; use a .png name")
         q, lo, step = self._levels(PREVIEW_LEVELS + 1)

@@ -64,11 +64,43 @@ class OctahedralDomain(Domain):
         return "an octahedral image has an odd side (its glued sides pair up pixel for pixel)"
 
     def directions(self, n: int) -> np.ndarray:
-        """Unit directions (n, n, 3) of the pixels, computed so that glued pixels get identical ones."""
+        """Unit directions (n, n, 3) of the pixels, computed so that glued pixels get identical ones.
+
+        Parameters
+        ----------
+        n : int
+            The image's side, odd.
+
+        Returns
+        -------
+        numpy.ndarray
+            (n, n, 3) unit directions.
+
+        Examples
+        --------
+        >>> OctahedralDomain().directions(5)[2, 2].tolist()
+        [0.0, 0.0, 1.0]
+        """
         return grid_directions(n)
 
     def parameter_points(self, shape: tuple[int, int]) -> np.ndarray:
-        """The pixels' unit directions on the sphere, (H * W, 3)."""
+        """The pixels' unit directions on the sphere, (H * W, 3).
+
+        Parameters
+        ----------
+        shape : tuple of int
+            The image's (H, W).
+
+        Returns
+        -------
+        numpy.ndarray
+            (H * W, 3) unit directions.
+
+        Examples
+        --------
+        >>> OctahedralDomain().parameter_points((5, 5)).shape
+        (25, 3)
+        """
         self.check_shape(shape)
         return self.directions(shape[0]).reshape(-1, 3)
 

@@ -58,6 +58,21 @@ class PlanarDomain(Domain):
     def grid_shape(self, resolution: int) -> tuple[int, int]:
         """The shorter side gets the count that keeps pixels nearly square; corners sit on the rectangle's
         corners (spacing ``extent / (count - 1)``, as the paper's increments of 1/255 for 256 samples).
+
+        Parameters
+        ----------
+        resolution : int
+            Pixels along the longer side.
+
+        Returns
+        -------
+        tuple of int
+            (H, W).
+
+        Examples
+        --------
+        >>> PlanarDomain(extent=(0.5, 1.0)).grid_shape(9)
+        (9, 5)
         """
         if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 2:
             raise ImageError(f"resolution: expected an integer >= 2, got {resolution!r}")

@@ -238,6 +238,22 @@ class Mesh:
         ``face_source[j]`` (default: the same faces) with the corners ``faces[j]``, read backwards where
         ``turned[j]`` (a face turned over).
 
+        Parameters
+        ----------
+        faces : array_like
+            (F', K) corners of the new faces, in the new vertex numbering.
+        vertex_source : array_like or None
+            (N',) each new vertex's vertex in this mesh.
+        face_source : array_like or None
+            (F',) each new face's face in this mesh (for per-corner texture coordinates).
+        turned : array_like or None
+            (F',) booleans: faces whose corners run backwards.
+
+        Returns
+        -------
+        Mesh
+            The new mesh, with positions, UVs, normals, colours and texture carried.
+
         Examples
         --------
         >>> m = Mesh(np.eye(3), [[0, 1, 2]], colors=np.eye(3))
@@ -288,25 +304,63 @@ class Mesh:
 
     @property
     def n_vertices(self) -> int:
-        """Number of vertices."""
+        """Number of vertices.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+        >>> m.n_vertices
+        4
+        """
         return self.vertices.shape[0]
 
     @property
     def n_faces(self) -> int:
-        """Number of faces."""
+        """Number of faces.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+        >>> m.n_faces
+        1
+        """
         return self.faces.shape[0]
 
     @property
     def is_triangle_mesh(self) -> bool:
-        """Whether every face is a triangle."""
+        """Whether every face is a triangle.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+        >>> m.is_triangle_mesh
+        False
+        """
         return bool(np.all(self.face_sizes == 3))
 
     def face_list(self) -> list[np.ndarray]:
-        """Faces as a list of index arrays (each of its own length)."""
+        """Faces as a list of index arrays (each of its own length).
+
+        Returns
+        -------
+        list of numpy.ndarray
+            One index array per face.
+
+        Examples
+        --------
+        >>> m = Mesh(np.eye(3), [[0, 1, 2]])
+        >>> [f.tolist() for f in m.face_list()]
+        [[0, 1, 2]]
+        """
         return [row[:k] for row, k in zip(self.faces, self.face_sizes)]
 
     def next_vertices(self) -> np.ndarray:
         """(F, K) index of the vertex after each corner in its face (the last wraps to the first); -1 on padding.
+
+        Returns
+        -------
+        numpy.ndarray
+            (F, K) int64.
 
         Examples
         --------
@@ -331,6 +385,11 @@ class Mesh:
         face_index : numpy.ndarray, shape (T,)
             The face each triangle came from.
 
+        Parameters
+        ----------
+        quads : {"fan", "shorter"}
+            How quads are split: from the first corner, or along the shorter diagonal.
+
         Examples
         --------
         >>> m = Mesh(np.eye(4, 3), [[0, 1, 2, 3]])
@@ -352,6 +411,27 @@ class Mesh:
     def triangle_corners(self, quads: str = "fan") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`triangulate`'s triangles and faces, and each triangle's corners as positions within its
         face (T, 3): ``triangles[t, k] == faces[face_index[t], corners[t, k]]``.
+
+        Parameters
+        ----------
+        quads : {"fan", "shorter"}
+            How quads are split (see :meth:`triangulate`).
+
+        Returns
+        -------
+        triangles : numpy.ndarray
+            (T, 3) vertex indices.
+        face_index : numpy.ndarray
+            (T,) the face each triangle came from.
+        corners : numpy.ndarray
+            (T, 3) each triangle corner's position within its face.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+        >>> tris, faces, corners = m.triangle_corners()
+        >>> corners.tolist()
+        [[0, 1, 2], [0, 2, 3]]
         """
         if quads not in ("fan", "shorter"):
             raise MeshError(f"quads: expected 'fan' or 'shorter', got {quads!r}")
@@ -406,6 +486,11 @@ class Mesh:
     def vertex_normals(self) -> np.ndarray:
         """Area-weighted unit vertex normals from the faces' orientation (zero for unused vertices).
 
+        Returns
+        -------
+        numpy.ndarray
+            (N, 3) float64 unit normals.
+
         Examples
         --------
         >>> Mesh(np.eye(4, 3) * [1, 1, 0], [[3, 0, 1]]).vertex_normals()[0].tolist()
@@ -420,13 +505,36 @@ class Mesh:
         return np.divide(n, length, out=np.zeros_like(n), where=length > 0)
 
     def referenced_vertices(self) -> np.ndarray:
-        """Boolean (N,) mask of the vertices used by at least one face."""
+        """Boolean (N,) mask of the vertices used by at least one face.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) booleans.
+
+        Examples
+        --------
+        >>> Mesh(np.eye(4)[:, :3], [[0, 1, 2]]).referenced_vertices().tolist()
+        [True, True, True, False]
+        """
         used = np.zeros(self.n_vertices, bool)
         used[self.faces[self.faces >= 0]] = True
         return used
 
     def bounding_box_diagonal(self) -> float:
-        """Length of the diagonal of the axis-aligned bounding box of the referenced vertices."""
+        """Length of the diagonal of the axis-aligned bounding box of the referenced vertices.
+
+        Returns
+        -------
+        float
+            The diagonal's length, in the mesh's units.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+        >>> round(m.bounding_box_diagonal(), 4)
+        1.4142
+        """
         v = self.vertices[self.referenced_vertices()]
         half = v.max(axis=0) / 2 - v.min(axis=0) / 2           # halves first: no overflow near 1e308
         scale = float(half.max())
@@ -440,6 +548,11 @@ class Mesh:
         ------
         MeshError
             If it is above 1e100 or below 1e-100 (and not 0): scale the mesh first.
+
+        Returns
+        -------
+        float
+            The largest absolute coordinate.
 
         Examples
         --------

@@ -58,11 +58,30 @@ class Topology:
 
     @property
     def closed(self) -> bool:
-        """No boundary edge and no non-manifold edge or vertex."""
+        """No boundary edge and no non-manifold edge or vertex.
+
+        Examples
+        --------
+        >>> from geoimg.mesh import Mesh, topology
+        >>> topology(Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])).closed
+        False
+        """
         return self.boundary_edges == 0 and self.nonmanifold_edges == 0 and self.nonmanifold_vertices == 0
 
     def describe(self) -> str:
-        """One line a user can read, e.g. ``closed surface of genus 1 (torus-like), 1 component``."""
+        """One line a user can read, e.g. ``closed surface of genus 1 (torus-like), 1 component``.
+
+        Returns
+        -------
+        str
+            The description.
+
+        Examples
+        --------
+        >>> from geoimg.mesh import Mesh, topology
+        >>> topology(Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])).describe()
+        'open surface with 1 boundary loop (a disk), 1 component'
+        """
         parts = []
         if self.nonmanifold_edges or self.nonmanifold_vertices:
             what = []

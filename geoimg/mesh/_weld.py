@@ -55,7 +55,20 @@ class Weld:
     notes: tuple[str, ...] = ()
 
     def describe(self) -> str:
-        """One line for a warning: how many corners were joined, and what happened to their attributes."""
+        """One line for a warning: how many corners were joined, and what happened to their attributes.
+
+        Returns
+        -------
+        str
+            The description.
+
+        Examples
+        --------
+        >>> from geoimg.mesh import Mesh, weld_vertices
+        >>> soup = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2], [3, 4, 5]])
+        >>> weld_vertices(soup, seams_only=False).describe().startswith('joined 2')
+        True
+        """
         text = f"joined {self.joined} exactly coincident vertices (copies of one position)"
         return text + ("; " + "; ".join(self.notes) if self.notes else "")
 

@@ -99,17 +99,44 @@ class Surface(ABC):
 
     @property
     def extent(self) -> tuple:
-        """The parameter rectangle's size (the longer side 1)."""
+        """The parameter rectangle's size (the longer side 1).
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf.extent
+        (1.0, 1.0)
+        """
         return self.domain.extent
 
     @property
     def orientation(self) -> int:
-        """+1 when ``P_u x P_v`` points along the mesh's face normals, else -1."""
+        """+1 when ``P_u x P_v`` points along the mesh's face normals, else -1.
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf.orientation in (1, -1)
+        True
+        """
         return self.domain.orientation
 
     @property
     def log_g_ref(self) -> float:
-        """Log of the least Gaussian a point inside a face receives from that face (-inf for local weights)."""
+        """Log of the least Gaussian a point inside a face receives from that face (-inf for local weights).
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf.log_g_ref < 0
+        True
+        """
         if self.weights != "gaussian":
             return -math.inf
         return reference_log_weight(self.s)
@@ -118,23 +145,96 @@ class Surface(ABC):
     def evaluate(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
         """Surface points (k, 3) at image coordinates ``uv`` (k, 2); ``exact`` sums over every face
         instead of the truncated neighbourhood.
+
+        Parameters
+        ----------
+        uv : array_like
+            (k, 2) image coordinates in the parameter rectangle.
+        exact : bool
+            Sum over every face instead of the truncated sum.
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf.evaluate([[0.0, 0.0], [1.0, 1.0]]).shape
+        (2, 3)
         """
 
     @abstractmethod
     def derivatives(self, uv: ArrayLike, *, exact: bool = False) -> tuple[np.ndarray, np.ndarray]:
-        """Analytic first derivatives ``(P_u, P_v)``, each of shape (k, 3)."""
+        """Analytic first derivatives ``(P_u, P_v)``, each of shape (k, 3).
+
+        Parameters
+        ----------
+        uv : array_like
+            (k, 2) image coordinates in the parameter rectangle.
+        exact : bool
+            Sum over every face instead of the truncated sum.
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> Pu, Pv = surf.derivatives([[0.5, 0.5]])
+        >>> Pu.shape
+        (1, 3)
+        """
 
     @abstractmethod
     def normals(self, uv: ArrayLike, *, exact: bool = False) -> np.ndarray:
-        """Unit normals (k, 3) from the analytic derivatives, pointing like the mesh's faces."""
+        """Unit normals (k, 3) from the analytic derivatives, pointing like the mesh's faces.
+
+        Parameters
+        ----------
+        uv : array_like
+            (k, 2) image coordinates in the parameter rectangle.
+        exact : bool
+            Sum over every face instead of the truncated sum.
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> n = surf.normals([[0.5, 0.5]])
+        >>> bool(abs(np.linalg.norm(n) - 1) < 1e-12)
+        True
+        """
 
     @abstractmethod
     def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Gaussian and mean curvature ``(K, H)`` on the grid :meth:`sample` uses, each (H, W) float64."""
+        """Gaussian and mean curvature ``(K, H)`` on the grid :meth:`sample` uses, each (H, W) float64.
+
+        Parameters
+        ----------
+        resolution : int or None
+            The grid's size (see :meth:`sample`).
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> K, H = surf.curvature(5)
+        >>> K.shape
+        (5, 5)
+        """
 
     @abstractmethod
     def auto_resolution(self) -> int:
-        """Pixels along the longer side for a sample spacing of ``s * mean(d_i)`` (the paper's section 4.4)."""
+        """Pixels along the longer side for a sample spacing of ``s * mean(d_i)`` (the paper's section 4.4).
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> isinstance(surf.auto_resolution(), int)
+        True
+        """
 
     @abstractmethod
     def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
@@ -151,6 +251,25 @@ class Surface(ABC):
     def grid(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The image coordinates of the columns (u) and rows (v) for a resolution along the longer side
         (default :meth:`auto_resolution`).
+
+        Parameters
+        ----------
+        resolution : int or None
+            Pixels along the longer side (default :meth:`auto_resolution`).
+
+        Returns
+        -------
+        u, v : numpy.ndarray
+            The columns' and rows' coordinates.
+
+        Examples
+        --------
+        >>> import geoimg
+        >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> u, v = surf.grid(5)
+        >>> u.tolist()
+        [0.0, 0.25, 0.5, 0.75, 1.0]
         """
         res = self.auto_resolution() if resolution is None else resolution
         return self.domain.pixel_uv(self.domain.grid_shape(res))
