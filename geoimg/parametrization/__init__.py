@@ -10,6 +10,7 @@ from ._cut import QUANTA_PER_SIDE, cut_coords, layout_quanta, perimeter_point
 from ._disk import DISK_BALANCES, DISK_BOUNDARIES, disk_coords
 from ._sphere import sphere_coords
 from ._octahedral import area_ratio, grid_directions, sphere_to_square, square_jacobian, square_to_sphere
+from ._stretch import STARVED_SHARE, map_stretch
 
 __all__ = [
     "QUANTA_PER_SIDE",
@@ -23,6 +24,8 @@ __all__ = [
     "Parametrization",
     "parametrize",
     "signed_face_areas",
+    "map_stretch",
+    "STARVED_SHARE",
     "disk_coords",
     "sphere_coords",
     "area_ratio",
