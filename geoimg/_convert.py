@@ -15,7 +15,7 @@ from ._options import ConversionOptions
 from .errors import InputTypeError, MeshError, ParametrizationError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair, surface_distance
-from .parametrization import Parametrization, parametrize
+from .parametrization import Parametrization, map_stretch, parametrize
 from .surface import fit_surface
 from .surface._coverage import prefilter_s
 from .surface._attributes import sample_colors
@@ -196,7 +196,9 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
         Measure the image's quad mesh against the mesh (:func:`geoimg.mesh.surface_distance` with
         :data:`FIDELITY_SAMPLES` samples a side) into ``metadata["psnr_db"]`` and ``metadata["hausdorff"]``
         (relative to the bounding-box diagonal), with a warning when the image is far from the mesh (below
-        :data:`POOR_PSNR_DB` or above :data:`POOR_HAUSDORFF`).
+        :data:`POOR_PSNR_DB` or above :data:`POOR_HAUSDORFF`); and the map's L2 stretch and starved share
+        (:func:`geoimg.parametrization.map_stretch`) into ``metadata["map_stretch"]`` and
+        ``metadata["starved"]``.
 
     Returns
     -------
@@ -262,6 +264,8 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
         say("measuring the image against the mesh")
         with _timed(timings, "fidelity"):
             measure_fidelity(image, mesh, measured, smoothed=not serve)
+            stretch = map_stretch(mesh, parametrization)         # where the map squeezes, before it shows
+            image.metadata.update(map_stretch=round(stretch["l2"], 3), starved=round(stretch["starved"], 4))
     return image
 
 

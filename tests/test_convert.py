@@ -40,6 +40,17 @@ def test_by_default_the_width_serves_the_resolution_and_the_fidelity_is_recorded
     assert "psnr_db" not in geoimg.mesh_to_image(mesh, 9, parametrization=param, fidelity=False).metadata
 
 
+def test_every_conversion_records_its_maps_stretch():
+    from geoimg.parametrization import map_stretch
+    mesh = load_data("spot_low_resolution.obj")
+    param = geoimg.parametrize(mesh, "sphere")
+    image = geoimg.mesh_to_image(mesh, 17, parametrization=param)
+    want = map_stretch(mesh, param)
+    assert image.metadata["map_stretch"] == round(want["l2"], 3) >= 1.0
+    assert image.metadata["starved"] == round(want["starved"], 4)
+    assert "map_stretch" not in geoimg.mesh_to_image(mesh, 17, parametrization=param, fidelity=False).metadata
+
+
 def test_an_image_far_from_its_mesh_says_so(monkeypatch):
     import geoimg._convert as convert
     monkeypatch.setattr(convert, "POOR_PSNR_DB", 500.0)
