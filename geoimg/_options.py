@@ -19,7 +19,7 @@ from .surface import SLIVER_RULES, WEIGHTS
 from .surface._coverage import check_s
 from .surface._fit import check_s_range
 
-__all__ = ["ConversionOptions", "check_resolution", "check_choice"]
+__all__ = ["ConversionOptions", "check_resolution", "check_choice", "plain_number"]
 
 
 def check_resolution(resolution) -> None:
@@ -36,7 +36,7 @@ def check_choice(name: str, value, choices, optional: bool = False) -> None:
     raise InputError(f"{name}: expected one of {', '.join(map(str, choices))}, got {value!r}")
 
 
-def _plain(value):
+def plain_number(value):
     """A NumPy scalar as the Python number it holds (so that options compare and hash alike)."""
     return value.item() if isinstance(value, np.generic) and isinstance(value, numbers.Number) else value
 
@@ -126,7 +126,7 @@ class ConversionOptions:
 
     def __post_init__(self):
         for name in ("resolution", "n", "component", "s", "tol"):
-            object.__setattr__(self, name, _plain(getattr(self, name)))
+            object.__setattr__(self, name, plain_number(getattr(self, name)))
         check_resolution(self.resolution)
         check_choice("weights", self.weights, WEIGHTS)
         _check_s(self.s, self.weights)

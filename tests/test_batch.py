@@ -376,3 +376,11 @@ def test_a_row_names_every_pieces_domain_and_keeps_its_warnings_short(tmp_path):
     assert len(domains) == 41 and domains[0] == "octahedral" and set(domains[1:]) == {"planar"}
     assert len(row["warnings"]) <= WARNINGS_CELL and "41 separate pieces" in row["warnings"]
     assert "and 29 more" in row["warnings"]
+
+
+def test_numpy_scalars_are_taken_as_the_numbers_they_hold():
+    from geoimg.batch import ConvertOptions
+    given = ConvertOptions(resolution=np.int64(65), s=np.float32(2.0), nsr=np.float32(0.01), min_psnr=np.float32(40),
+                           max_hausdorff=np.float64(0.05), n=np.int32(12))
+    plain = ConvertOptions(resolution=65, s=2.0, nsr=float(np.float32(0.01)), min_psnr=40.0, max_hausdorff=0.05, n=12)
+    assert given == plain and given.digest() == plain.digest() and type(given.nsr) is float

@@ -10,7 +10,7 @@ import filters
 
 from .._choices import QUAD_FORMATS
 from .._convert import POOR_HAUSDORFF, POOR_PSNR_DB
-from .._options import ConversionOptions, check_choice
+from .._options import ConversionOptions, check_choice, plain_number
 from .. import __version__
 from .._steps import check_steps
 from ..errors import InputError, InputTypeError
@@ -74,14 +74,12 @@ class ConvertOptions(ConversionOptions):
 
     def __post_init__(self):
         super().__post_init__()
-        for name in ("s", "nsr"):                        # numbers, so that the options hash
+        for name in ("nsr", "min_psnr", "max_hausdorff"):   # NumPy scalars as Python's, so that options hash alike
+            object.__setattr__(self, name, plain_number(getattr(self, name)))
+        for name in ("s", "nsr"):                            # numbers, so that the options hash
             value = getattr(self, name)
             if (name != "s" or value is not None) and (isinstance(value, bool) or not isinstance(value, (int, float))):
                 raise InputTypeError(f"{name}: expected a number, got {type(value).__name__}")
-        for name in ("nsr", "min_psnr", "max_hausdorff"):
-            value = getattr(self, name)
-            if hasattr(value, "item"):
-                object.__setattr__(self, name, value.item())
         for name in ("min_psnr", "max_hausdorff"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
