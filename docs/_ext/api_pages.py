@@ -55,12 +55,12 @@ def _page(package: str, home: dict[int, str]) -> str:
         lines += ["Also exported here", "------------------", ""]
         lines += [f"- :{'class' if inspect.isclass(o) else 'func'}:`{package}.{n} <{home[id(o)]}.{n}>`"
                   for n, o in elsewhere] + [""]
-    modules = [name for name in importlib.import_module(package).__all__
-               if inspect.ismodule(getattr(importlib.import_module(package), name))]
+    pkg = importlib.import_module(package)
+    modules = [name for name in pkg.__all__ if inspect.ismodule(getattr(pkg, name))]
     if modules:
         lines += ["Modules", "-------", ""]
         for name in modules:
-            module = getattr(importlib.import_module(package), name)
+            module = getattr(pkg, name)
             summary = (inspect.getdoc(module) or "").split("\n\n")[0].replace("\n", " ")
             target = f":mod:`{package}.{name}`" if f"{package}.{name}" in PACKAGES else f"``{package}.{name}``"
             lines += [f"- {target}: {summary}"]
