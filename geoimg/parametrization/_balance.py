@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import sparse
 
-from ._balance_kernels import balance_energy, balance_gradient, project_moves, step_to
+from ._balance_kernels import balance_energy, balance_gradient, local_sweeps, project_moves, step_to
 from ._laplacian import (
     corner_cotangents,
     cotangent_weights,
@@ -37,6 +37,8 @@ from ._laplacian import (
 
 __all__ = [
     "balance",
+    "relax_locally",
+    "vertex_triangles",
     "default_steps",
     "squeeze_scale",
     "neighbour_mean",
@@ -95,6 +97,47 @@ def squeeze_scale(area: np.ndarray, share: np.ndarray, tris: np.ndarray, used: n
     for _ in range(SCALE_SMOOTHING):
         log_ratio = smooth @ log_ratio
     return np.exp(0.5 * np.minimum(log_ratio, 0.0))[:, None]
+
+
+def vertex_triangles(tris: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each vertex's triangles: ``ring[ptr[i]:ptr[i + 1]]`` are vertex ``i``'s, ascending.
+
+    >>> ptr, ring = vertex_triangles(np.array([[0, 1, 2], [0, 2, 3]]), 5)
+    >>> ptr.tolist(), ring.tolist()
+    ([0, 2, 3, 5, 6, 6], [0, 1, 0, 0, 1, 1])
+    """
+    flat = np.asarray(tris, np.int64).ravel()
+    ring = (np.argsort(flat, kind="stable") // 3).astype(np.int64)
+    ptr = np.concatenate([[0], np.cumsum(np.bincount(flat, minlength=n))]).astype(np.int64)
+    return ptr, ring
+
+
+def relax_locally(s, x, tris, used=None, beta: float = 0.3, sweeps: int = 60, *, planar: bool = False,
+                  held=None, along=None, reach: float = 0.3):
+    """Sweeps of single-vertex moves down the area-balancing energy (:func:`._balance_kernels.local_sweeps`):
+    each vertex of ``used`` (and not ``held``) in turn steps at most ``reach`` times its shortest edge along
+    its own gradient, so long as its triangles' energy falls and all stay positive. What :func:`balance`
+    cannot do where one squeezed triangle blocks every step of all vertices at once. Returns the new map;
+    ``s`` is left as it is.
+
+    >>> x = np.array([[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0]])
+    >>> tris = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    >>> start = x.copy(); start[4, :2] = 0.2
+    >>> out = relax_locally(start, x, tris, planar=True, held=np.array([True, True, True, True, False]))
+    >>> np.round(out[4], 2).tolist()
+    [0.5, 0.5, 0.0]
+    """
+    out = np.array(s, dtype=np.float64)
+    tris = np.ascontiguousarray(tris, np.int64)
+    n = len(out)
+    used = np.isin(np.arange(n), tris) if used is None else np.asarray(used, bool)
+    moves = np.ascontiguousarray(used & (~np.asarray(held, bool) if held is not None else True))
+    a3 = triangle_areas(x, tris)
+    ptr, ring = vertex_triangles(tris, n)
+    along = np.zeros((n, 3)) if along is None else np.ascontiguousarray(along, np.float64)
+    local_sweeps(out, tris, ptr, ring, a3 / a3.sum(), corner_cotangents(x, tris), float(beta), bool(planar),
+                 moves, along, int(sweeps), float(reach))
+    return out
 
 
 def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3, steps: int | None = None,

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["balance_energy", "balance_gradient", "project_moves", "step_to"]
+__all__ = ["balance_energy", "balance_gradient", "project_moves", "step_to", "local_sweeps"]
 
 
 @njit(cache=True, inline="always")
@@ -37,23 +37,46 @@ def _direction(s, tris, t, planar):
     return ux, uy, uz, math.sqrt(ux * ux + uy * uy + uz * uz)
 
 
+@njit(cache=True, inline="always")
+def _area(s, tris, t, planar):
+    """Triangle ``t``'s projected area."""
+    x0, y0, z0 = _corner(s, tris, t, 0)
+    x1, y1, z1 = _corner(s, tris, t, 1)
+    x2, y2, z2 = _corner(s, tris, t, 2)
+    ux, uy, uz, ln = _direction(s, tris, t, planar)
+    ax, ay, az = x1 - x0, y1 - y0, z1 - z0
+    bx, by, bz = x2 - x0, y2 - y0, z2 - z0
+    cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
+    return 0.5 * (cx * ux + cy * uy + cz * uz) / ln if ln > 0.0 else 0.0
+
+
 @njit(parallel=True, cache=True)
 def _areas(s, tris, planar, out):
     """Projected areas into ``out``; returns the number of triangles that are not positive."""
     bad = 0
     for t in prange(tris.shape[0]):
-        x0, y0, z0 = _corner(s, tris, t, 0)
-        x1, y1, z1 = _corner(s, tris, t, 1)
-        x2, y2, z2 = _corner(s, tris, t, 2)
-        ux, uy, uz, ln = _direction(s, tris, t, planar)
-        ax, ay, az = x1 - x0, y1 - y0, z1 - z0
-        bx, by, bz = x2 - x0, y2 - y0, z2 - z0
-        cx, cy, cz = ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
-        area = 0.5 * (cx * ux + cy * uy + cz * uz) / ln if ln > 0.0 else 0.0
+        area = _area(s, tris, t, planar)
         out[t] = area
         if not area > 0.0:
             bad += 1
     return bad
+
+
+@njit(cache=True, inline="always")
+def _term(s, tris, t, a, cot, area, lam, beta):
+    """Triangle ``t``'s part of the energy, of area ``area``: ``(term, its Dirichlet energy, log r_t)``."""
+    dsum = 0.0
+    for k in range(3):
+        k1, k2 = (k + 1) % 3, (k + 2) % 3
+        l2 = 0.0
+        for d in range(3):
+            dv = s[tris[t, k1], d] - s[tris[t, k2], d]
+            l2 += dv * dv
+        dsum += cot[t, k] * l2
+    dd = 0.5 * lam * dsum
+    ay = lam * area
+    lr = math.log(ay / a[t]) if a[t] > 0.0 else 0.0     # a face of no area on the mesh: no term
+    return a[t] * lr * lr + beta * a[t] * (dd / ay - 2.0), dd, lr
 
 
 CHUNK = 1024      # triangles per partial sum: fixed, so that the sums do not depend on the number of threads
@@ -73,19 +96,9 @@ def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
         e = 0.0
         mean_log = 0.0
         for t in range(c * CHUNK, min(n, (c + 1) * CHUNK)):
-            dsum = 0.0
-            for k in range(3):
-                k1, k2 = (k + 1) % 3, (k + 2) % 3
-                l2 = 0.0
-                for d in range(3):
-                    dv = s[tris[t, k1], d] - s[tris[t, k2], d]
-                    l2 += dv * dv
-                dsum += cot[t, k] * l2
-            dd = 0.5 * lam * dsum
+            et, dd, lr = _term(s, tris, t, a, cot, area[t], lam, beta)
             dirichlet[t] = dd
-            ay = lam * area[t]
-            lr = math.log(ay / a[t]) if a[t] > 0.0 else 0.0     # a face of no area on the mesh: no term
-            e += a[t] * lr * lr + beta * a[t] * (dd / ay - 2.0)
+            e += et
             mean_log += a[t] * lr
         e_part[c] = e
         log_part[c] = mean_log
@@ -110,41 +123,56 @@ def balance_energy(s, tris, a, cot, beta, planar=False):
     return float(e), (area, lam, dirichlet, float(mean_log), bool(planar))
 
 
+@njit(cache=True, inline="always")
+def _factors(a_t, ay, dd, lr, lam, beta):
+    """The derivatives of a triangle's term by its Dirichlet energy and by its area, times ``lam``."""
+    return beta * a_t / ay * lam, (2.0 * a_t * lr / ay - beta * a_t * dd / ay ** 2) * lam
+
+
+@njit(cache=True, inline="always")
+def _turning(s, tris, t, planar):
+    """Triangle ``t``'s unit direction and what its turning adds to every corner's area gradient."""
+    ux, uy, uz, ln = _direction(s, tris, t, planar)
+    ux, uy, uz = ux / ln, uy / ln, uz / ln
+    # area = 0.5 (e1 x e2) . u with u the normalized corner sum: on the sphere its turning adds, to every
+    # corner, 0.5 (n - (n . u) u) / |p0 + p1 + p2| with n = e1 x e2 (on the plane u is fixed)
+    tx, ty, tz = 0.0, 0.0, 0.0
+    if not planar:
+        i0, i1, i2 = tris[t, 0], tris[t, 1], tris[t, 2]
+        ax, ay_, az = s[i1, 0] - s[i0, 0], s[i1, 1] - s[i0, 1], s[i1, 2] - s[i0, 2]
+        bx, by, bz = s[i2, 0] - s[i0, 0], s[i2, 1] - s[i0, 1], s[i2, 2] - s[i0, 2]
+        nx, ny, nz = ay_ * bz - az * by, az * bx - ax * bz, ax * by - ay_ * bx
+        nu = nx * ux + ny * uy + nz * uz
+        tx, ty, tz = 0.5 * (nx - nu * ux) / ln, 0.5 * (ny - nu * uy) / ln, 0.5 * (nz - nu * uz) / ln
+    return ux, uy, uz, tx, ty, tz
+
+
+@njit(cache=True, inline="always")
+def _corner_gradient(s, tris, t, k, cot, f_d, f_a, ux, uy, uz, tx, ty, tz):
+    """The gradient of triangle ``t``'s term with respect to its corner ``k``."""
+    vk, v1, v2 = tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
+    c1, c2 = cot[t, (k + 1) % 3], cot[t, (k + 2) % 3]
+    ex = s[v2, 0] - s[v1, 0]
+    ey = s[v2, 1] - s[v1, 1]
+    ez = s[v2, 2] - s[v1, 2]
+    gx = (0.5 * (uy * ez - uz * ey) + tx) * f_a + f_d * (c2 * (s[vk, 0] - s[v1, 0]) + c1 * (s[vk, 0] - s[v2, 0]))
+    gy = (0.5 * (uz * ex - ux * ez) + ty) * f_a + f_d * (c2 * (s[vk, 1] - s[v1, 1]) + c1 * (s[vk, 1] - s[v2, 1]))
+    gz = (0.5 * (ux * ey - uy * ex) + tz) * f_a + f_d * (c2 * (s[vk, 2] - s[v1, 2]) + c1 * (s[vk, 2] - s[v2, 2]))
+    return gx, gy, gz
+
+
 @njit(parallel=True, cache=True)
 def _corner_gradients(s, tris, a, cot, area, lam, beta, dirichlet, shift, planar, out):
     """Each triangle's gradient with respect to its three corners, (T, 3, 3), in parallel."""
     for t in prange(tris.shape[0]):
         ay = lam * area[t]
         lr = math.log(ay / a[t]) if a[t] > 0.0 else 0.0     # a face of no area on the mesh: no term
-        f_d = beta * a[t] / ay * lam
-        f_a = (2.0 * a[t] * lr / ay - beta * a[t] * dirichlet[t] / ay ** 2) * lam - shift
-        i0, i1, i2 = tris[t, 0], tris[t, 1], tris[t, 2]
-        ux, uy, uz, ln = _direction(s, tris, t, planar)
-        ux, uy, uz = ux / ln, uy / ln, uz / ln
-        # area = 0.5 (e1 x e2) . u with u the normalized corner sum: on the sphere its turning adds, to every
-        # corner, 0.5 (n - (n . u) u) / |p0 + p1 + p2| with n = e1 x e2 (on the plane u is fixed)
-        tx, ty, tz = 0.0, 0.0, 0.0
-        if not planar:
-            ax, ay_, az = s[i1, 0] - s[i0, 0], s[i1, 1] - s[i0, 1], s[i1, 2] - s[i0, 2]
-            bx, by, bz = s[i2, 0] - s[i0, 0], s[i2, 1] - s[i0, 1], s[i2, 2] - s[i0, 2]
-            nx, ny, nz = ay_ * bz - az * by, az * bx - ax * bz, ax * by - ay_ * bx
-            nu = nx * ux + ny * uy + nz * uz
-            tx, ty, tz = 0.5 * (nx - nu * ux) / ln, 0.5 * (ny - nu * uy) / ln, 0.5 * (nz - nu * uz) / ln
+        f_d, f_a = _factors(a[t], ay, dirichlet[t], lr, lam, beta)
+        f_a -= shift
+        ux, uy, uz, tx, ty, tz = _turning(s, tris, t, planar)
         for k in range(3):
-            vk, v1, v2 = tris[t, k], tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
-            c1, c2 = cot[t, (k + 1) % 3], cot[t, (k + 2) % 3]
-            ex = s[v2, 0] - s[v1, 0]
-            ey = s[v2, 1] - s[v1, 1]
-            ez = s[v2, 2] - s[v1, 2]
-            out[t, k, 0] = (0.5 * (uy * ez - uz * ey) + tx) * f_a + f_d * (
-                c2 * (s[vk, 0] - s[v1, 0]) + c1 * (s[vk, 0] - s[v2, 0])
-            )
-            out[t, k, 1] = (0.5 * (uz * ex - ux * ez) + ty) * f_a + f_d * (
-                c2 * (s[vk, 1] - s[v1, 1]) + c1 * (s[vk, 1] - s[v2, 1])
-            )
-            out[t, k, 2] = (0.5 * (ux * ey - uy * ex) + tz) * f_a + f_d * (
-                c2 * (s[vk, 2] - s[v1, 2]) + c1 * (s[vk, 2] - s[v2, 2])
-            )
+            out[t, k, 0], out[t, k, 1], out[t, k, 2] = _corner_gradient(s, tris, t, k, cot, f_d, f_a,
+                                                                        ux, uy, uz, tx, ty, tz)
 
 
 @njit(cache=True)
@@ -167,6 +195,90 @@ def balance_gradient(s, tris, a, cot, beta, state):
     g = np.zeros_like(s)
     _scatter(tris, corner, g)
     return g
+
+
+SWEEP_HALVINGS = 10     # a single vertex's step is halved at most this many times a sweep
+
+
+@njit(cache=True)
+def _ring_energy(s, tris, ring, a, cot, lam, beta, planar):
+    """The energy of the triangles ``ring`` (inf if one is not positive)."""
+    e = 0.0
+    for t in ring:
+        area = _area(s, tris, t, planar)
+        if not area > 0.0:
+            return np.inf
+        e += _term(s, tris, t, a, cot, area, lam, beta)[0]
+    return e
+
+
+@njit(cache=True)
+def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sweeps, reach):
+    """Move the vertices one at a time, in place, each down its own triangles' energy (the areas'
+    normalization held for a sweep): a step along the vertex's own gradient, halved until its triangles'
+    energy falls and all stay positive. Each vertex keeps its step length from sweep to sweep (doubled after
+    a success, at most ``reach`` times its shortest edge). ``ring[ring_ptr[i]:ring_ptr[i + 1]]`` are vertex
+    ``i``'s triangles. Unlike a step of every vertex at once, which the most squeezed triangle holds back,
+    each vertex moves as far as its own triangles allow, so a map stays one-to-one while its crowded parts
+    spread. Returns the number of moves made.
+    """
+    n = s.shape[0]
+    area = np.empty(tris.shape[0])
+    length = np.full(n, np.inf)        # each vertex's last step, as a share of its shortest edge
+    made = 0
+    for _ in range(sweeps):
+        _areas(s, tris, planar, area)
+        lam = 1.0 / area.sum()
+        for i in range(n):
+            mine = ring[ring_ptr[i]:ring_ptr[i + 1]]
+            if not moves[i] or len(mine) == 0:
+                continue
+            h = np.inf
+            for t in mine:
+                for k in range(3):
+                    w = tris[t, k]
+                    if w != i:
+                        h = min(h, math.sqrt((s[w, 0] - s[i, 0]) ** 2 + (s[w, 1] - s[i, 1]) ** 2
+                                             + (s[w, 2] - s[i, 2]) ** 2))
+            gx, gy, gz = 0.0, 0.0, 0.0
+            for t in mine:
+                area_t = _area(s, tris, t, planar)
+                _, dd, lr = _term(s, tris, t, a, cot, area_t, lam, beta)
+                ay = lam * area_t
+                f_d, f_a = _factors(a[t], ay, dd, lr, lam, beta)
+                ux, uy, uz, tx, ty, tz = _turning(s, tris, t, planar)
+                k = 0 if tris[t, 0] == i else (1 if tris[t, 1] == i else 2)
+                cx, cy, cz = _corner_gradient(s, tris, t, k, cot, f_d, f_a, ux, uy, uz, tx, ty, tz)
+                gx, gy, gz = gx + cx, gy + cy, gz + cz
+            if planar:
+                gz = 0.0
+                t0, t1 = along[i, 0], along[i, 1]
+                if t0 != 0.0 or t1 != 0.0:
+                    p = gx * t0 + gy * t1
+                    gx, gy = p * t0, p * t1
+            else:
+                p = gx * s[i, 0] + gy * s[i, 1] + gz * s[i, 2]
+                gx, gy, gz = gx - p * s[i, 0], gy - p * s[i, 1], gz - p * s[i, 2]
+            size = math.sqrt(gx * gx + gy * gy + gz * gz)
+            if not size > 0.0:
+                continue
+            e0 = _ring_energy(s, tris, mine, a, cot, lam, beta, planar)
+            x0, y0, z0 = s[i, 0], s[i, 1], s[i, 2]
+            share = min(2.0 * length[i], reach)
+            for _half in range(SWEEP_HALVINGS):
+                step = share * h / size
+                x, y, z = x0 - step * gx, y0 - step * gy, z0 - step * gz
+                if not planar:
+                    ln = math.sqrt(x * x + y * y + z * z)
+                    x, y, z = x / ln, y / ln, z / ln
+                s[i, 0], s[i, 1], s[i, 2] = x, y, z
+                if _ring_energy(s, tris, mine, a, cot, lam, beta, planar) < e0:
+                    made += 1
+                    break
+                s[i, 0], s[i, 1], s[i, 2] = x0, y0, z0
+                share *= 0.5
+            length[i] = share
+    return made
 
 
 @njit(parallel=True, cache=True)

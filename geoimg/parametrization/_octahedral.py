@@ -286,11 +286,13 @@ def sampling_rotation(s: np.ndarray, x: np.ndarray, tris: np.ndarray) -> tuple[n
     the mesh best, and how much better than no turn it is, in dB of the proxy.
 
     An octahedral image of side N gives a triangle of the mesh about ``N^2 a_t r(c_t) / 4`` samples, ``a_t``
-    its area on the sphere, ``r`` the octahedral map's area ratio at its centre (between ``3^-1.5`` and 1);
-    resampling then errs by about its area in space per sample, so the error is about
-    ``sum_t A_t^2 / (a_t r(c_t))``. Of the identity and :data:`SAMPLING_ROTATIONS` fixed rotations, the one
-    that makes this least is returned (measured: the horse's 257^2 image from 77.6 to 79.1 dB, the
-    armadillo's from 74.8 to 75.5).
+    its area on the sphere, ``r`` the octahedral map's area ratio at its centre (between ``3^-1.5`` and 1), so
+    the samples lie ``h_t^2 ~ A_t / (a_t r(c_t))`` apart on it (``A_t`` its area in space). Resampling errs
+    there by about ``h_t^2`` (times the curvature), and the mean squared error over the surface is about
+    ``sum_t A_t h_t^4 = sum_t A_t^3 / (a_t r(c_t))^2``. Of the identity and :data:`SAMPLING_ROTATIONS` fixed
+    rotations, the one that makes this least is returned. Over twelve random turns of a map, this ranks the
+    images' PSNR with a Spearman correlation of 0.92 (the SMPL man) and 0.91 (the horse), where the error's
+    first power, ``sum_t A_t h_t^2``, ranked them at 0.69 and 0.76.
 
     Examples
     --------
@@ -308,11 +310,11 @@ def sampling_rotation(s: np.ndarray, x: np.ndarray, tris: np.ndarray) -> tuple[n
     area = 0.5 * np.linalg.norm(np.cross(x[tris[:, 1]] - x[tris[:, 0]], x[tris[:, 2]] - x[tris[:, 0]]), axis=1)
     on_sphere = 0.5 * np.linalg.norm(np.cross(s[tris[:, 1]] - s[tris[:, 0]], s[tris[:, 2]] - s[tris[:, 0]]), axis=1)
     ok = on_sphere > 0
-    weight = area[ok] ** 2 / on_sphere[ok]
+    weight = area[ok] ** 3 / on_sphere[ok] ** 2
     c = s[tris[ok]].mean(axis=1)
     c /= np.maximum(np.linalg.norm(c, axis=1, keepdims=True), 1e-300)
     turns = np.concatenate([np.eye(3)[None], Rotation.random(SAMPLING_ROTATIONS, random_state=0).as_matrix()])
     # 1 / r(q) = (|x| + |y| + |z|)^3 for unit q
-    error = np.array([weight @ (np.abs(c @ R.T).sum(axis=1) ** 3) for R in turns])
+    error = np.array([weight @ (np.abs(c @ R.T).sum(axis=1) ** 6) for R in turns])
     best = int(np.argmin(error))
     return turns[best], float(10.0 * np.log10(error[0] / error[best])) if error[best] > 0 else 0.0

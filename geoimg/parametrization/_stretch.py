@@ -30,7 +30,8 @@ def map_stretch(mesh: Mesh, param: Parametrization) -> dict:
     that keeps every triangle's shape and share of the area (an isometry up to one scale).
 
     Each triangle's stretch is ``sqrt((G^2 + g^2) / 2)``, ``G`` and ``g`` the singular values of the map
-    from parameters to the surface; the map's is their root mean square over the parameter area, times
+    from parameters to the surface; the map's is their root mean square over the surface's area (Sander et al.
+    2001: a triangle squeezed to no parameter area has infinite stretch), times
     ``sqrt(parameter area / surface area)``. Planar, disk and cut-open maps are measured in their (u, v);
     sphere maps on the sphere (each triangle through its chord), before the octahedral image's own,
     fixed, distortion. Polygons are split into triangles (quads along their shorter diagonal).
@@ -87,7 +88,7 @@ def map_stretch(mesh: Mesh, param: Parametrization) -> dict:
     stretch2 = 0.5 * (np.einsum("tc,tc->t", d_s, d_s) + np.einsum("tc,tc->t", d_t, d_t))
     a_p, a_q = np.abs(area_p[ok]), area_q[ok]
     norm = np.sqrt(a_p.sum() / max(a_q.sum(), 1e-300))
-    l2 = float(np.sqrt((stretch2 * a_p).sum() / max(a_p.sum(), 1e-300)) * norm)
+    l2 = float(np.sqrt((stretch2 * a_q).sum() / max(a_q.sum(), 1e-300)) * norm)
     share = (a_p / a_p.sum()) / np.maximum(a_q / max(a_q.sum(), 1e-300), 1e-300)
     starved = float((a_q[share < STARVED_SHARE].sum() + area_q[~ok].sum()) / max(area_q.sum(), 1e-300))
     return {"l2": l2, "efficiency": 1.0 / l2 if l2 > 0 else 0.0, "worst": float(np.sqrt(stretch2.max()) * norm),

@@ -232,3 +232,52 @@ def test_one_step_rule_for_every_domain():
     # a small cut-open square runs past 200 steps when it has not converged by then (389 when measured)
     p = geoimg.parametrize(meshes.torus_grid(48, 16, 1.0, 0.25), "cut")
     assert DEFAULT_STEPS < p.info["balance_steps"] < default_steps(p.mesh.n_faces)
+
+
+def _squeezed_sphere_map():
+    """A bumpy icosphere mapped onto the sphere by its radial projection, then crowded towards one pole by a
+    Moebius map (one-to-one, every triangle positive, the far side squeezed)."""
+    mesh = meshes.icosphere(3, bumps=0.2)
+    s = mesh.vertices / np.linalg.norm(mesh.vertices, axis=1, keepdims=True)
+    a = np.array([0.0, 0.0, 0.6])
+    d = s - a
+    s = (1.0 - a @ a) * d / (d ** 2).sum(axis=1, keepdims=True) - a
+    return mesh, np.ascontiguousarray(mesh.faces, np.int64), s / np.linalg.norm(s, axis=1, keepdims=True)
+
+
+def test_single_vertex_sweeps_lower_the_energy_keep_the_map_one_to_one_and_leave_the_input():
+    from geoimg.parametrization._balance import relax_locally
+    from geoimg.parametrization._orientation import chord_orientation
+    mesh, tris, s = _squeezed_sphere_map()
+    ref = AreaBalanceNumpy(mesh.vertices, tris, mesh.n_vertices, 0.3)
+    before = s.copy()
+    assert (chord_orientation(s, tris) > 0).all()
+    out = relax_locally(s, mesh.vertices, tris, beta=0.3, sweeps=30)
+    assert np.array_equal(s, before)
+    assert (chord_orientation(out, tris) > 0).all()
+    assert np.allclose(np.linalg.norm(out, axis=1), 1.0, atol=1e-12)
+    e0, e1 = ref.energy(s)[0], ref.energy(out)[0]
+    assert e1 < 0.5 * e0, (e0, e1)
+    # more sweeps go further down
+    assert ref.energy(relax_locally(out, mesh.vertices, tris, beta=0.3, sweeps=30))[0] < e1
+    # the same bits every time (one vertex after another, in order)
+    assert np.array_equal(out, relax_locally(s, mesh.vertices, tris, beta=0.3, sweeps=30))
+
+
+def test_single_vertex_sweeps_hold_held_and_unused_vertices_and_slide_along_their_lines():
+    from geoimg.parametrization._balance import relax_locally
+    x = np.array([[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0], [0.5, 0, 0]])
+    tris = np.array([[0, 5, 4], [5, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    start = x.copy()
+    start[4, :2] = [0.3, 0.6]
+    start[5, 0] = 0.2                                   # on the bottom side, off its place
+    held = np.array([True, True, True, True, False, False])
+    along = np.zeros((6, 3))
+    along[5] = [1, 0, 0]
+    out = relax_locally(start, x, tris, planar=True, held=held, along=along, sweeps=200)
+    assert np.array_equal(out[:4], start[:4])
+    assert out[5, 1] == 0.0 and abs(out[5, 0] - 0.5) < 1e-3     # slid back along the side, not off it
+    assert np.abs(out[4, :2] - [0.5, 0.5]).max() < 1e-3
+    used = np.ones(6, bool)
+    used[4] = False                                     # an unused vertex does not move
+    assert np.array_equal(relax_locally(start, x, tris, used, planar=True, held=held, along=along)[4], start[4])

@@ -20,6 +20,19 @@ def test_a_map_that_only_scales_has_stretch_one():
         assert out["starved"] == 0.0 and out["degenerate"] == 0
 
 
+def test_a_conformal_map_that_squeezes_one_end_has_the_closed_form_stretch():
+    """exp(x + iy) on [0, 3] x [0, 1] keeps angles but gives x = 0 a 400th of the area scale of x = 3: the
+    stretch, a root mean square over the surface's area, is sqrt((1 - e^-6)(e^6 - 1) / 36) (about 3.3). A mean
+    over the parameter area would call every conformal map 1."""
+    g = geoimg.grid_mesh(np.zeros((41, 121)), (1.0, 1.0))
+    lo, hi = g.vertices.min(axis=0), g.vertices.max(axis=0)
+    px, py = 3.0 * (g.vertices[:, 0] - lo[0]) / (hi[0] - lo[0]), (g.vertices[:, 1] - lo[1]) / (hi[1] - lo[1])
+    m = geoimg.Mesh(np.column_stack([px, py, np.zeros_like(px)]), g.faces)
+    out = map_stretch(m, geoimg.Parametrization(np.column_stack([np.exp(px) * np.cos(py), np.exp(px) * np.sin(py)]),
+                                                (1, 1)))
+    assert out["l2"] == pytest.approx(np.sqrt((1 - np.exp(-6)) * (np.exp(6) - 1) / 36), rel=0.01)
+
+
 def test_a_shear_has_its_closed_form_stretch():
     """u = 2x, v = y/2 keeps areas; the parameters-to-surface map has singular values 1/2 and 2, so every
     triangle's stretch is sqrt((1/4 + 4) / 2)."""
