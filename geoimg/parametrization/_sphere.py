@@ -28,7 +28,7 @@ from scipy import sparse
 
 from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh, topology
-from ._balance import DEFAULT_STEPS, balance, relax_locally
+from ._balance import DEFAULT_STEPS, SWEEPS, balance, relax_locally
 from ._laplacian import (corner_angles, cotangent_weights, factor_symmetric, laplacian, mean_value_weights, solve_free,
                          triangle_areas, vertex_areas)
 from ._multilevel import multilevel_start
@@ -42,8 +42,8 @@ __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 DEFAULT_BETA = 0.3
 MULTILEVEL_TRIANGLES = 20_000     # from this size on, a decimated copy is mapped first ...
 MULTILEVEL_STEPS = 10             # ... and the fine map balanced from it for at most this many steps
-RELAX_STEPS = 30                  # the coarse-to-fine map's balancing at each size: steps of all vertices ...
-RELAX_SWEEPS = 60                 # ... then sweeps of single-vertex moves (what the squeezed parts need)
+RELAX_STEPS = 30                  # the coarse-to-fine map's balancing at each size: steps of all vertices,
+                                  # then SWEEPS sweeps of single-vertex moves (what the squeezed parts need)
 
 
 def _check_sphere(mesh: Mesh):
@@ -241,7 +241,7 @@ def _decimated_map(beta):
     return run
 
 
-def _relax(x, beta, steps: int = RELAX_STEPS, sweeps: int = RELAX_SWEEPS):
+def _relax(x, beta, steps: int = RELAX_STEPS, sweeps: int = SWEEPS):
     """Area-balance the map of an intermediate mesh (the vertices ``alive``, triangles ``tris``): steps of all
     vertices at once, then sweeps of single-vertex moves, which open what one squeezed triangle holds back
     (a blade's tip given a hundredth of its share: 68 dB -> 81 dB through the sword's map at 257^2).

@@ -7,6 +7,7 @@ import geoimg
 from geoimg.parametrization._balance import SCALE_SMOOTHING, neighbour_mean, squeeze_scale
 from geoimg.parametrization._laplacian import vertex_shares
 from geoimg.parametrization._balance_kernels import balance_energy, balance_gradient
+from geoimg.parametrization._disk import PLANAR_SWEEP_ROUNDS
 
 import meshes
 from reference import AreaBalanceNumpy
@@ -221,8 +222,12 @@ def test_disk_and_cut_maps_report_their_balancing_as_it_goes():
         heard: list = []
         p = geoimg.parametrize(mesh, method, progress=heard.append)
         assert p.info["balance_steps"] > 0 and heard
-        assert all(m.startswith("area balancing step") for m in heard)
-        assert len(heard) == (p.info["balance_steps"] + 9) // 10
+        steps = [m for m in heard if m.startswith("area balancing step")]
+        sweeps = [m for m in heard if m.endswith("single-vertex sweeps")]
+        assert len(steps) + len(sweeps) == len(heard)
+        # the balancing, then PLANAR_SWEEP_ROUNDS times sweeps and the balancing again, each heard from
+        assert len(sweeps) == PLANAR_SWEEP_ROUNDS and heard.index(sweeps[0]) > 0
+        assert len(steps) >= p.info["balance_steps"] // 10
 
 
 def test_one_step_rule_for_every_domain():
@@ -281,3 +286,29 @@ def test_single_vertex_sweeps_hold_held_and_unused_vertices_and_slide_along_thei
     used = np.ones(6, bool)
     used[4] = False                                     # an unused vertex does not move
     assert np.array_equal(relax_locally(start, x, tris, used, planar=True, held=held, along=along)[4], start[4])
+
+
+def test_a_planar_map_with_a_triangle_of_no_area_is_still_relaxed(finger_map):
+    """Triangles of no area stop every step of all vertices at once (the energy is infinite); the
+    single-vertex sweeps move the other vertices, and then open those triangles too."""
+    from geoimg.parametrization._disk import relax_planar
+    from geoimg.parametrization._slim import area_log_rms
+    mesh, tris, s = finger_map
+    loop = geoimg.mesh.boundary_loops(mesh)[0]
+    inner = np.setdiff1d(np.arange(mesh.n_vertices), loop)
+    v = int(inner[len(inner) // 2])
+    ring = tris[np.any(tris == v, axis=1)]
+    a = [w for w in ring[0] if w != v][0]
+    uv = s[:, :2].copy()
+    uv[v] = uv[a]                                       # on a neighbour: its two triangles have no area
+    def signed(c):
+        return np.cross(c[tris[:, 1]] - c[tris[:, 0]], c[tris[:, 2]] - c[tris[:, 0]])
+    assert np.sum(signed(uv) == 0) == 2 and np.sum(signed(uv) < 0) == 0
+    ref = AreaBalanceNumpy(mesh.vertices, tris, mesh.n_vertices, 0.3, planar=True)
+    assert ref.energy(np.column_stack([uv, np.zeros(len(uv))]))[0] == np.inf
+    out, steps = relax_planar(mesh.vertices, tris, uv, loop, "area")
+    assert (signed(out) > 0).all()
+    x = mesh.vertices
+    area3 = 0.5 * np.linalg.norm(np.cross(x[tris[:, 1]] - x[tris[:, 0]], x[tris[:, 2]] - x[tris[:, 0]]), axis=1)
+    assert area_log_rms(area3, out, tris) < 0.8 * area_log_rms(area3, uv, tris)
+    assert np.array_equal(out[loop], uv[loop])          # the boundary held
