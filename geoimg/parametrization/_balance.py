@@ -38,6 +38,7 @@ from ._laplacian import (
 __all__ = [
     "balance",
     "relax_locally",
+    "settle",
     "vertex_triangles",
     "default_steps",
     "squeeze_scale",
@@ -244,3 +245,29 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
         if converged:
             break
     return s, done, (e_start, e)
+
+
+def settle(s, x, tris, rounds: int, lap=None, vertex_area=None, used=None, beta: float = 0.3, steps: int | None = None,
+           progress=None, *, planar: bool = False, held=None, along=None):
+    """:func:`balance`, then ``rounds`` times :data:`SWEEPS` single-vertex sweeps (:func:`relax_locally`) and
+    :func:`balance` again: the sweeps open what held back the steps of all vertices at once (a triangle of no
+    area, one squeezed part), and the steps then go on. ``steps`` caps each balancing (none is swept after
+    when ``steps`` is 0). Returns what :func:`balance` does: the map, the steps taken in all and the energy at
+    the start and at the end.
+
+    >>> x = np.array([[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0]])
+    >>> tris = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    >>> start = x.copy(); start[4, :2] = 0.2
+    >>> out, steps, (e0, e1) = settle(start, x, tris, 1, planar=True, held=np.array([1, 1, 1, 1, 0], bool))
+    >>> bool(e1 < 1e-6 < e0), np.round(out[4], 3).tolist()
+    (True, [0.5, 0.5, 0.0])
+    """
+    kw = {"planar": planar, "held": held, "along": along}
+    out, taken, (e_start, e_end) = balance(s, x, tris, lap, vertex_area, used, beta, steps, progress, **kw)
+    for _ in range(rounds if steps != 0 else 0):
+        if progress is not None:
+            progress(f"{SWEEPS} single-vertex sweeps")
+        out = relax_locally(out, x, tris, used, beta, SWEEPS, **kw)
+        out, more, (_, e_end) = balance(out, x, tris, lap, vertex_area, used, beta, steps, progress, **kw)
+        taken += more
+    return out, taken, (e_start, e_end)
