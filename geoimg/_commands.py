@@ -129,9 +129,10 @@ def cmd_image(args) -> int:
             H, W = image.shape
             piece = f" (piece {image.metadata['component']} of {image.metadata['components']})" if many else ""
             m = image.metadata
+            stages = f" ({m['map_stages']})" if "map_stages" in m else ""
             print(f"wrote {out}: {W} x {H} {image.domain.kind} geometry image{piece}, {int(image.valid.sum())} "
                   f"valid pixels; to the mesh: PSNR {m['psnr_db']:.1f} dB, Hausdorff {100 * m['hausdorff']:.2g} % "
-                  f"of the diagonal ({m['weights']} weights, s = {m['s']:.3g}); the map: L2 stretch "
+                  f"of the diagonal ({m['weights']} weights, s = {m['s']:.3g}); the map{stages}: L2 stretch "
                   f"{m['map_stretch']:.3g}, {100 * m['starved']:.2g} % of the surface starved")
     return 0
 

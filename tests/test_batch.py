@@ -69,6 +69,9 @@ def test_manifest_outputs_and_a_second_run_that_skips_everything(client, inputs,
     sphere = rows.loc[str(inputs / "a" / "sphere.obj")]
     assert sphere.domain == "octahedral" and sphere.image_size == f"{RES}x{RES}" and sphere.faces == 1280
     assert sphere.topology.startswith("closed surface of genus 0") and sphere.psnr_db > 30
+    image = geoimg.load_image(out / "a" / "sphere.exr")                # each piece's map, as its image records it
+    assert float(sphere.map_stretch) == image.metadata["map_stretch"] >= 1.0
+    assert float(sphere.starved) == image.metadata["starved"]
     assert all(sphere[f"t_{s}"] > 0 for s in ("load", "parametrize", "fit", "sample", "write", "psnr"))
     assert len(set(table.options_hash)) == 1
     # the manifest on disk says the same

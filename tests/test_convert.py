@@ -49,6 +49,9 @@ def test_every_conversion_records_its_maps_stretch():
     assert image.metadata["map_stretch"] == round(want["l2"], 3) >= 1.0
     assert image.metadata["starved"] == round(want["starved"], 4)
     assert "map_stretch" not in geoimg.mesh_to_image(mesh, 17, parametrization=param, fidelity=False).metadata
+    assert image.metadata["map_stages"] == "; ".join(param.info["stages"]) == "conformal"
+    planar = geoimg.mesh_to_image(load_data("mountain.obj"), 9)
+    assert "map_stages" not in planar.metadata and "map_stretch" in planar.metadata
 
 
 def test_an_image_far_from_its_mesh_says_so(monkeypatch):

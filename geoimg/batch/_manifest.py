@@ -16,7 +16,8 @@ __all__ = ["COLUMNS", "STAGES", "STATUSES", "read_manifest", "ManifestLog", "wri
 STATUSES = ("ok", "poor", "refused", "failed")      # poor: converted, but far from the input (see ConvertOptions)
 STAGES = ("load", "repair", "parametrize", "fit", "sample", "filter", "write", "psnr")
 COLUMNS = ("input", "status", "message", "warnings", "outputs", "vertices", "faces", "topology", "pieces",
-           "domain", "image_size", "psnr_db", "hausdorff") + tuple(f"t_{s}" for s in STAGES) + (
+           "domain", "image_size", "psnr_db", "hausdorff", "map_stretch", "starved") + tuple(
+           f"t_{s}" for s in STAGES) + (
            "t_total", "worker", "options_hash", "input_size", "input_mtime_ns", "finished")
 
 

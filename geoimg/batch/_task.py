@@ -145,6 +145,9 @@ def run_job(job: Job) -> dict:
                 pieces=images[0].metadata.get("components", 1),
                 domain=" ".join(img.domain.kind for img in images),
                 image_size=" ".join(f"{img.shape[1]}x{img.shape[0]}" for img in images),
+                # each piece's map: its L2 stretch and the share of the surface it starves (when measured)
+                map_stretch=" ".join(str(img.metadata.get("map_stretch", "")) for img in images).strip(),
+                starved=" ".join(str(img.metadata.get("starved", "")) for img in images).strip(),
             )
             row["outputs"] = ";".join([str(f) for f in files] + ([f"{job.store}#{job.index}"] if job.store else []))
             if opts.psnr and (opts.component == "all" or row["pieces"] == 1):

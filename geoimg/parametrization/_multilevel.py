@@ -35,7 +35,7 @@ from ..mesh import Mesh, topology
 from ._balance import local_sizes
 from ._orientation import chord_orientation
 
-__all__ = ["multilevel_start", "decimate", "transfer", "untangle", "COARSE_TRIANGLES"]
+__all__ = ["multilevel_start", "decimate", "transfer", "untangle", "open_folds", "COARSE_TRIANGLES"]
 
 COARSE_TRIANGLES = 8000        # the coarse copy's size
 UNTANGLE_RINGS = (3, 6, 12)     # rings of vertices around the folds that may move, tried in turn
@@ -105,6 +105,19 @@ def untangle(s: np.ndarray, tris: np.ndarray, *, rings: int = UNTANGLE_RINGS[0],
     return s, taken, opened
 
 
+def open_folds(s: np.ndarray, tris: np.ndarray):
+    """:func:`untangle` in wider and wider neighbourhoods (:data:`UNTANGLE_RINGS`), each from where the last
+    left off; ``(s, steps taken, whether no triangle is folded)``.
+    """
+    taken, opened = 0, False
+    for rings in UNTANGLE_RINGS:
+        s, steps, opened = untangle(s, tris, rings=rings)
+        taken += steps
+        if opened:
+            break
+    return s, taken, opened and bool(np.isfinite(s).all())
+
+
 def _local_descent(s, near, moving, eps, floor, steps):
     """:func:`untangle`'s descent on the vertices ``s`` of the triangles ``near`` (renumbered), in place;
     returns ``(s, steps taken, whether opened)``.
@@ -155,14 +168,9 @@ def multilevel_start(x: np.ndarray, tris: np.ndarray, coarse_map: Callable, *,
     info["transfer_folds"] = folds
     if folds:
         say(f"coarse map carried over to every vertex; opening its {folds} folded triangles")
-    taken, opened = 0, False
-    for rings in UNTANGLE_RINGS:             # wider and wider neighbourhoods, each from where the last left off
-        s, steps, opened = untangle(s, tris, rings=rings)
-        taken += steps
-        if opened:
-            break
+    s, taken, opened = open_folds(s, tris)
     info["untangle_steps"] = taken
-    if not opened or not np.isfinite(s).all():
+    if not opened:
         return None, {**info, "multilevel": f"{folds} folded triangles did not open"}
     return s, {**info, "multilevel": "used"}
 

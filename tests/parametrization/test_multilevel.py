@@ -31,7 +31,7 @@ def spikes():
 def test_a_large_mesh_is_mapped_through_a_coarse_copy(spikes):
     before = spikes.vertices.copy()
     s, info = sphere_coords(spikes)
-    assert info["start"] == "multilevel" and info["multilevel"] == "used"
+    assert info["start"] == "multilevel" and info["multilevel"] == "used" and info["stages"] == ["multilevel"]
     # at most MULTILEVEL_STEPS before the sweeps and as many after them
     assert info["coarse_triangles"] <= ml.COARSE_TRIANGLES and info["balance_steps"] <= 2 * MULTILEVEL_STEPS
     assert info["flipped_triangles"] == 0 and (chord_orientation(s, spikes.faces) > 0).all()
@@ -117,3 +117,21 @@ def test_transfer_reproduces_a_map_on_the_coarse_mesh_itself():
     assert np.allclose(ml.transfer(U, U, G, coarse), coarse, atol=1e-12)   # its own vertices
     fine = ml.transfer(s, U, G, coarse)
     assert np.allclose(np.linalg.norm(fine, axis=1), 1) and np.abs(fine - s).max() < 0.2
+
+
+def test_every_map_says_which_stages_ran():
+    assert sphere_coords(meshes.icosphere(3, 0.2))[1]["stages"] == ["conformal"]
+
+
+def test_folds_that_every_start_leaves_are_opened_last_or_said_to_stay():
+    s, tris = _exact_ball()
+    a, b = tris[0, 0], tris[0, 1]
+    folded = s.copy()
+    folded[[a, b]] = s[[b, a]]
+    n = int(np.sum(chord_orientation(folded, tris) <= 0))
+    out, said = _sphere._open_folds(folded, tris)
+    assert (chord_orientation(out, tris) > 0).all() and said == f"untangled ({n} folded)"
+    assert _sphere._open_folds(s, tris) == (s, None)
+    inside_out = s * [-1.0, 1.0, 1.0]                                   # nothing local opens this
+    out, said = _sphere._open_folds(inside_out, tris)
+    assert out is inside_out and said == f"untangle failed ({len(tris)} folded)"
