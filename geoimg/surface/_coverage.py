@@ -161,6 +161,8 @@ class CoverageSurface(Surface):
             object.__setattr__(self, "_edges", np.ascontiguousarray(E))
         return self._edges
 
+    UNIT_POINTS = False     # evaluated at unit vectors only (the cells then hold the sphere's shell alone)
+
     def _zmin(self) -> float:
         return float(ndtri(self.tol)) if self.tol > 0 else -math.inf
 
@@ -169,7 +171,10 @@ class CoverageSurface(Surface):
         if self._cells is None:
             reach = self.size + 1.05 * (-self._zmin()) * self.widths() * self.spread if self.tol > 0 else \
                 np.full(len(self.size), 4.0)
-            object.__setattr__(self, "_cells", build_cells_3d(self.centres, np.minimum(reach, 4.0)))
+            reach = np.minimum(reach, 4.0)
+            cut = self.tol > 0                   # cut off below zmin: the cells past that leave a triangle out
+            object.__setattr__(self, "_cells", build_cells_3d(
+                self.centres, reach, planes=self.edges() if cut else None, floor=self._zmin(), unit=self.UNIT_POINTS))
         return self._cells
 
     def _evaluate(self, pts, t1, t2, derivatives=True, exact=False):
@@ -237,6 +242,8 @@ class PlanarCoverageSurface(PlanarAddressing, CoverageSurface):
 @dataclass(frozen=True, eq=False)
 class SphereCoverageSurface(SphereAddressing, CoverageSurface):
     """The coverage-weighted surface over the sphere (octahedral images)."""
+
+    UNIT_POINTS = True
 
     def pixel_spacing(self, resolution: int) -> float:
         return math.sqrt(4.0 * math.pi) / (int(resolution) - 1)

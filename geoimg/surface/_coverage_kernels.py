@@ -166,36 +166,60 @@ def _largest_log_weight(p, cand, E, w, wmin):
     return m
 
 
-@njit(parallel=True, cache=True)
-def _kernel(pts, t1, t2, E, K, w, zmin, zmax, floor, h, n, ptr, cells, fallback, deriv, force_exact,
-            table, P, D1, D2, status):
-    for i in prange(pts.shape[0]):
-        acc = np.zeros(12)
-        p = pts[i]
-        ok = False
-        if not force_exact:
-            c = _cell_of(p[0], p[1], p[2], h, n)
-            for k in range(ptr[c], ptr[c + 1]):
-                _add(cells[k], p, t1[i], t2[i], E, K, w, zmin, zmax, deriv, 0.0, False, WMIN, table, acc)
-            ok = acc[0] >= floor
-        status[i] = TRUNCATED
-        if not ok:
-            for q in range(12):
-                acc[q] = 0.0
-            wmin = WMIN
+@njit(cache=True)
+def _finish(i, p, t1, t2, E, K, w, zmin, zmax, floor, fallback, deriv, force_exact, table, acc, P, D1, D2, status):
+    """Point ``i``'s values from its truncated sums ``acc``, or, where those are below ``floor`` (or with
+    ``force_exact``), from the exact sum over ``fallback`` in the log domain.
+    """
+    status[i] = TRUNCATED
+    if force_exact or not acc[0] >= floor:
+        for q in range(12):
+            acc[q] = 0.0
+        wmin = WMIN
+        m = _largest_log_weight(p, fallback, E, w, wmin)
+        if m == -np.inf:            # no triangle near: any in front (a coarse mesh's far side)
+            wmin = 0.0
             m = _largest_log_weight(p, fallback, E, w, wmin)
-            if m == -np.inf:            # no triangle near: any in front (a coarse mesh's far side)
-                wmin = 0.0
-                m = _largest_log_weight(p, fallback, E, w, wmin)
-            for k in range(fallback.shape[0]):
-                _add(fallback[k], p, t1[i], t2[i], E, K, w, zmin, zmax, deriv, m, True, wmin, table, acc)
-            status[i] = EXACT
-        s = acc[0]
-        for c in range(3):
-            val = acc[1 + c] / s
-            P[i, c] = val
-            D1[i, c] = (acc[5 + c] - val * acc[4]) / s
-            D2[i, c] = (acc[9 + c] - val * acc[8]) / s
+        for k in range(fallback.shape[0]):
+            _add(fallback[k], p, t1, t2, E, K, w, zmin, zmax, deriv, m, True, wmin, table, acc)
+        status[i] = EXACT
+    s = acc[0]
+    for c in range(3):
+        val = acc[1 + c] / s
+        P[i, c] = val
+        D1[i, c] = (acc[5 + c] - val * acc[4]) / s
+        D2[i, c] = (acc[9 + c] - val * acc[8]) / s
+
+
+@njit(parallel=True, cache=True)
+def _kernel(pts, t1, t2, E, K, w, zmin, zmax, floor, order, group_ptr, group_cell, ptr, cells, fallback, deriv,
+            force_exact, table, P, D1, D2, status):
+    """The points cell by cell (``order[group_ptr[g]:group_ptr[g + 1]]`` are the points in cell
+    ``group_cell[g]``): each of the cell's triangles is read once for all its points, and every point sums
+    its triangles in the cell's order, as it would alone.
+    """
+    for g in prange(group_cell.shape[0]):
+        members = order[group_ptr[g]:group_ptr[g + 1]]
+        acc = np.zeros((members.shape[0], 12))
+        c = group_cell[g]
+        if not force_exact:
+            for k in range(ptr[c], ptr[c + 1]):
+                t = cells[k]
+                for j in range(members.shape[0]):
+                    i = members[j]
+                    _add(t, pts[i], t1[i], t2[i], E, K, w, zmin, zmax, deriv, 0.0, False, WMIN, table, acc[j])
+        for j in range(members.shape[0]):
+            i = members[j]
+            _finish(i, pts[i], t1[i], t2[i], E, K, w, zmin, zmax, floor, fallback, deriv, force_exact, table,
+                    acc[j], P, D1, D2, status)
+
+
+@njit(cache=True)
+def _cells_of(pts, h, n):
+    out = np.empty(pts.shape[0], np.int64)
+    for i in range(pts.shape[0]):
+        out[i] = _cell_of(pts[i, 0], pts[i, 1], pts[i, 2], h, n)
+    return out
 
 
 def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, zmin, floor, derivatives=True, exact=False):
@@ -214,8 +238,13 @@ def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, zmin, floor, deri
     status = np.empty(k, np.int8)
     E, K, w = tables
     h, n, ptr, cf = cells
-    _kernel(pts, t1, t2, E, K, w, float(zmin), float(-zmin), float(floor), float(h), int(n), ptr,
-            cf, np.ascontiguousarray(fallback, np.int64), bool(derivatives), bool(exact), TABLE, P, D1, D2, status)
+    cell = _cells_of(pts, float(h), int(n))
+    order = np.argsort(cell, kind="stable").astype(np.int64)       # the points grouped by cell
+    group_cell, group_start = np.unique(cell[order], return_index=True)
+    group_ptr = np.append(group_start, len(order)).astype(np.int64)
+    _kernel(pts, t1, t2, E, K, w, float(zmin), float(-zmin), float(floor), order, group_ptr,
+            group_cell.astype(np.int64), ptr, cf, np.ascontiguousarray(fallback, np.int64), bool(derivatives),
+            bool(exact), TABLE, P, D1, D2, status)
     return P, D1, D2, status
 
 

@@ -178,3 +178,36 @@ def test_a_texture_is_read_from_the_part_its_coordinates_reach():
         y = ((1 - uv[:, 1]) * 30 - 0.5).astype(np.float32)[None]
         whole = cv2.remap(tex.astype(np.float32), x, y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)[0] / 255.0
         np.testing.assert_array_equal(_texture_lookup(tex, uv), whole.astype(np.float32))
+
+
+def test_the_sphere_cells_list_every_triangle_where_it_counts_and_change_no_sample(ball):
+    """The cells leave a triangle out of a cube only where one of its edge functions is below the cut-off
+    throughout, or off the unit sphere: every triangle whose terms count at a unit point (its edge functions
+    above the cut-off, the point in front of it) is in the point's cube, and the samples are the same bits as
+    with the plain balls' cells."""
+    from geoimg.surface._sphere_kernels import build_cells_3d
+    mesh, param = ball
+    surf = fit_surface(mesh, param, s=0.3, weights="coverage")
+    h, n, ptr, faces = surf.cells()
+    E, zmin = surf.edges(), surf._zmin()
+    q = np.random.default_rng(4).normal(size=(3000, 3))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    z = np.einsum("tec,kc->kte", E, q)                          # (points, triangles, edges)
+    w = surf.tables[2]                                          # the kernel's other cut: w . p > WMIN
+    counts = (z > zmin).all(axis=2) & (q @ w.T > ck.WMIN)
+    idx = np.clip(np.floor((q + 1.0) / h).astype(int), 0, n - 1)
+    cell = (idx[:, 2] * n + idx[:, 1]) * n + idx[:, 0]
+    for k in range(len(q)):
+        listed = set(faces[ptr[cell[k]]:ptr[cell[k] + 1]].tolist())
+        assert set(np.flatnonzero(counts[k]).tolist()) <= listed
+    reach = surf.size + 1.05 * (-zmin) * surf.widths() * surf.spread
+    plain = build_cells_3d(surf.centres, np.minimum(reach, 4.0))
+    assert len(faces) < len(plain[3])                           # fewer candidates ...
+    directions = surf.domain.directions(33).reshape(-1, 3)
+    from geoimg.surface._sphere_kernels import tangent_frames
+    t1, t2 = tangent_frames(directions)
+    tight = surf._evaluate(directions, t1, t2)
+    object.__setattr__(surf, "_cells", plain)
+    loose = surf._evaluate(directions, t1, t2)
+    for a, b in zip(tight, loose):                              # ... the same sums
+        np.testing.assert_array_equal(a, b)
