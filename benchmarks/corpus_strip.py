@@ -26,10 +26,12 @@ def rows_of(manifest: Path, models: Path) -> dict:
 
 
 def caption(tag: str, r: dict | None) -> str:
+    """A picture's caption: the row's status, pieces, PSNR and Hausdorff distance."""
     if r is None:
         return f"{tag}: not run"
     if r["status"] in ("ok", "poor") and r["psnr_db"]:
-        return f"{tag}: {r['status']}, {r['pieces']} piece(s), {float(r['psnr_db']):.1f} dB, {float(r['hausdorff']) * 100:.1f} %"
+        psnr, haus = float(r["psnr_db"]), float(r["hausdorff"]) * 100
+        return f"{tag}: {r['status']}, {r['pieces']} piece(s), {psnr:.1f} dB, {haus:.1f} %"
     return f"{tag}: {r['status']}"
 
 
