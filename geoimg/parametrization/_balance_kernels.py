@@ -274,8 +274,7 @@ def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sw
                                              + (s[w, 2] - s[i, 2]) ** 2))
             e0 = _ring_energy(s, tris, mine, a, cot, lam, beta, planar)
             if not e0 < np.inf:            # a triangle of the vertex is not positive: towards its neighbours' mean
-                made += _to_neighbours(s, tris, mine, i, a, cot, lam, beta, planar, moves[i] and along[i, 0] == 0.0
-                                       and along[i, 1] == 0.0 and along[i, 2] == 0.0)
+                made += _to_neighbours(s, tris, mine, i, a, cot, lam, beta, planar, not _slides(along, i))
                 continue
             gx, gy, gz = 0.0, 0.0, 0.0
             for t in mine:
@@ -287,15 +286,7 @@ def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sw
                 k = 0 if tris[t, 0] == i else (1 if tris[t, 1] == i else 2)
                 cx, cy, cz = _corner_gradient(s, tris, t, k, cot, f_d, f_a, ux, uy, uz, tx, ty, tz)
                 gx, gy, gz = gx + cx, gy + cy, gz + cz
-            if planar:
-                gz = 0.0
-                t0, t1 = along[i, 0], along[i, 1]
-                if t0 != 0.0 or t1 != 0.0:
-                    p = gx * t0 + gy * t1
-                    gx, gy = p * t0, p * t1
-            else:
-                p = gx * s[i, 0] + gy * s[i, 1] + gz * s[i, 2]
-                gx, gy, gz = gx - p * s[i, 0], gy - p * s[i, 1], gz - p * s[i, 2]
+            gx, gy, gz = _project(gx, gy, gz, s, i, planar, along)
             size = math.sqrt(gx * gx + gy * gy + gz * gz)
             if not size > 0.0:
                 continue
@@ -317,6 +308,26 @@ def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sw
     return made
 
 
+@njit(cache=True, inline="always")
+def _slides(along, i):
+    """Whether vertex ``i`` may only slide along the line ``along[i]`` (a row that is not zero)."""
+    return along[i, 0] != 0.0 or along[i, 1] != 0.0 or along[i, 2] != 0.0
+
+
+@njit(cache=True, inline="always")
+def _project(gx, gy, gz, s, i, planar, along):
+    """The move ``(gx, gy, gz)`` of a movable vertex ``i`` projected onto the moves it may make: the tangent
+    plane at ``s[i]`` on the sphere; on the plane, the plane itself, or its line ``along[i]``.
+    """
+    if planar:
+        if _slides(along, i):
+            p = gx * along[i, 0] + gy * along[i, 1]
+            return p * along[i, 0], p * along[i, 1], p * along[i, 2]
+        return gx, gy, 0.0
+    p = gx * s[i, 0] + gy * s[i, 1] + gz * s[i, 2]
+    return gx - p * s[i, 0], gy - p * s[i, 1], gz - p * s[i, 2]
+
+
 @njit(parallel=True, cache=True)
 def project_moves(v, s, planar, moves, along):
     """Project each row of ``v`` (n, 3), in place, onto the moves its vertex may make: the tangent plane at
@@ -328,17 +339,8 @@ def project_moves(v, s, planar, moves, along):
             v[i, 0] = 0.0
             v[i, 1] = 0.0
             v[i, 2] = 0.0
-        elif planar:
-            v[i, 2] = 0.0
-            t0, t1, t2 = along[i, 0], along[i, 1], along[i, 2]
-            if t0 != 0.0 or t1 != 0.0 or t2 != 0.0:
-                p = v[i, 0] * t0 + v[i, 1] * t1
-                v[i, 0], v[i, 1], v[i, 2] = p * t0, p * t1, p * t2
         else:
-            p = v[i, 0] * s[i, 0] + v[i, 1] * s[i, 1] + v[i, 2] * s[i, 2]
-            v[i, 0] -= p * s[i, 0]
-            v[i, 1] -= p * s[i, 1]
-            v[i, 2] -= p * s[i, 2]
+            v[i, 0], v[i, 1], v[i, 2] = _project(v[i, 0], v[i, 1], v[i, 2], s, i, planar, along)
 
 
 @njit(parallel=True, cache=True)

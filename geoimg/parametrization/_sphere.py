@@ -50,6 +50,11 @@ RELAX_STEPS = 30                  # the coarse-to-fine map's balancing at each s
                                   # then SWEEPS sweeps of single-vertex moves (what the squeezed parts need)
 
 
+def _fold_count(s: np.ndarray, tris: np.ndarray) -> int:
+    """How many triangles the map ``s`` turns over (or flattens) on the sphere."""
+    return int(np.sum(chord_orientation(s, tris) <= 0))
+
+
 def _check_sphere(mesh: Mesh):
     topo = topology(mesh)
     if not (topo.closed and topo.components == 1 and topo.genus == 0):
@@ -203,7 +208,7 @@ def _direct_start(x, tris, used, vertex_area, lap):
         # two ways onto the sphere: centred (spreads a crowded layout) or with the removed face a small cap
         # (keeps every big face's orientation); the one folding fewer triangles is taken
         ways = [_plane_to_sphere(z, vertex_area, used, tris), _tutte_sphere(z, used, tris)]
-        folds = [int(np.sum(chord_orientation(w, tris) <= 0)) for w in ways]
+        folds = [_fold_count(w, tris) for w in ways]
         return ways[int(np.argmin(folds))], "mean-value", f0
     return s, "conformal", f0
 
@@ -251,12 +256,12 @@ def _open_folds(s, tris):
     """The last stage: open the folds a map still has (:func:`open_folds`); the map and what was done (None
     where nothing was folded).
     """
-    folds = int(np.sum(chord_orientation(s, tris) <= 0))
+    folds = _fold_count(s, tris)
     if not folds:
         return s, None
     out, _, opened = open_folds(s, tris)
     if not opened:               # no worse than it came: keep whichever folds fewer
-        left = int(np.sum(chord_orientation(out, tris) <= 0)) if np.isfinite(out).all() else folds
+        left = _fold_count(out, tris) if np.isfinite(out).all() else folds
         if left < folds:
             return out, f"untangle ({left} of {folds} still folded)"
         return s, f"untangle failed ({folds} folded)"
@@ -351,14 +356,14 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
             progress(f"no start from the coarse copy ({extra['multilevel']}): the direct maps")
     if s is None:
         s, start, f0 = _direct_start(x, tris, used, vertex_area, lap)
-        folds = int(np.sum(chord_orientation(s, tris) <= 0))
+        folds = _fold_count(s, tris)
         stages.append(start if not folds else f"{start} ({folds} folded)")
         if folds:
             if progress is not None:
                 progress(f"the direct maps fold {folds} triangles: mapping coarse to fine")
             sp, extra = progressive_sphere(x, tris, used, _coarse_map(x, beta), _relax(x, beta), progress=progress)
             info.update(extra, direct_folds=folds)
-            left = int(np.sum(chord_orientation(sp, tris) <= 0))
+            left = _fold_count(sp, tris)
             stages.append("progressive" if not left else f"progressive ({left} folded)")
             if left < folds:                                    # keep whichever folds fewer triangles
                 s, start = sp, "progressive"

@@ -115,6 +115,8 @@ class CoverageSurface(Surface):
         Weights below it are skipped (0: every triangle is summed, in the log domain).
     """
 
+    UNIT_POINTS = False     # evaluated at unit vectors only (the cells then hold the sphere's shell alone)
+
     domain: Domain
     s: float
     tol: float
@@ -160,8 +162,6 @@ class CoverageSurface(Surface):
             E = self.tables[0] / self.widths()[:, None, None]
             object.__setattr__(self, "_edges", np.ascontiguousarray(E))
         return self._edges
-
-    UNIT_POINTS = False     # evaluated at unit vectors only (the cells then hold the sphere's shell alone)
 
     def _zmin(self) -> float:
         return float(ndtri(self.tol)) if self.tol > 0 else -math.inf

@@ -60,18 +60,18 @@ def tangent_frames(q):
 
 
 def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96, *, planes: np.ndarray | None = None,
-                   floor: float = 0.0, cell: float | None = None, unit: bool = False):
+                   floor: float = 0.0, unit: bool = False):
     """Bin faces into a uniform grid of cubes over [-1, 1]^3: each face into the cubes its ball of
     ``radius`` around its centre reaches (not every cube of the ball's bounding box: fewer candidates per
     point, the same sums). With ``planes`` (T, 3, 3), a face also stays out of every cube where one of its
     three linear functions ``planes[f, e] . p`` is below ``floor`` throughout (where its terms are cut off):
     the ball of a face with a sharp corner is far larger than where it counts. With ``unit`` (points that are
-    unit vectors), only the cubes that meet the unit sphere hold faces. The cubes' side is ``cell`` (default:
-    the radii's median), at least ``2 / max_cells``. Returns ``(h, n, ptr, faces)``; cell
-    ``(ix, iy, iz)`` is ``(iz * n + iy) * n + ix``.
+    unit vectors), only the cubes that meet the unit sphere hold faces. The cubes' side is the radii's
+    median, at least ``2 / max_cells``. Returns ``(h, n, ptr, faces)``; cell ``(ix, iy, iz)`` is
+    ``(iz * n + iy) * n + ix``.
     """
     r = np.minimum(radius, 2.0)
-    h = max(float(np.median(r)) if cell is None else float(cell), 2.0 / max_cells)
+    h = max(float(np.median(r)), 2.0 / max_cells)
     n = int(math.ceil(2.0 / h)) + 1
     c = np.ascontiguousarray(centres, np.float64)
     lo = np.clip(np.floor((c - r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
