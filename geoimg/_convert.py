@@ -198,7 +198,7 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
         (relative to the bounding-box diagonal), with a warning when the image is far from the mesh (below
         :data:`POOR_PSNR_DB` or above :data:`POOR_HAUSDORFF`); and the map's L2 stretch and starved share
         (:func:`geoimg.parametrization.map_stretch`) into ``metadata["map_stretch"]`` and
-        ``metadata["starved"]``. A sphere map's stages (``info["stages"]``) go into ``metadata["map_stages"]``
+        ``metadata["starved"]``. The map's stages (``info["stages"]``) go into ``metadata["map_stages"]``
         either way.
 
     Returns
@@ -259,7 +259,7 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
     image.metadata["source"] = source
     image.metadata["parametrization"] = parametrization.method
     stages = parametrization.info.get("stages")
-    if stages:                                   # a sphere map's chain: which stages ran, the folds each left
+    if stages:              # a sphere map: which stages ran, the folds each left; a disk or cut map: its start
         image.metadata["map_stages"] = "; ".join(stages)
     normal = parametrization.info.get("normal")
     if normal is not None:                       # a terrain's up axis, for pictures

@@ -17,6 +17,13 @@ from ._domain import Domain
 __all__ = ["CutDomain"]
 
 
+def _to_segment(points: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
+    """Distance of each of ``points`` (K, 2) to the segment from ``p0`` to ``p1``."""
+    d = p1 - p0
+    along = np.clip((points - p0) @ d / max(float(d @ d), 1e-300), 0.0, 1.0)
+    return np.linalg.norm(points - (p0 + along[:, None] * d), axis=1)
+
+
 @dataclass(frozen=True)
 class CutDomain(Domain):
     """The unit square whose boundary is glued to itself along a cut (Gu, Gortler & Hoppe 2002): the
@@ -214,17 +221,35 @@ class CutDomain(Domain):
             (p0, p1), (q0, q1) = perimeter_point([a, b], self.quantum), perimeter_point([ta, tb], self.quantum)
             ds, dt = p1 - p0, q1 - q0
             length2 = float(dt @ dt)
-            along = np.clip((c - q0) @ dt / max(length2, 1e-300), 0.0, 1.0)
-            dist[k] = np.linalg.norm(c - (q0 + along[:, None] * dt), axis=1)    # to the twin piece
+            along = (c - q0) @ dt / max(length2, 1e-300)
+            dist[k] = np.linalg.norm(c - (q0 + np.clip(along, 0.0, 1.0)[:, None] * dt), axis=1)   # to the twin piece
+            # a face off the twin piece's ends is not across this piece: its copy would land beside the
+            # perimeter's next stretch (the mesh's own rim, another cut), pulling those pixels off the surface
+            dist[k][(along < 0.0) | (along > 1.0)] = np.inf
             cos, sin = (dt @ ds) / max(length2, 1e-300), (dt[0] * ds[1] - dt[1] * ds[0]) / max(length2, 1e-300)
             R = np.array([[cos, -sin], [sin, cos]])
             maps.append((R, p0 - R @ q0))
         nearest = np.argmin(dist, axis=0)
+        rims = [perimeter_point([a, b], self.quantum) for a, b in self._rim_pieces()]
         out = []
         for k, (R, b) in enumerate(maps):
             take = np.flatnonzero((nearest == k) & (dist[k] < reach))
+            if len(take) and rims:        # no copy may reach the mesh's own rim: its pixels are on the surface
+                moved = c[take] @ R.T + b
+                to_rim = np.min([_to_segment(moved, p0, p1) for p0, p1 in rims], axis=0)
+                take = take[to_rim >= reach[take]]
             if len(take):
                 out.append((take, R, b))
+        return out
+
+    def _rim_pieces(self):
+        """Straight pieces ``(a, b)`` (perimeter positions, quanta) of the mesh's own boundary."""
+        q = self.quantum
+        out = []
+        for start, length, t in self.segments:
+            if t < 0:
+                cuts = sorted({start, start + length} | {c for c in range(q, 4 * q, q) if start < c < start + length})
+                out.extend(zip(cuts[:-1], cuts[1:]))
         return out
 
     def pad(self, array: np.ndarray, width: int) -> np.ndarray:

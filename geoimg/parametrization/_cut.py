@@ -13,8 +13,9 @@ one onto the unit square.
    one side of a cut has an exact twin pixel on the other (see :class:`geoimg.image.CutDomain`).
 3. Edges that join two boundary vertices across the disk's interior would lie along a side of the
    square and flatten their faces: they are split at their midpoints (the new vertices are interior).
-4. The interior follows from Floater's mean-value coordinates (positive weights and a convex boundary,
-   so no triangle folds over), then from the area balancing of the disk and sphere maps (or libigl's
+4. The interior follows from positive weights and a convex boundary, so no triangle folds over (Floater's
+   mean-value weights and Tutte's uniform ones, each relaxed, the better kept: see
+   :func:`._disk.planar_interior`), relaxed by the area balancing of the disk and sphere maps (or libigl's
    SLIM, ``balance="slim"``), which keeps every triangle the right way round, the boundary held in place.
 """
 from __future__ import annotations
@@ -29,8 +30,7 @@ from .._choices import DEFAULT_DISK_BALANCE, DISK_BALANCES
 from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
-from ._disk import relax_planar
-from ._laplacian import mean_value_weights, solve_free
+from ._disk import planar_interior
 
 __all__ = ["cut_coords", "layout_quanta", "perimeter_point", "QUANTA_PER_SIDE"]
 
@@ -393,17 +393,11 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str =
         t[edges] = seg_start[s] + quanta[s] * rel / span
     v, f, source, weight, loop, t, n_corners = _split_at_corners(v, f, source, weight, loop, t, quanta_per_side)
     disk = Mesh(v, f)
-    coords = np.zeros((len(v), 2))
-    coords[loop] = perimeter_point(t, quanta_per_side)
-    free = np.setdiff1d(np.arange(len(v)), loop)
-    if len(free):
-        coords[free] = solve_free(mean_value_weights(v, f), loop, coords[loop], free)
-        coords, steps = relax_planar(v, f, coords, loop, balance, progress=progress)   # boundary held: twins stay twins
-    else:
-        steps = 0
+    # the boundary held: twins stay twins
+    coords, relaxed = planar_interior(v, f, loop, perimeter_point(t, quanta_per_side), balance, progress=progress)
     layout = {"quantum": int(quanta_per_side),
               "segments": [[int(a), int(b), int(c)] for a, b, c in zip(seg_start, quanta, twin)]}
     info = {"cut_paths": len(cuts), "cut_length": float(sum(lengths[twin[seg_of_edge] >= 0]) / 2),
             "chords_split": int(n_chords), "corners_split": int(n_corners), "segments": len(starts),
-            "balance": balance, "balance_steps": steps, "slim_steps": steps if balance == "slim" else 0}
+            **relaxed}
     return disk, coords, (source, weight), layout, info

@@ -19,6 +19,7 @@ __all__ = [
     "vertex_areas",
     "vertex_shares",
     "mean_value_weights",
+    "uniform_weights",
     "cotangent_weights",
     "corner_angles",
     "corner_cotangents",
@@ -83,6 +84,23 @@ def mean_value_weights(vertices: np.ndarray, tris: np.ndarray) -> sparse.csr_mat
     cols = np.concatenate([j_next, j_prev])
     vals = np.concatenate([t / np.maximum(l_next.ravel(), _TINY), t / np.maximum(l_prev.ravel(), _TINY)])
     return sparse.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+
+def uniform_weights(tris: np.ndarray, n: int) -> sparse.csr_matrix:
+    """Tutte's weights: 1 for every edge of the triangles ``tris`` among ``n`` vertices (symmetric).
+
+    The map they give depends on the mesh's connectivity alone, so a fan of long thin CAD triangles is not
+    squeezed the way angle-based weights squeeze it.
+
+    Examples
+    --------
+    >>> uniform_weights(np.array([[0, 1, 2], [0, 2, 3]]), 4).toarray().tolist()
+    [[0.0, 1.0, 1.0, 1.0], [1.0, 0.0, 1.0, 0.0], [1.0, 1.0, 0.0, 1.0], [1.0, 0.0, 1.0, 0.0]]
+    """
+    i, j = tris.ravel(), np.roll(tris, -1, axis=1).ravel()
+    w = sparse.csr_matrix((np.ones(2 * len(i)), (np.concatenate([i, j]), np.concatenate([j, i]))), shape=(n, n))
+    w.data[:] = 1.0                          # an edge of two triangles was summed twice
+    return w
 
 
 def cotangent_weights(vertices: np.ndarray, tris: np.ndarray, floor: float = 1e-3) -> sparse.csr_matrix:

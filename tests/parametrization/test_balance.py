@@ -218,16 +218,22 @@ def test_the_step_kernels_match_numpy():
 
 
 def test_disk_and_cut_maps_report_their_balancing_as_it_goes():
+    from geoimg.parametrization._disk import START_WEIGHTS
     for mesh, method in ((meshes.finger(rows=10), "disk"), (meshes.torus_grid(24, 12, 1.0, 0.3), "cut")):
         heard: list = []
         p = geoimg.parametrize(mesh, method, progress=heard.append)
         assert p.info["balance_steps"] > 0 and heard
-        steps = [m for m in heard if m.startswith("area balancing step")]
-        sweeps = [m for m in heard if m.endswith("single-vertex sweeps")]
-        assert len(steps) + len(sweeps) == len(heard)
-        # the balancing, then PLANAR_SWEEP_ROUNDS times sweeps and the balancing again, each heard from
-        assert len(sweeps) == PLANAR_SWEEP_ROUNDS and heard.index(sweeps[0]) > 0
-        assert len(steps) >= p.info["balance_steps"] // 10
+        counted = {}
+        for start in START_WEIGHTS:                  # each start is relaxed, and heard from, in turn
+            mine = [m[len(start) + 8:] for m in heard if m.startswith(f"{start} start: ")]
+            steps = [m for m in mine if m.startswith("area balancing step")]
+            sweeps = [m for m in mine if m.endswith("single-vertex sweeps")]
+            assert len(steps) + len(sweeps) == len(mine) and steps
+            # the balancing, then PLANAR_SWEEP_ROUNDS times sweeps and the balancing again, each heard from
+            assert len(sweeps) == PLANAR_SWEEP_ROUNDS and mine.index(sweeps[0]) > 0
+            counted[start] = len(steps)
+        assert sum(m.startswith(f"{s} start: ") for s in START_WEIGHTS for m in heard) == len(heard)
+        assert counted[p.info["start"]] >= p.info["balance_steps"] // 10
 
 
 def test_one_step_rule_for_every_domain():
