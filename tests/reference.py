@@ -180,7 +180,8 @@ def place_numpy(s, v, u, faces, n_changed):
     ends = np.vstack([targets, su + reach * wedge / max(np.sqrt(_fused_dot(wedge, wedge)), 1e-300),
                       su + reach * (np.cos(ang)[:, None] * t1 + np.sin(ang)[:, None] * t2)])
     cand = (su + (ends - su)[:, None, :] * (0.5 ** np.arange(40))[None, :, None]).reshape(-1, 3)
-    cand /= np.linalg.norm(cand, axis=1, keepdims=True)
+    size = np.linalg.norm(cand, axis=1, keepdims=True)
+    cand = np.where(size > 0, cand / np.where(size > 0, size, 1.0), su)    # a candidate at the centre: u itself
     p = np.where((faces == v)[None, :, :, None], cand[:, None, None, :], s[faces][None])     # (cand, face, 3, 3)
     det = (p[..., 0, 0] * (p[..., 1, 1] * p[..., 2, 2] - p[..., 1, 2] * p[..., 2, 1])
            - p[..., 0, 1] * (p[..., 1, 0] * p[..., 2, 2] - p[..., 1, 2] * p[..., 2, 0])

