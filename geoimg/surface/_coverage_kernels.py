@@ -200,12 +200,25 @@ def _kernel(pts, t1, t2, E, K, w, zmin, zmax, floor, order, group_ptr, group_cel
     """
     for g in prange(group_cell.shape[0]):
         members = order[group_ptr[g]:group_ptr[g + 1]]
-        acc = np.zeros((members.shape[0], 12))
+        m = members.shape[0]
+        acc = np.zeros((m, 12))
+        here = np.empty((m, 3))                 # the cell's points side by side
+        for j in range(m):
+            for a in range(3):
+                here[j, a] = pts[members[j], a]
         c = group_cell[g]
         if not force_exact:
             for k in range(ptr[c], ptr[c + 1]):
                 t = cells[k]
-                for j in range(members.shape[0]):
+                # the edge tests of _add, with the triangle's rows held in registers: most candidates end here
+                e00, e01, e02 = E[t, 0, 0], E[t, 0, 1], E[t, 0, 2]
+                e10, e11, e12 = E[t, 1, 0], E[t, 1, 1], E[t, 1, 2]
+                e20, e21, e22 = E[t, 2, 0], E[t, 2, 1], E[t, 2, 2]
+                for j in range(m):
+                    p0, p1, p2 = here[j, 0], here[j, 1], here[j, 2]
+                    if (e00 * p0 + e01 * p1 + e02 * p2) < zmin or (e10 * p0 + e11 * p1 + e12 * p2) < zmin \
+                            or (e20 * p0 + e21 * p1 + e22 * p2) < zmin:
+                        continue
                     i = members[j]
                     _add(t, pts[i], t1[i], t2[i], E, K, w, zmin, zmax, deriv, 0.0, False, WMIN, table, acc[j])
         for j in range(members.shape[0]):
