@@ -297,7 +297,7 @@ def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndar
     """
     free = np.setdiff1d(np.arange(len(v)), loop)
     area3 = triangle_areas(v, f)
-    tries = []
+    tries: list[tuple] = []
     for name in START_WEIGHTS if balance == "area" and len(free) else START_WEIGHTS[:1]:
         start = np.zeros((len(v), 2))
         start[loop] = pos
