@@ -173,16 +173,14 @@ class CutDomain(Domain):
         """Straight pieces of the twinned segments: ``(a, b, a', b')`` perimeter positions (quanta) of a
         piece on one side of a cut and of its twin on the other (``a`` pairs with ``a'``).
         """
-        q = self.quantum
-        corners = np.arange(0, 4 * q + 1, q)
         out = []
         for start, length, t in self.segments:
             if t < 0:
                 continue
             tstart = self.segments[t][0]
             cuts = {0, length}
-            cuts.update(int(c - start) for c in corners if start < c < start + length)
-            cuts.update(int(tstart + length - c) for c in corners if tstart < c < tstart + length)
+            cuts.update(c - start for c in self._corners_within(start, length))
+            cuts.update(tstart + length - c for c in self._corners_within(tstart, length))
             cuts = sorted(cuts)
             for o1, o2 in zip(cuts[:-1], cuts[1:]):
                 out.append((start + o1, start + o2, tstart + length - o1, tstart + length - o2))
@@ -244,13 +242,17 @@ class CutDomain(Domain):
 
     def _rim_pieces(self):
         """Straight pieces ``(a, b)`` (perimeter positions, quanta) of the mesh's own boundary."""
-        q = self.quantum
         out = []
         for start, length, t in self.segments:
             if t < 0:
-                cuts = sorted({start, start + length} | {c for c in range(q, 4 * q, q) if start < c < start + length})
+                cuts = [start, *self._corners_within(start, length), start + length]
                 out.extend(zip(cuts[:-1], cuts[1:]))
         return out
+
+    def _corners_within(self, start: int, length: int) -> list:
+        """The square's corners (perimeter positions, quanta) strictly inside ``start .. start + length``."""
+        q = self.quantum
+        return [c for c in range(q, 4 * q, q) if start < c < start + length]
 
     def pad(self, array: np.ndarray, width: int) -> np.ndarray:
         """Reflected at the mesh's own boundary; across a cut, the pixels inward of the twin, so a filter

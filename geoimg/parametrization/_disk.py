@@ -21,7 +21,7 @@ from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._balance import settle
-from ._laplacian import corner_angles, mean_value_weights, solve_free, triangle_areas, uniform_weights
+from ._laplacian import corner_angles, mean_value_weights, planar_cross, solve_free, triangle_areas, uniform_weights
 from ._slim import area_log_rms, relax
 
 __all__ = ["disk_coords", "relax_planar", "DISK_BOUNDARIES", "DISK_BALANCES"]
@@ -255,8 +255,7 @@ def resampling_error(area3: np.ndarray, uv: np.ndarray, f: np.ndarray, resolutio
     >>> resampling_error(np.ones(2), uv, f), resampling_error(np.array([1.0, 3.0]), uv, f) > 1
     (1.0, True)
     """
-    e1, e2 = uv[f[:, 1]] - uv[f[:, 0]], uv[f[:, 2]] - uv[f[:, 0]]
-    a = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    a = np.abs(planar_cross(uv, f))
     A = area3 / max(float(area3.sum()), 1e-300)
     a = a / max(float(a.sum()), 1e-300)
     ratio = np.minimum(A / np.maximum(a, 1e-300), 2.0 * resolution ** 2 * A)
@@ -265,8 +264,7 @@ def resampling_error(area3: np.ndarray, uv: np.ndarray, f: np.ndarray, resolutio
 
 def _folds(uv: np.ndarray, f: np.ndarray) -> int:
     """Triangles of no area or turned against the majority in the planar map ``uv``."""
-    e1, e2 = uv[f[:, 1]] - uv[f[:, 0]], uv[f[:, 2]] - uv[f[:, 0]]
-    signed = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    signed = planar_cross(uv, f)
     return int(np.sum(signed * (1.0 if signed.sum() >= 0 else -1.0) <= 0))
 
 

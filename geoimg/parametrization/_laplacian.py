@@ -16,6 +16,7 @@ __all__ = [
     "factor_symmetric",
     "laplacian",
     "triangle_areas",
+    "planar_cross",
     "vertex_areas",
     "vertex_shares",
     "mean_value_weights",
@@ -144,6 +145,18 @@ def triangle_areas(vertices: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """Area of each triangle (T,)."""
     p = vertices[tris]
     return 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+
+
+def planar_cross(uv: np.ndarray, tris: np.ndarray) -> np.ndarray:
+    """Twice each triangle's signed area in the plane map ``uv`` (T,): positive counter-clockwise.
+
+    Examples
+    --------
+    >>> planar_cross(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), np.array([[0, 1, 2], [0, 2, 1]])).tolist()
+    [1.0, -1.0]
+    """
+    e1, e2 = uv[tris[:, 1]] - uv[tris[:, 0]], uv[tris[:, 2]] - uv[tris[:, 0]]
+    return e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
 
 
 def vertex_shares(values: np.ndarray, tris: np.ndarray, n: int) -> np.ndarray:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import igl
 import numpy as np
 
-from ._laplacian import triangle_areas
+from ._laplacian import planar_cross, triangle_areas
 
 __all__ = ["relax", "area_log_rms", "SLIM_MAX_STEPS", "SLIM_PROGRESS"]
 
@@ -21,8 +21,7 @@ SLIM_STIFFNESS = 1e11
 
 def area_log_rms(area3: np.ndarray, uv: np.ndarray, f: np.ndarray) -> float:
     """RMS of the log of each triangle's share of the parameter area over its share of the surface area."""
-    e1, e2 = uv[f[:, 1]] - uv[f[:, 0]], uv[f[:, 2]] - uv[f[:, 0]]
-    a2 = np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    a2 = np.abs(planar_cross(uv, f))
     ok = (a2 > 0) & (area3 > 0)
     if not ok.any():                         # no triangle left with an area (a map that has collapsed)
         return float("inf")
@@ -54,10 +53,8 @@ def relax(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray):
             break
         distortion = now
     out[loop] = coords[loop]
-    e1, e2 = out[f[:, 1]] - out[f[:, 0]], out[f[:, 2]] - out[f[:, 0]]
-    b1, b2 = coords[f[:, 1]] - coords[f[:, 0]], coords[f[:, 2]] - coords[f[:, 0]]
-    sign = np.sign(b1[:, 0] * b2[:, 1] - b1[:, 1] * b2[:, 0])
-    if not np.isfinite(out).all() or np.any((e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) * sign <= 0):
+    sign = np.sign(planar_cross(coords, f))
+    if not np.isfinite(out).all() or np.any(planar_cross(out, f) * sign <= 0):
         return coords, 0
     return out, steps
 
