@@ -70,12 +70,12 @@ def _side_of(t: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 
 def _flat_faces(faces_b: np.ndarray, t_of: np.ndarray, corners: np.ndarray) -> int:
-    """Faces whose corners all lie on one side of the square (they would have zero area)."""
+    """Triangles whose corners all lie on one side of the square (they would have zero area)."""
     side, at_corner = _side_of(t_of, corners)
     bad = 0
     for s in range(4):
         on = (side == s) | (at_corner & (side == (s + 1) % 4))
-        bad += int(np.all(on[faces_b] | (faces_b < 0), axis=1).sum())
+        bad += int(np.all(on[faces_b], axis=1).sum())
     return bad
 
 
@@ -101,9 +101,11 @@ def _choose_corners(mesh: Mesh, loop: np.ndarray, arc: np.ndarray, total: float,
         raise ParametrizationError(f"method='disk': the boundary has {n} vertices; four are needed for the corners")
     local = np.full(mesh.n_vertices, -1, np.int64)
     local[loop] = np.arange(n)
-    f = mesh.faces
-    all_bnd = np.all((f < 0) | (local[np.where(f >= 0, f, 0)] >= 0), axis=1)
-    faces_b = np.where(f[all_bnd] >= 0, local[np.where(f[all_bnd] >= 0, f[all_bnd], 0)], -1)
+    # the triangles the map is built on and those the image samples (a polygon whose corners are all on the
+    # boundary is flat in a triangle cut off a straight side, even when its own corners span two sides)
+    tris = np.unique(np.sort(np.concatenate([mesh.triangulate()[0], mesh.triangulate(quads="shorter")[0]]),
+                             axis=1), axis=0)
+    faces_b = local[tris[np.all(local[tris] >= 0, axis=1)]]
     starts = np.unique(np.concatenate([np.argsort(-sharp)[:_CANDIDATE_STARTS // 2],
                                        np.linspace(0, n, _CANDIDATE_STARTS // 2, endpoint=False).astype(int)]))
     best = None

@@ -19,6 +19,7 @@ from ..errors import InputTypeError, ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._cut import cut_coords
 from ._disk import disk_coords
+from ._laplacian import planar_cross
 from ._sphere import sphere_coords
 from .._types import Progress
 
@@ -135,13 +136,21 @@ def signed_face_areas(mesh: Mesh, coords: np.ndarray) -> np.ndarray:
 
 
 def _orientation_report(mesh: Mesh, coords: np.ndarray) -> tuple[int, int, int]:
-    area = signed_face_areas(mesh, coords)
-    scale = np.abs(area).max()
-    degenerate = np.abs(area) <= 1e-14 * max(scale, 1e-300)
+    """``(folded faces, flat faces, majority orientation)`` of a plane map, judged on the triangles the map
+    is built on and those the image samples (fanned, and quads along their shorter diagonal): a polygon can
+    fold inside while its outline turns the right way (a bent pentagon seen from above).
+    """
+    tris, owner = (np.concatenate(t) for t in zip(mesh.triangulate(), mesh.triangulate(quads="shorter")))
+    area = planar_cross(coords, tris)
+    degenerate = np.abs(area) <= 1e-14 * max(np.abs(area).max(), 1e-300)
     pos = int(np.sum(area[~degenerate] > 0))
     neg = int(np.sum(area[~degenerate] < 0))
     majority = 1 if pos >= neg else -1
-    return min(pos, neg), int(degenerate.sum()), majority
+    folded = np.zeros(mesh.n_faces, bool)
+    folded[owner[~degenerate & (np.sign(area) == -majority)]] = True
+    flat = np.zeros(mesh.n_faces, bool)
+    flat[owner[degenerate]] = True
+    return int(folded.sum()), int((flat & ~folded).sum()), majority
 
 
 def _normalize(coords: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, tuple, dict]:

@@ -42,6 +42,31 @@ def test_auto_picks_disk_for_a_curved_one_loop_mesh():
     assert parametrize(load_data("mountain.obj")).method == "heightfield"
 
 
+def test_no_triangle_of_a_bent_polygon_is_flattened_onto_one_side_of_the_square():
+    # one bent hexagon, all its corners on the boundary: with corners 2, 3, 4, 5 its fan triangle (0, 1, 2)
+    # had all three on one side of the square (zero area in the image) while the hexagon spanned four
+    v = [[0.7, 0.5, 0.0], [0.2, 1.0, -0.1], [-0.3, 1.0, 0.1], [-1.2, -0.5, 0.6], [-0.4, -0.9, 0.5], [1.4, -0.4, 0.0]]
+    m = Mesh(v, [[0, 1, 2, 3, 4, 5]])
+    p = parametrize(m, "disk")
+    assert p.degenerate_faces == 0 and p.flipped_faces == 0
+    tris = np.concatenate([m.triangulate()[0], m.triangulate(quads="shorter")[0]])
+    e1, e2 = p.coords[tris[:, 1]] - p.coords[tris[:, 0]], p.coords[tris[:, 2]] - p.coords[tris[:, 0]]
+    assert np.all(np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]) > 1e-3)
+
+
+def test_a_bent_pentagon_seen_from_above_folds_so_auto_maps_it_as_a_disk_and_the_image_keeps_its_slope():
+    # trimesh's polygonfaces.obj: a square with a fifth corner raised above one side; projected from above the
+    # raised triangle lies over the square, folded, though the pentagon's outline turns the right way
+    v = [[-5, 0, 5], [5, 0, 5], [5, 0, -5], [-5, 0, -5], [0, 5, -5]]
+    m = Mesh(v, [[0, 1, 2, 3, 4]])
+    with pytest.warns(UserWarning, match="folded"):
+        assert parametrize(m, "heightfield", axis="y").flipped_faces == 1
+    p = parametrize(m)
+    assert p.method == "disk" and p.flipped_faces == 0 and p.degenerate_faces == 0
+    img = geoimg.mesh_to_image(m, resolution=65)
+    assert surface_distance(m, img.to_mesh(), n=20000)["hausdorff_rel"] < 0.01
+
+
 def test_keep_boundary_keeps_a_convex_planar_outline_and_refuses_others():
     v = [[0, 0, 0], [2, 0, 0], [3, 1, 0], [2, 2, 0], [0, 2, 0], [1.2, 1, 0]]
     m = Mesh(v, [[0, 1, 5], [1, 2, 5], [2, 3, 5], [3, 4, 5], [4, 0, 5]])
