@@ -3,6 +3,8 @@ in the *before* manifest, the input, the before image's quad mesh and the after 
 with their status and PSNR (issue 29's "worst five before and after").
 
     python benchmarks/corpus_strip.py BEFORE/manifest.csv AFTER/manifest.csv MODELS -o strip.png [--k 5]
+
+Needs the ``bench`` extra (``pip install -e ".[bench]"``: matplotlib and the renderer).
 """
 from __future__ import annotations
 

@@ -2,8 +2,14 @@
 genus and any number of boundary loops is cut into one topological disk, and the disk is mapped one to
 one onto the unit square.
 
+0. Small holes (at most :data:`SMALL_HOLE_EDGES` edges) are closed first, since each would cost the cut a
+   path: a crack (its two sides one line of points, as the repairs leave where sheets met) is zipped, a
+   pinhole filled with the triangles of least area (Liepa 2003); the image then spans them.
 1. The cut graph is libigl's ``cut_to_disk`` (Gu et al.'s triangle deletion: 2g loops for genus g, paths
-   joining the boundary loops); libigl's ``cut_mesh`` copies the vertices along it.
+   joining the boundary loops); libigl's ``cut_mesh`` copies the vertices along it. When the map (step 4)
+   squeezes a point off the cut, a branch is cut to it along the shortest edge path and the map made
+   again (Gu et al.'s cut augmentation), kept only when it lowers the resampling error by a tenth or more,
+   starves less of the surface and folds nothing more (:data:`AUGMENT_ROUNDS` times at most).
 2. The disk's boundary runs along the cut, each cut path twice (its two sides, in opposite directions),
    and along the mesh's own boundary loops once. It is split into segments at the nodes (the cut
    graph's vertices of degree other than 2). Every segment gets a whole number of "quanta" of the
@@ -20,27 +26,38 @@ one onto the unit square.
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import igl
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
 
 from .._choices import DEFAULT_DISK_BALANCE, DISK_BALANCES
 from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
-from ._disk import planar_interior
+from ._disk import _folds, planar_interior
+from ._laplacian import STARVED_SHARE, planar_cross, triangle_areas
 
 __all__ = ["cut_coords", "layout_quanta", "perimeter_point", "QUANTA_PER_SIDE"]
 
 QUANTA_PER_SIDE = 64
+SMALL_HOLE_EDGES = 8      # a hole of at most this many edges is closed for the map (it would cost a cut path):
+CRACK_GAP = 1e-9          # zipped when its two sides lie this close (share of the bounding diagonal), else
+SMALL_HOLE_AREA = 1e-3    # filled when the fill covers at most this share of the surface
+FILL_QUALITY = 1e-3       # and no fill triangle is flatter than this (4 sqrt(3) area / squared edges)
+AUGMENT_ROUNDS = 4        # at most this many cut branches towards a starved point, each kept when it helps:
+AUGMENT_GAIN = 0.9        # when it lowers the resampling error to this share or less and starves less of the
+                          # surface (smaller gains, or none in starvation, cost fidelity: a CAD plate -1.7 dB)
 
 
-def _cut_open(vertices: np.ndarray, tris: np.ndarray):
-    """The disk mesh (vertices copied along the cut) and each disk vertex's source vertex."""
+def _cut_open(vertices: np.ndarray, tris: np.ndarray, cuts: list):
+    """The disk mesh (vertices copied along the ``cuts``, paths of vertices) and each disk vertex's source
+    vertex.
+    """
     tris = np.ascontiguousarray(tris, np.int64)
-    cuts = igl.cut_to_disk(tris)
     n = len(vertices)
     keys = set()
     for c in cuts:
@@ -51,7 +68,7 @@ def _cut_open(vertices: np.ndarray, tris: np.ndarray):
         a, b = tris[:, k], tris[:, (k + 1) % 3]
         cut[:, k] = np.isin(np.minimum(a, b) * n + np.maximum(a, b), list(keys)) if keys else False
     v, f, source = igl.cut_mesh(np.ascontiguousarray(vertices, np.float64), tris, cut)
-    return np.asarray(v), np.asarray(f, np.int64), np.asarray(source, np.int64), cuts
+    return np.asarray(v), np.asarray(f, np.int64), np.asarray(source, np.int64)
 
 
 def _split_chords(v: np.ndarray, f: np.ndarray, source: np.ndarray, on_boundary: np.ndarray):
@@ -303,6 +320,226 @@ def layout_quanta(segments: int, quanta_per_side: int | None = None) -> int:
     return q
 
 
+class _CutMap(NamedTuple):
+    """One cut's map: what :func:`cut_coords` returns (``result``, sources in the triangles' own numbering),
+    the cut's paths, the map's folded triangles, its :func:`._disk.resampling_error`, the share of the
+    surface it starves (triangles given less than :data:`STARVED_SHARE` of their fair share of the square).
+    """
+
+    result: tuple
+    cuts: list
+    folds: int
+    error: float
+    starved: float
+
+
+def _map_cut(vertices: np.ndarray, tris: np.ndarray, cuts: list, quanta_per_side: int | None, balance: str,
+             progress: Progress | None) -> _CutMap:
+    """Cut the triangles ``vertices, tris`` (every vertex on one) open along ``cuts`` and map the disk onto
+    the square.
+    """
+    v, f, src = _cut_open(vertices, tris, cuts)
+    disk = Mesh(v, f)
+    loops = boundary_loops(disk)
+    if len(loops) != 1:
+        raise ParametrizationError(f"method='cut': cutting gave {topology(disk).describe()}, not one disk")
+    loop = loops[0]
+    on_boundary = np.zeros(len(v), bool)
+    on_boundary[loop] = True
+    v, f, source, n_chords = _split_chords(v, f, src, on_boundary)
+    weight = np.where(source[:, 0] == source[:, 1], 0.0, 0.5)
+    lengths = np.linalg.norm(v[np.roll(loop, -1)] - v[loop], axis=1)
+    starts, twin, seg_len, seg_of_edge = _segments(loop, source[:, 0], lengths)
+    quanta_per_side = layout_quanta(len(starts), quanta_per_side)
+    quanta = _quantize(seg_len, twin, 4 * quanta_per_side)
+    seg_start = np.concatenate([[0], np.cumsum(quanta)[:-1]])
+    # positions along each segment by arc length; a segment and its twin share them, reversed
+    arc = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
+    t = np.empty(len(loop))
+    for s in range(len(starts)):
+        edges = np.flatnonzero(seg_of_edge == s)
+        first = starts[s]
+        rel = (arc[edges] - arc[first]) % max(float(lengths.sum()), 1e-300)
+        span = seg_len[s] if seg_len[s] > 0 else 1.0
+        t[edges] = seg_start[s] + quanta[s] * rel / span
+    v, f, source, weight, loop, t, n_corners = _split_at_corners(v, f, source, weight, loop, t, quanta_per_side)
+    disk = Mesh(v, f)
+    # the boundary held: twins stay twins
+    coords, relaxed = planar_interior(v, f, loop, perimeter_point(t, quanta_per_side), balance, progress=progress)
+    layout = {"quantum": int(quanta_per_side),
+              "segments": [[int(a), int(b), int(c)] for a, b, c in zip(seg_start, quanta, twin)]}
+    info = {"cut_length": float(sum(lengths[twin[seg_of_edge] >= 0]) / 2),
+            "chords_split": int(n_chords), "corners_split": int(n_corners), "segments": len(starts),
+            **relaxed}
+    error = relaxed["start_errors"][relaxed["start"]]
+    a3, a2 = triangle_areas(v, f), np.abs(planar_cross(coords, f))
+    fair = a2 / max(float(a2.sum()), 1e-300) / np.maximum(a3 / max(float(a3.sum()), 1e-300), 1e-300)
+    starved = float(a3[fair < STARVED_SHARE].sum() / max(float(a3.sum()), 1e-300))
+    return _CutMap((disk, coords, (source, weight), layout, info), cuts, _folds(coords, f), error, starved)
+
+
+def _least_area_fill(vertices: np.ndarray, rim: np.ndarray, edges: set) -> np.ndarray | None:
+    """The triangles of least total area that close the polygon ``rim`` (dynamic programming over its
+    diagonals, Liepa 2003), wound as ``rim`` runs: a slit (its two sides one line) closes with triangles of
+    no area, not with two that cover each other. A diagonal that is already an edge (key ``a * n + b``,
+    a < b, in ``edges``) is not drawn; None when no triangulation avoids one.
+    """
+    m, n = len(rim), len(vertices)
+    cost = np.full((m, m), np.inf)
+    split = np.zeros((m, m), np.int64)
+    for i in range(m - 1):
+        cost[i, i + 1] = 0.0
+    for span in range(2, m):
+        for i in range(m - span):
+            j = i + span
+            a, b = sorted((int(rim[i]), int(rim[j])))
+            if span < m - 1 and a * n + b in edges:
+                continue
+            for k in range(i + 1, j):
+                area = 0.5 * float(np.linalg.norm(np.cross(vertices[rim[k]] - vertices[rim[i]],
+                                                           vertices[rim[j]] - vertices[rim[i]])))
+                if cost[i, k] + cost[k, j] + area < cost[i, j]:
+                    cost[i, j], split[i, j] = cost[i, k] + cost[k, j] + area, k
+    if not np.isfinite(cost[0, m - 1]):
+        return None
+    out, todo = [], [(0, m - 1)]
+    while todo:
+        i, j = todo.pop()
+        if j - i < 2:
+            continue
+        k = int(split[i, j])
+        out.append([rim[i], rim[k], rim[j]])
+        todo += [(i, k), (k, j)]
+    return np.array(out, np.int64)
+
+
+def _crack_pairs(vertices: np.ndarray, loop: np.ndarray, gap: float) -> list | None:
+    """When the hole ``loop`` is a crack, its two sides the same line of points (the i-th vertex after one tip
+    within ``gap`` of the i-th before it, up to the other tip), the pairs (kept, welded) that zip it; else
+    None.
+    """
+    m = len(loop)
+    if m % 2 or m < 4:
+        return None
+    i = np.arange(1, m // 2)
+    for tip in range(m // 2):
+        q = np.roll(loop, -tip)
+        if np.all(np.linalg.norm(vertices[q[i]] - vertices[q[m - i]], axis=1) <= gap):
+            return list(zip(q[i].tolist(), q[m - i].tolist()))
+    return None
+
+
+def _fill_quality(vertices: np.ndarray, fill: np.ndarray) -> float:
+    """The worst of the triangles' shape measures, 4 sqrt(3) area over their squared edges (1: equilateral,
+    0: flat).
+    """
+    c = vertices[fill]
+    squares = (np.linalg.norm(c - np.roll(c, 1, axis=1), axis=2) ** 2).sum(1)
+    return float(np.min(4 * np.sqrt(3) * triangle_areas(vertices, fill) / np.maximum(squares, 1e-300)))
+
+
+def _close_small_holes(vertices: np.ndarray, tris: np.ndarray, genus: int) -> tuple:
+    """Close the mesh's small holes (at most :data:`SMALL_HOLE_EDGES` edges) for the map: each would cost the
+    cut a path and the square's perimeter a few quanta, and a scan's cracks (the slits its repairs leave
+    where sheets met) can take half of it. A crack (its sides one line, :data:`CRACK_GAP`) is zipped, its
+    sides' vertices welded; another hole is filled by :func:`_least_area_fill` when the fill covers at
+    most :data:`SMALL_HOLE_AREA` of the surface and no fill triangle is flatter than :data:`FILL_QUALITY`
+    (a flat one would spoil the weights of the map inside). A hole that would repeat an edge or a vertex,
+    or the largest loop of a genus-0 surface (its cut needs one), stays open.
+
+    Returns
+    -------
+    weld : (N,) int64
+        The vertex each vertex becomes (itself, or its twin across a crack).
+    fill : (K, 3) int64
+        Triangles filling holes, oriented as their neighbours (in welded numbering).
+    zipped, filled : int
+        How many cracks were zipped and holes filled.
+    """
+    n = len(vertices)
+    weld = np.arange(n)
+    loops = boundary_loops(Mesh(vertices, tris))
+    if not loops:
+        return weld, np.zeros((0, 3), np.int64), 0, 0
+    edges = set((np.minimum(tris, np.roll(tris, -1, 1)) * n + np.maximum(tris, np.roll(tris, -1, 1))).ravel().tolist())
+    total = float(triangle_areas(vertices, tris).sum())
+    gap = CRACK_GAP * float(np.linalg.norm(np.ptp(vertices, axis=0)))
+    perimeter = [float(np.linalg.norm(vertices[np.roll(L, -1)] - vertices[L], axis=1).sum()) for L in loops]
+    keep_open = int(np.argmax(perimeter)) if genus == 0 else -1
+    fills, zipped = [], 0
+    for k, loop in enumerate(loops):
+        if k == keep_open or len(loop) > SMALL_HOLE_EDGES or len(np.unique(loop)) < len(loop):
+            continue
+        pairs = _crack_pairs(vertices, loop, gap)
+        if pairs is not None:
+            trial = weld.copy()
+            for kept, welded in pairs:
+                trial[welded] = kept
+            if _welds_cleanly(trial, tris):
+                weld, zipped = trial, zipped + 1
+            continue
+        fill = _least_area_fill(vertices, loop[::-1], edges)     # against the loop: the way the neighbours run
+        if fill is None or triangle_areas(vertices, fill).sum() > SMALL_HOLE_AREA * total or \
+                _fill_quality(vertices, fill) < FILL_QUALITY:
+            continue
+        fills.append(fill)
+    fill = weld[np.concatenate(fills)] if fills else np.zeros((0, 3), np.int64)
+    keep = (fill[:, 0] != fill[:, 1]) & (fill[:, 1] != fill[:, 2]) & (fill[:, 2] != fill[:, 0])
+    return weld, fill[keep], zipped, len(fills)
+
+
+def _welds_cleanly(weld: np.ndarray, tris: np.ndarray) -> bool:
+    """Whether welding (``weld``: each vertex's new number) keeps every triangle whole and the mesh manifold."""
+    w = weld[tris]
+    if np.any((w[:, 0] == w[:, 1]) | (w[:, 1] == w[:, 2]) | (w[:, 2] == w[:, 0])):
+        return False
+    t = topology(Mesh(np.zeros((len(weld), 3)), w))
+    return t.nonmanifold_edges == 0 and t.nonmanifold_vertices == 0
+
+
+def _led(progress: Progress, lead: str) -> Progress:
+    """``progress`` with every message led by ``lead``."""
+    return lambda msg: progress(lead + msg)
+
+
+def _shares(x: np.ndarray) -> np.ndarray:
+    """``x`` over its sum."""
+    return np.asarray(x, np.float64) / max(float(x.sum()), 1e-300)
+
+
+def _path_to_worst(vertices: np.ndarray, tris: np.ndarray, cut: _CutMap) -> np.ndarray | None:
+    """The shortest path along the mesh's edges from the cut (or the mesh's boundary) to the vertex the map
+    squeezes most (its triangles' share of the square against their share of the surface), when that is a
+    starved vertex (below :data:`._stretch.STARVED_SHARE`) off the cut; else None (Gu et al. 2002, 3.2).
+    """
+    disk, coords, (source, weight), _, _ = cut.result
+    f = disk.faces
+    a3 = triangle_areas(disk.vertices, f)
+    a2 = np.abs(planar_cross(coords, f))
+    own = source[:, 0] == source[:, 1]               # copies of the input's vertices (not midpoints)
+    n = len(vertices)
+    corner = np.where(own[f], source[f, 0], n)       # midpoints count to a dummy vertex n
+    share3, share2 = (_shares(np.bincount(corner.ravel(), np.repeat(a, 3), minlength=n + 1)[:n]) for a in (a3, a2))
+    on_cut = np.zeros(n, bool)
+    on_cut[source[boundary_loops(disk)[0], 0]] = True
+    fair = np.where(on_cut | (share3 <= 0), np.inf, share2 / np.maximum(share3, 1e-300))
+    worst = int(np.argmin(fair))
+    if not fair[worst] < STARVED_SHARE:
+        return None
+    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
+    length = np.linalg.norm(vertices[e[:, 0]] - vertices[e[:, 1]], axis=1)
+    keep = length > 1e-9 * max(float(length.max()), 1e-300)     # no edge of no length (a boundary edge of none)
+    graph = coo_matrix((length[keep], (e[keep, 0], e[keep, 1])), shape=(n, n)).tocsr()
+    _, pred, origin = dijkstra(graph, directed=False, indices=np.flatnonzero(on_cut), min_only=True,
+                               return_predecessors=True)
+    if origin[worst] < 0:
+        return None
+    path = [worst]
+    while not on_cut[path[-1]]:
+        path.append(int(pred[path[-1]]))
+    return np.array(path[::-1], np.int64)
+
+
 def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str = DEFAULT_DISK_BALANCE,
                progress: Progress | None = None) -> tuple:
     """Cut a manifold, oriented, connected mesh into a disk and map it onto the unit square.
@@ -337,10 +574,12 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str =
         perimeter, counter-clockwise from (0, 0); ``twin`` is the segment on the other side of the cut, -1
         for the mesh's own boundary.
     info : dict
-        ``cut_paths``, ``cut_length`` (3-D), ``chords_split``, ``segments``, ``balance`` and
-        ``balance_steps``: the mean-value map inside is relaxed with the boundary held, by area balancing
-        (``balance="area"``, the default), SLIM (``"slim"``) or not (``"none"``); ``progress`` hears from the
-        area balancing every ten steps.
+        ``cut_paths`` (libigl's), ``cut_branches`` (grown towards squeezed points), ``cut_errors`` (the
+        resampling error of each cut tried, the first libigl's), ``cracks_zipped``, ``holes_filled`` and
+        ``fill_faces`` (the triangles added), ``cut_length`` (3-D), ``chords_split``, ``segments``,
+        ``balance`` and ``balance_steps``: the mean-value map inside is relaxed with the boundary held, by
+        area balancing (``balance="area"``, the default), SLIM (``"slim"``) or not (``"none"``); ``progress``
+        hears from the area balancing every ten steps.
 
     Raises
     ------
@@ -363,41 +602,37 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str =
     if balance not in DISK_BALANCES:
         raise ParametrizationError(f"balance: expected one of {DISK_BALANCES}, got {balance!r}")
     tris, _ = mesh.triangulate()
-    used = np.unique(tris)
+    weld, fill, zipped, filled = _close_small_holes(mesh.vertices, tris, topology(mesh).genus or 0)
+    tris = np.concatenate([weld[tris], fill])
+    used = np.unique(tris)          # a crack's welded side, and any vertex on no triangle, leave
     remap = np.full(mesh.n_vertices, -1, np.int64)
     remap[used] = np.arange(len(used))
-    v, f, src, cuts = _cut_open(mesh.vertices[used], remap[tris])
-    src = used[src]
-    disk = Mesh(v, f)
-    loops = boundary_loops(disk)
-    if len(loops) != 1:
-        raise ParametrizationError(f"method='cut': cutting gave {topology(disk).describe()}, not one disk")
-    loop = loops[0]
-    on_boundary = np.zeros(len(v), bool)
-    on_boundary[loop] = True
-    v, f, source, n_chords = _split_chords(v, f, src, on_boundary)
-    weight = np.where(source[:, 0] == source[:, 1], 0.0, 0.5)
-    lengths = np.linalg.norm(v[np.roll(loop, -1)] - v[loop], axis=1)
-    starts, twin, seg_len, seg_of_edge = _segments(loop, source[:, 0], lengths)
-    quanta_per_side = layout_quanta(len(starts), quanta_per_side)
-    quanta = _quantize(seg_len, twin, 4 * quanta_per_side)
-    seg_start = np.concatenate([[0], np.cumsum(quanta)[:-1]])
-    # positions along each segment by arc length; a segment and its twin share them, reversed
-    arc = np.concatenate([[0.0], np.cumsum(lengths)[:-1]])
-    t = np.empty(len(loop))
-    for s in range(len(starts)):
-        edges = np.flatnonzero(seg_of_edge == s)
-        first = starts[s]
-        rel = (arc[edges] - arc[first]) % max(float(lengths.sum()), 1e-300)
-        span = seg_len[s] if seg_len[s] > 0 else 1.0
-        t[edges] = seg_start[s] + quanta[s] * rel / span
-    v, f, source, weight, loop, t, n_corners = _split_at_corners(v, f, source, weight, loop, t, quanta_per_side)
-    disk = Mesh(v, f)
-    # the boundary held: twins stay twins
-    coords, relaxed = planar_interior(v, f, loop, perimeter_point(t, quanta_per_side), balance, progress=progress)
-    layout = {"quantum": int(quanta_per_side),
-              "segments": [[int(a), int(b), int(c)] for a, b, c in zip(seg_start, quanta, twin)]}
-    info = {"cut_paths": len(cuts), "cut_length": float(sum(lengths[twin[seg_of_edge] >= 0]) / 2),
-            "chords_split": int(n_chords), "corners_split": int(n_corners), "segments": len(starts),
-            **relaxed}
+    vertices, tris = mesh.vertices[used], remap[tris]
+    cuts = [np.asarray(c, np.int64) for c in igl.cut_to_disk(np.ascontiguousarray(tris, np.int64))]
+    best = _map_cut(vertices, tris, cuts, quanta_per_side, balance, progress)
+    errors = [best.error]
+    for _ in range(AUGMENT_ROUNDS if balance == "area" else 0):
+        path = _path_to_worst(vertices, tris, best)
+        if path is None:
+            break
+        heard = None if progress is None else _led(progress, f"cut {len(errors) + 1}: ")
+        trial = _map_cut(vertices, tris, best.cuts + [path], quanta_per_side, balance, heard)
+        errors.append(trial.error)
+        if trial.folds > best.folds or not trial.error <= AUGMENT_GAIN * best.error or \
+                not trial.starved < best.starved:
+            break
+        best = trial
+    disk, coords, (source, weight), layout, info = best.result
+    source = used[source]
+    info.update(cut_paths=len(cuts), cut_branches=len(best.cuts) - len(cuts), cut_errors=errors,
+                cracks_zipped=zipped, holes_filled=filled, fill_faces=int(len(fill)))
+    closed = [f"zipped {zipped} crack{'s' * (zipped > 1)}"] * bool(zipped) + \
+        [f"filled {filled} small hole{'s' * (filled > 1)}"] * bool(filled)
+    if closed:
+        info["stages"] = [" and ".join(closed) + f" (at most {SMALL_HOLE_EDGES} edges; the image spans them)"] + \
+            info["stages"]
+    if len(errors) > 1:
+        info["stages"] = info["stages"] + [f"cut towards the most squeezed point {len(best.cuts) - len(cuts)} of "
+                                           f"{len(errors) - 1} times (resampling error "
+                                           + " -> ".join(f"{e:.3g}" for e in errors) + ")"]
     return disk, coords, (source, weight), layout, info

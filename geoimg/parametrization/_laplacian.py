@@ -28,6 +28,7 @@ __all__ = [
 ]
 
 _TINY = 1e-300
+STARVED_SHARE = 0.25     # a triangle given less than this share of its fair parameter area is starved
 
 
 def _corners(vertices: np.ndarray, tris: np.ndarray):

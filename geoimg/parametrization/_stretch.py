@@ -8,11 +8,11 @@ import numpy as np
 
 from ..errors import InputTypeError
 from ..mesh import Mesh
+from ._laplacian import STARVED_SHARE
 from ._parametrize import Parametrization
 
 __all__ = ["map_stretch", "STARVED_SHARE"]
 
-STARVED_SHARE = 0.25     # a triangle given less than this share of its fair parameter area is starved
 
 
 def _frame_coords(p: np.ndarray) -> np.ndarray:
