@@ -457,41 +457,63 @@ def _close_small_holes(vertices: np.ndarray, tris: np.ndarray, genus: int) -> tu
         How many cracks were zipped and holes filled.
     """
     n = len(vertices)
-    weld = np.arange(n)
     loops = boundary_loops(Mesh(vertices, tris))
     if not loops:
-        return weld, np.zeros((0, 3), np.int64), 0, 0
+        return np.arange(n), np.zeros((0, 3), np.int64), 0, 0
     edges = set((np.minimum(tris, np.roll(tris, -1, 1)) * n + np.maximum(tris, np.roll(tris, -1, 1))).ravel().tolist())
     total = float(triangle_areas(vertices, tris).sum())
     gap = CRACK_GAP * float(np.linalg.norm(np.ptp(vertices, axis=0)))
     perimeter = [float(np.linalg.norm(vertices[np.roll(L, -1)] - vertices[L], axis=1).sum()) for L in loops]
     keep_open = int(np.argmax(perimeter)) if genus == 0 else -1
-    fills, zipped = [], 0
+    fills, cracks = [], []
     for k, loop in enumerate(loops):
         if k == keep_open or len(loop) > SMALL_HOLE_EDGES or len(np.unique(loop)) < len(loop):
             continue
         pairs = _crack_pairs(vertices, loop, gap)
         if pairs is not None:
-            trial = weld.copy()
-            for kept, welded in pairs:
-                trial[welded] = kept
-            if _welds_cleanly(trial, tris):
-                weld, zipped = trial, zipped + 1
+            cracks.append(np.array(pairs, np.int64))
             continue
         fill = _least_area_fill(vertices, loop[::-1], edges)     # against the loop: the way the neighbours run
         if fill is None or triangle_areas(vertices, fill).sum() > SMALL_HOLE_AREA * total or \
                 _fill_quality(vertices, fill) < FILL_QUALITY:
             continue
         fills.append(fill)
+    weld, zipped = _zip(n, tris, cracks)
     fill = weld[np.concatenate(fills)] if fills else np.zeros((0, 3), np.int64)
-    keep = (fill[:, 0] != fill[:, 1]) & (fill[:, 1] != fill[:, 2]) & (fill[:, 2] != fill[:, 0])
-    return weld, fill[keep], zipped, len(fills)
+    return weld, fill[~_crushed(fill)], zipped, len(fills)
+
+
+def _zip(n: int, tris: np.ndarray, cracks: list) -> tuple[np.ndarray, int]:
+    """The weld (each of the ``n`` vertices' new number) that zips the ``cracks`` ((k, 2) pairs (kept,
+    welded) each) and how many it zips: all at once when that keeps the mesh clean (one check), else one by
+    one, each kept when it does.
+    """
+    weld = np.arange(n)
+    if not cracks:
+        return weld, 0
+    every = weld.copy()
+    for pairs in cracks:
+        every[pairs[:, 1]] = pairs[:, 0]
+    if _welds_cleanly(every, tris):
+        return every, len(cracks)
+    zipped = 0
+    for pairs in cracks:
+        trial = weld.copy()
+        trial[pairs[:, 1]] = pairs[:, 0]
+        if _welds_cleanly(trial, tris):
+            weld, zipped = trial, zipped + 1
+    return weld, zipped
+
+
+def _crushed(tris: np.ndarray) -> np.ndarray:
+    """Which triangles repeat a vertex."""
+    return (tris[:, 0] == tris[:, 1]) | (tris[:, 1] == tris[:, 2]) | (tris[:, 2] == tris[:, 0])
 
 
 def _welds_cleanly(weld: np.ndarray, tris: np.ndarray) -> bool:
     """Whether welding (``weld``: each vertex's new number) keeps every triangle whole and the mesh manifold."""
     w = weld[tris]
-    if np.any((w[:, 0] == w[:, 1]) | (w[:, 1] == w[:, 2]) | (w[:, 2] == w[:, 0])):
+    if np.any(_crushed(w)):
         return False
     t = topology(Mesh(np.zeros((len(weld), 3)), w))
     return t.nonmanifold_edges == 0 and t.nonmanifold_vertices == 0

@@ -8,7 +8,7 @@ import geoimg.parametrization._cut as cut_module
 from geoimg.mesh import boundary_loops, topology
 from geoimg.parametrization import cut_coords
 from geoimg.parametrization._cut import (_close_small_holes, _crack_pairs, _fill_quality, _least_area_fill,
-                                         _path_to_worst, _welds_cleanly)
+                                         _path_to_worst, _welds_cleanly, _zip)
 from geoimg.parametrization._laplacian import triangle_areas
 
 import meshes
@@ -58,6 +58,16 @@ def test_a_weld_that_would_crush_a_triangle_is_refused():
     tris = np.array([[0, 1, 2], [0, 2, 3]])
     assert _welds_cleanly(np.arange(4), tris)
     assert not _welds_cleanly(np.array([0, 1, 1, 3]), tris)
+
+
+def test_cracks_that_cannot_all_be_zipped_are_zipped_one_by_one():
+    tris = np.array([[0, 1, 2], [3, 4, 5]])
+    crushing, clean = np.array([[0, 1]]), np.array([[5, 6]])     # (kept, welded): 1 onto 0 crushes a triangle
+    weld, zipped = _zip(7, tris, [crushing, clean])
+    assert zipped == 1 and weld.tolist() == [0, 1, 2, 3, 4, 5, 5]
+    weld, zipped = _zip(7, tris, [clean])
+    assert zipped == 1 and weld.tolist() == [0, 1, 2, 3, 4, 5, 5]
+    assert _zip(7, tris, [])[1] == 0
 
 
 def cracked_torus(n_major=24, n_minor=12):
