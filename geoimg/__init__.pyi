@@ -8,9 +8,9 @@ from .errors import (GeoimgError as GeoimgError, ImageError as ImageError, Image
     ParametrizationError as ParametrizationError, RenderError as RenderError, ResourceError as ResourceError)
 from .mesh import (Mesh as Mesh, grid_mesh as grid_mesh, load_mesh as load_mesh, save_mesh as save_mesh)
 from .parametrization import (Parametrization as Parametrization, parametrize as parametrize)
-from .image import (CutDomain as CutDomain, Domain as Domain, GeometryImage as GeometryImage,
-    OctahedralDomain as OctahedralDomain, PlanarDomain as PlanarDomain, grid_normals as grid_normals,
-    load_image as load_image, save_image as save_image, save_preview as save_preview)
+from .image import (ChartsDomain as ChartsDomain, CutDomain as CutDomain, Domain as Domain,
+    GeometryImage as GeometryImage, OctahedralDomain as OctahedralDomain, PlanarDomain as PlanarDomain,
+    grid_normals as grid_normals, load_image as load_image, save_image as save_image, save_preview as save_preview)
 from .surface import (Surface as Surface, fit_surface as fit_surface)
 from ._convert import (mesh_to_image as mesh_to_image, mesh_to_images as mesh_to_images)
 from ._options import ConversionOptions as ConversionOptions

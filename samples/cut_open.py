@@ -34,7 +34,7 @@ def image_picture(image: geoimg.GeometryImage, size: int) -> np.ndarray:
     rgb = np.round((p - p.min((0, 1))) / np.ptp(p, axis=(0, 1)) * 255).astype(np.uint8)
     d = image.domain
     n = image.shape[0]
-    per = d._perimeter_pixels(n)
+    per = geoimg.image.perimeter_pixels(n)
     scale = (n - 1) // d.quantum
     colour = 0
     for k, (_start, _length, twin) in enumerate(d.segments):

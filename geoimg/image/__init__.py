@@ -10,6 +10,8 @@ from ._domain import DOMAIN_KINDS, Domain, grid_normals
 from ._planar_domain import PlanarDomain
 from ._octahedral_domain import OctahedralDomain
 from ._cut_domain import CutDomain
+from ._charts_domain import ChartsDomain
+from ._perimeter import perimeter_pixels
 from ._image import DEFAULT_PAD, EXR_LAYOUTS, GeometryImage
 from ._io import (
     ASSUMABLE_DOMAINS,
@@ -32,6 +34,8 @@ __all__ = [
     "ASSUMABLE_DOMAINS",
     "DOMAIN_KINDS",
     "CutDomain",
+    "ChartsDomain",
+    "perimeter_pixels",
     "Domain",
     "OctahedralDomain",
     "PlanarDomain",

@@ -13,15 +13,9 @@ from ..errors import ImageError
 from ..parametrization import perimeter_point
 
 from ._domain import Domain
+from ._perimeter import copy_across, ghost_copies, perimeter_pixels, perimeter_sides
 
 __all__ = ["CutDomain"]
-
-
-def _to_segment(points: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
-    """Distance of each of ``points`` (K, 2) to the segment from ``p0`` to ``p1``."""
-    d = p1 - p0
-    along = np.clip((points - p0) @ d / max(float(d @ d), 1e-300), 0.0, 1.0)
-    return np.linalg.norm(points - (p0 + along[:, None] * d), axis=1)
 
 
 @dataclass(frozen=True)
@@ -134,15 +128,6 @@ class CutDomain(Domain):
         return (f"a cut-open image is N x N with N - 1 a multiple of {self.quantum} (the two sides of the cut pair "
                 "up pixel for pixel)")
 
-    def _perimeter_pixels(self, n: int) -> np.ndarray:
-        """Flat pixel index of each perimeter position 0 .. 4 (n - 1) (the last one is pixel 0 again)."""
-        m = n - 1
-        t = np.arange(4 * m + 1)
-        side, f = np.minimum(t // m, 3), t - np.minimum(t // m, 3) * m
-        row = np.choose(side, [np.zeros_like(f), f, np.full_like(f, m), m - f])
-        col = np.choose(side, [f, np.full_like(f, m), m - f, np.zeros_like(f)])
-        return row * n + col
-
     def _twin_pairs(self, n: int):
         """Perimeter positions ``(p, p')`` of twin pixels (both directions), in pixels."""
         scale = (n - 1) // self.quantum
@@ -160,7 +145,7 @@ class CutDomain(Domain):
     def _make_glue(self, shape):
         self.check_shape(shape)
         n = shape[0]
-        per = self._perimeter_pixels(n)
+        per = perimeter_pixels(n)
         p, q = self._twin_pairs(n)
         rows, cols = per[p], per[q]
         graph = sparse.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n * n, n * n))
@@ -208,37 +193,11 @@ class CutDomain(Domain):
         >>> CutDomain(segments=((0, 256, -1),)).ghosts(np.full((1, 2), 0.5), np.full(1, 0.01))
         []
         """
-        c = np.asarray(centres, np.float64)
         reach = np.minimum(np.asarray(reach, np.float64), 0.5)
-        pieces = self._pieces()
-        if not pieces:
-            return []
-        dist = np.empty((len(pieces), len(c)))
-        maps = []
-        for k, (a, b, ta, tb) in enumerate(pieces):
-            (p0, p1), (q0, q1) = perimeter_point([a, b], self.quantum), perimeter_point([ta, tb], self.quantum)
-            ds, dt = p1 - p0, q1 - q0
-            length2 = float(dt @ dt)
-            along = (c - q0) @ dt / max(length2, 1e-300)
-            dist[k] = np.linalg.norm(c - (q0 + np.clip(along, 0.0, 1.0)[:, None] * dt), axis=1)   # to the twin piece
-            # a face off the twin piece's ends is not across this piece: its copy would land beside the
-            # perimeter's next stretch (the mesh's own rim, another cut), pulling those pixels off the surface
-            dist[k][(along < 0.0) | (along > 1.0)] = np.inf
-            cos, sin = (dt @ ds) / max(length2, 1e-300), (dt[0] * ds[1] - dt[1] * ds[0]) / max(length2, 1e-300)
-            R = np.array([[cos, -sin], [sin, cos]])
-            maps.append((R, p0 - R @ q0))
-        nearest = np.argmin(dist, axis=0)
+        pieces = [(perimeter_point([a, b], self.quantum), perimeter_point([ta, tb], self.quantum))
+                  for a, b, ta, tb in self._pieces()]
         rims = [perimeter_point([a, b], self.quantum) for a, b in self._rim_pieces()]
-        out = []
-        for k, (R, b) in enumerate(maps):
-            take = np.flatnonzero((nearest == k) & (dist[k] < reach))
-            if len(take) and rims:        # no copy may reach the mesh's own rim: its pixels are on the surface
-                moved = c[take] @ R.T + b
-                to_rim = np.min([_to_segment(moved, p0, p1) for p0, p1 in rims], axis=0)
-                take = take[to_rim >= reach[take]]
-            if len(take):
-                out.append((take, R, b))
-        return out
+        return ghost_copies(centres, reach, pieces, rims)
 
     def _rim_pieces(self):
         """Straight pieces ``(a, b)`` (perimeter positions, quanta) of the mesh's own boundary."""
@@ -282,17 +241,9 @@ class CutDomain(Domain):
         n = a.shape[0]
         m = n - 1
         p, q = self._twin_pairs(n)
-        inward = np.array([[1, 0], [0, -1], [-1, 0], [0, 1]])     # (row, col) steps into the image, by side
-        per = self._perimeter_pixels(n)
-        side_p, side_q = np.minimum(p // m, 3), np.minimum(q // m, 3)
         keep = (p % m != 0) & (q % m != 0)          # corners have two sides: leave them reflected
-        p, q, side_p, side_q = p[keep], q[keep], side_p[keep], side_q[keep]
-        rp, cp = per[p] // n, per[p] % n
-        rq, cq = per[q] // n, per[q] % n
-        for k in range(1, width + 1):
-            src_r = np.clip(rq + k * inward[side_q, 0], 0, m)
-            src_c = np.clip(cq + k * inward[side_q, 1], 0, m)
-            dst_r = rp - k * inward[side_p, 0] + width
-            dst_c = cp - k * inward[side_p, 1] + width
-            out[dst_r, dst_c] = a[src_r, src_c]
+        p, q = p[keep], q[keep]
+        per = perimeter_pixels(n)
+        copy_across(out, a, (per[p] // n, per[p] % n, perimeter_sides(p, n)),
+                    (per[q] // n, per[q] % n, perimeter_sides(q, n)), np.full(len(p), width), width)
         return out

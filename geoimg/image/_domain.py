@@ -101,6 +101,9 @@ class Domain(ABC):
     rotations : bool (class attribute)
         Whether the parameter space can turn onto itself (the sphere), so that two images can be
         aligned by a rotation of it.
+    coverage_only : bool (class attribute)
+        Whether only the coverage weights can sample it: the paper's Gaussians reach from one chart across
+        the gutter into the next.
 
     Examples
     --------
@@ -115,6 +118,7 @@ class Domain(ABC):
     extension: ClassVar[str] = "linear"
     parameter_dim: ClassVar[int] = 2
     rotations: ClassVar[bool] = False
+    coverage_only: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)

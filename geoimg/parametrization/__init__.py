@@ -7,6 +7,7 @@ the octahedral map that unfolds the sphere onto a square.
 """
 from ._parametrize import AXES, PARAMETRIZATION_METHODS, Parametrization, parametrize, signed_face_areas
 from ._cut import QUANTA_PER_SIDE, cut_coords, layout_quanta, perimeter_point
+from ._charts import chart_coords, layout_extent, tile_points
 from ._disk import DISK_BALANCES, DISK_BOUNDARIES, disk_coords
 from ._sphere import sphere_coords
 from ._octahedral import area_ratio, grid_directions, sphere_to_square, square_jacobian, square_to_sphere
@@ -15,6 +16,9 @@ from ._stretch import STARVED_SHARE, map_stretch
 __all__ = [
     "QUANTA_PER_SIDE",
     "cut_coords",
+    "chart_coords",
+    "layout_extent",
+    "tile_points",
     "layout_quanta",
     "perimeter_point",
     "AXES",

@@ -598,7 +598,8 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str =
     info : dict
         ``cut_paths`` (libigl's), ``cut_branches`` (grown towards squeezed points), ``cut_errors`` (the
         resampling error of each cut tried, the first libigl's), ``cracks_zipped``, ``holes_filled`` and
-        ``fill_faces`` (the triangles added), ``cut_length`` (3-D), ``chords_split``, ``segments``,
+        ``fill_faces`` (the triangles added), ``starved_share`` (of the surface, given less than
+        :data:`STARVED_SHARE` of its fair share of the square), ``cut_length`` (3-D), ``chords_split``, ``segments``,
         ``balance`` and ``balance_steps``: the mean-value map inside is relaxed with the boundary held, by
         area balancing (``balance="area"``, the default), SLIM (``"slim"``) or not (``"none"``); ``progress``
         hears from the area balancing every ten steps.
@@ -647,7 +648,7 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str =
     disk, coords, (source, weight), layout, info = best.result
     source = used[source]
     info.update(cut_paths=len(cuts), cut_branches=len(best.cuts) - len(cuts), cut_errors=errors,
-                cracks_zipped=zipped, holes_filled=filled, fill_faces=int(len(fill)))
+                cracks_zipped=zipped, holes_filled=filled, fill_faces=int(len(fill)), starved_share=best.starved)
     closed = [f"zipped {zipped} crack{'s' * (zipped > 1)}"] * bool(zipped) + \
         [f"filled {filled} small hole{'s' * (filled > 1)}"] * bool(filled)
     if closed:

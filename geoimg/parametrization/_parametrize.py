@@ -17,6 +17,7 @@ from scipy.spatial import ConvexHull
 from .._choices import AXES, DEFAULT_DISK_BALANCE, PARAMETRIZATION_METHODS
 from ..errors import InputTypeError, ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
+from ._charts import DEFAULT_CHARTS, chart_coords, layout_extent
 from ._cut import cut_coords
 from ._disk import disk_coords
 from ._laplacian import planar_cross
@@ -27,11 +28,13 @@ __all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATI
 
 _AXES = {"x": 0, "y": 1, "z": 2}
 SNAP_DEGREES = 15.0
+CHARTS_WHEN_STARVED = 0.5  # auto tries charts where one cut-open chart starves more than this share of the surface
 MAX_OUTLINE_GAP = 0.25     # auto takes a height field or the mesh's UVs only when the outline fills its hull this well
 COORD_DIMS = {
     "planar": 2,
     "octahedral": 3,
     "cut": 2,
+    "charts": 2,
 }  # a parametrization's domain kind -> per-vertex coordinates: (u, v), unit vectors
 
 
@@ -247,6 +250,8 @@ def _by_method(mesh: Mesh, method: str, axis, boundary, balance, progress, topo=
         return Parametrization(coords, (1.0, 1.0), "octahedral", "sphere", info["flipped_triangles"], 0, info)
     if method == "cut":
         return _cut(mesh, topo, balance, progress)
+    if method == "charts":
+        return _charts(mesh, topo, balance, progress)
     if method == "disk":
         raw, info = disk_coords(mesh, boundary, balance, progress=progress)
     elif method == "uv":
@@ -296,22 +301,67 @@ def _by_method(mesh: Mesh, method: str, axis, boundary, balance, progress, topo=
     return Parametrization(coords, extent, "planar", method, flipped, degenerate, info)
 
 
-def _cut(mesh: Mesh, topo=None, balance: str = DEFAULT_DISK_BALANCE,
-         progress: Progress | None = None) -> Parametrization:
+def _one_manifold_piece(mesh: Mesh, method: str, topo=None):
+    """The mesh's topology, or an error when it is not one manifold piece."""
     topo = topology(mesh) if topo is None else topo
     if not (topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0):
-        raise ParametrizationError(f"method='cut' needs one manifold piece; the mesh is a {topo.describe()}: "
+        raise ParametrizationError(f"method={method!r} needs one manifold piece; the mesh is a {topo.describe()}: "
                                    "geoimg.mesh.repair splits it (geoimg.mesh_to_images does so itself)")
-    if topo.closed and topo.genus == 0:
-        raise ParametrizationError("method='cut': a closed genus-0 mesh has nothing to cut; use method='sphere'")
-    disk, coords, (source, weight), layout, info = cut_coords(mesh, balance=balance, progress=progress)
+    return topo
+
+
+def _cut_open(mesh: Mesh, method: str, topo, coords_of, balance: str, progress,
+              extent_of=lambda layout: (1.0, 1.0)) -> Parametrization:
+    """A parametrization whose method cuts the mesh open (``coords_of`` returns its cut mesh, coordinates,
+    sources, the domain's fields and info; ``extent_of`` the parameter rectangle from those fields).
+    """
+    disk, coords, (source, weight), layout, info = coords_of(mesh, balance=balance, progress=progress)
     flipped, degenerate, majority = _orientation_report(disk, coords)
     info.update(orientation=majority, genus=topo.genus, boundary_loops=topo.boundary_loops)
     if flipped:
-        warnings.warn(f"parametrize('cut'): {flipped} of {disk.n_faces} faces are folded over in (u, v); the map "
-                      "is not one-to-one there", stacklevel=3)
-    return Parametrization(coords, (1.0, 1.0), "cut", "cut", flipped, degenerate, info, mesh=disk, source=source,
-                           source_weight=weight, domain_fields=layout)
+        warnings.warn(f"parametrize({method!r}): {flipped} of {disk.n_faces} faces are folded over in (u, v); the "
+                      "map is not one-to-one there", stacklevel=4)
+    return Parametrization(coords, extent_of(layout), method, method, flipped, degenerate, info, mesh=disk,
+                           source=source, source_weight=weight, domain_fields=layout)
+
+
+def _cut(mesh: Mesh, topo=None, balance: str = DEFAULT_DISK_BALANCE,
+         progress: Progress | None = None) -> Parametrization:
+    topo = _one_manifold_piece(mesh, "cut", topo)
+    if topo.closed and topo.genus == 0:
+        raise ParametrizationError("method='cut': a closed genus-0 mesh has nothing to cut; use method='sphere'")
+    return _cut_open(mesh, "cut", topo, cut_coords, balance, progress)
+
+
+def _charts(mesh: Mesh, topo=None, balance: str = DEFAULT_DISK_BALANCE,
+            progress: Progress | None = None, charts: int = DEFAULT_CHARTS) -> Parametrization:
+    topo = _one_manifold_piece(mesh, "charts", topo)
+    return _cut_open(mesh, "charts", topo, lambda m, **kw: chart_coords(m, charts=charts, **kw), balance, progress,
+                     layout_extent)
+
+
+def _starved_cut_to_charts(mesh: Mesh, cut: Parametrization, topo, balance: str, progress) -> Parametrization:
+    """``cut``, or the multi-chart map when one chart starves more than :data:`CHARTS_WHEN_STARVED` of the
+    surface and the charts starve less (trimesh's ``fixed_top.ply``, a ring gear of genus 7: 58 % -> 28 %,
+    38.8 -> 62.8 dB at 257^2).
+    """
+    starved = cut.info.get("starved_share", 0.0)
+    if starved <= CHARTS_WHEN_STARVED:
+        return cut
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            charts = _charts(mesh, topo, balance, progress)
+        except ParametrizationError as e:
+            cut.info["stages"] = cut.info.get("stages", []) + [f"charts tried, not kept ({e})"]
+            return cut
+    if charts.flipped_faces <= cut.flipped_faces and charts.info["starved_share"] < starved:
+        charts.info["stages"] = [f"one cut-open chart starved {100 * starved:.0f} % of the surface: multi-chart "
+                                 f"map taken ({100 * charts.info['starved_share']:.0f} %)"] + charts.info["stages"]
+        return charts
+    cut.info["stages"] = cut.info.get("stages", []) + [
+        f"charts tried, not kept (starved {100 * charts.info['starved_share']:.0f} %)"]
+    return cut
 
 
 def _check_area(mesh: Mesh) -> None:
@@ -367,7 +417,7 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, balance: str, progress) -
         return _by_method(mesh, "sphere", None, boundary, balance, progress)
     manifold = topo.components == 1 and topo.nonmanifold_edges == 0 and topo.nonmanifold_vertices == 0
     if manifold and axis is None and topo.genus is not None:
-        return _cut(mesh, topo, balance, progress)
+        return _starved_cut_to_charts(mesh, _cut(mesh, topo, balance, progress), topo, balance, progress)
     if topo.components > 1:
         advice = (f"a parametrization is of one piece: split the {topo.components} components "
                   "(geoimg.mesh.repair; geoimg.mesh_to_images converts each)")

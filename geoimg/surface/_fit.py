@@ -131,6 +131,9 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
         raise InputError(f"tol: expected a number in [0, 1), got {tol!r}")
     domain = Domain.from_metadata(param.domain, {"extent": param.extent, **param.domain_fields,
                                                  "orientation": int(param.info.get("orientation", 1))})
+    if domain.coverage_only and weights != "coverage":
+        raise InputError(f"weights={weights!r}: a {domain.kind} image is sampled with weights='coverage' only (the "
+                         "paper's weights reach from one chart across the gutter into the next)")
     if weights == "coverage":
         return fit_coverage_surface(mesh, param.coords, domain, check_s(s), tol=float(tol))
     s, s_face, s_map = _smoothness(s, mesh.n_faces)

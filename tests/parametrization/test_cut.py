@@ -256,7 +256,8 @@ def test_the_rim_of_a_cut_open_part_stays_on_its_surface():
     scale = (n - 1) // d.quantum
     rim = np.concatenate([np.arange(a * scale, (a + k) * scale + 1) for a, k, t in d.segments if t < 0])
     assert len(rim) > 100
-    pixels = image.pixels.reshape(-1, 3)[d._perimeter_pixels(n)[rim]].astype(np.float64)
+    from geoimg.image._perimeter import perimeter_pixels
+    pixels = image.pixels.reshape(-1, 3)[perimeter_pixels(n)[rim]].astype(np.float64)
     diag = float(np.linalg.norm(np.ptp(part.vertices, axis=0)))
     assert point_mesh_distance(pixels, part).max() < 1e-5 * diag
     assert image.metadata["psnr_db"] > 60 and image.metadata["hausdorff"] < 0.02

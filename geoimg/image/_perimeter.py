@@ -1,0 +1,115 @@
+"""Squares glued along their perimeters: what the cut-open and the multi-chart domains share.
+
+A square of ``n x n`` pixels has ``4 (n - 1)`` perimeter positions, counter-clockwise from pixel (0, 0)
+along row 0 (:func:`perimeter_pixels`). A stretch of one square's perimeter is glued to a stretch of the
+same or another square's in reverse, so a face near one side is seen beyond the other (:func:`ghost_copies`)
+and a filter reads across it the pixels inward of the other side (:func:`copy_across`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["perimeter_pixels", "perimeter_sides", "INWARD", "ghost_copies", "copy_across"]
+
+INWARD = np.array([[1, 0], [0, -1], [-1, 0], [0, 1]])     # (row, col) step into a square, by side
+
+
+def perimeter_pixels(n: int) -> np.ndarray:
+    """Flat pixel index (in an ``n x n`` square) of each perimeter position 0 .. 4 (n - 1) (the last one is
+    pixel 0 again).
+
+    Examples
+    --------
+    >>> perimeter_pixels(3).tolist()
+    [0, 1, 2, 5, 8, 7, 6, 3, 0]
+    """
+    m = n - 1
+    t = np.arange(4 * m + 1)
+    side, f = np.minimum(t // m, 3), t - np.minimum(t // m, 3) * m
+    row = np.choose(side, [np.zeros_like(f), f, np.full_like(f, m), m - f])
+    col = np.choose(side, [f, np.full_like(f, m), m - f, np.zeros_like(f)])
+    return row * n + col
+
+
+def perimeter_sides(t: np.ndarray, n: int) -> np.ndarray:
+    """The side (0: row 0, 1: last column, 2: last row, 3: column 0) of perimeter positions ``t`` (pixels)."""
+    return np.minimum(np.asarray(t) // (n - 1), 3)
+
+
+def _to_segment(points: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:
+    """Distance of each of ``points`` (K, 2) to the segment from ``p0`` to ``p1``."""
+    d = p1 - p0
+    along = np.clip((points - p0) @ d / max(float(d @ d), 1e-300), 0.0, 1.0)
+    return np.linalg.norm(points - (p0 + along[:, None] * d), axis=1)
+
+
+def ghost_copies(centres: np.ndarray, reach: np.ndarray, pieces: list, rims: list) -> list:
+    """Across each glued straight piece, the faces near its twin, turned and moved rigidly onto this piece's
+    outside: ``(face indices, R, b)`` per piece that takes any. Each face goes with the piece whose twin is
+    nearest to it (a face off the twin's ends goes with none: its copy would land beside the perimeter's next
+    stretch), if its ``reach`` gets there; no copy may come within its reach of a ``rim`` (the mesh's own
+    boundary: its pixels are on the surface).
+
+    Parameters
+    ----------
+    centres : numpy.ndarray
+        (F, 2) the faces' parametric centres.
+    reach : numpy.ndarray
+        (F,) how far each face's weights reach.
+    pieces : list
+        ``((p0, p1), (q0, q1))`` per piece: its ends and its twin's, ``p0`` glued to ``q0``.
+    rims : list
+        ``(p0, p1)`` per straight piece of the mesh's own boundary.
+
+    Returns
+    -------
+    list
+        ``(face indices, R (2, 2), b (2,))`` per copy.
+
+    Examples
+    --------
+    >>> one = ((np.array([0.0, 0.0]), np.array([1.0, 0.0])), (np.array([1.0, 1.0]), np.array([0.0, 1.0])))
+    >>> [(k.tolist(), b.tolist()) for k, R, b in ghost_copies(np.array([[0.5, 0.9]]), np.ones(1), [one], [])]
+    [([0], [1.0, 1.0])]
+    """
+    c = np.asarray(centres, np.float64)
+    if not pieces:
+        return []
+    dist = np.empty((len(pieces), len(c)))
+    maps = []
+    for k, ((p0, p1), (q0, q1)) in enumerate(pieces):
+        ds, dt = p1 - p0, q1 - q0
+        length2 = float(dt @ dt)
+        along = (c - q0) @ dt / max(length2, 1e-300)
+        dist[k] = np.linalg.norm(c - (q0 + np.clip(along, 0.0, 1.0)[:, None] * dt), axis=1)   # to the twin piece
+        dist[k][(along < 0.0) | (along > 1.0)] = np.inf
+        cos, sin = (dt @ ds) / max(length2, 1e-300), (dt[0] * ds[1] - dt[1] * ds[0]) / max(length2, 1e-300)
+        R = np.array([[cos, -sin], [sin, cos]])
+        maps.append((R, p0 - R @ q0))
+    nearest = np.argmin(dist, axis=0)
+    out = []
+    for k, (R, b) in enumerate(maps):
+        take = np.flatnonzero((nearest == k) & (dist[k] < reach))
+        if len(take) and rims:
+            moved = c[take] @ R.T + b
+            to_rim = np.min([_to_segment(moved, p0, p1) for p0, p1 in rims], axis=0)
+            take = take[to_rim >= reach[take]]
+        if len(take):
+            out.append((take, R, b))
+    return out
+
+
+def copy_across(out: np.ndarray, a: np.ndarray, dst: tuple, src: tuple, steps: np.ndarray, offset: int) -> None:
+    """Write into ``out`` (``a`` padded by ``offset``) beyond each glued perimeter pixel the pixels inward of
+    its twin: ``dst = (rows, cols, sides)`` of the pixels (in ``a``) and the side each is on, ``src`` the
+    same of their twins; pixel ``k`` steps out ``1 .. steps[k]`` from its side.
+    """
+    (rp, cp, side_p), (rq, cq, side_q) = dst, src
+    H, W = a.shape[:2]
+    for k in range(1, int(steps.max(initial=0)) + 1):
+        go = steps >= k
+        src_r = np.clip(rq[go] + k * INWARD[side_q[go], 0], 0, H - 1)
+        src_c = np.clip(cq[go] + k * INWARD[side_q[go], 1], 0, W - 1)
+        dst_r = rp[go] - k * INWARD[side_p[go], 0] + offset
+        dst_c = cp[go] - k * INWARD[side_p[go], 1] + offset
+        out[dst_r, dst_c] = a[src_r, src_c]
