@@ -5,11 +5,13 @@ a square of its own. One chart for a surface of high genus starves most of it (a
 open gives 83 % of its area less than a quarter of its fair share of the square); charts of about equal
 area, each a disc, do not.
 
-1. **Charts** grow from seeds over the faces' dual graph, each face joining the seed nearest to it, an edge
-   across a crease costing more (:data:`CREASE_COST`), so that borders follow creases. The seeds start
-   farthest apart and move to their charts' centres (:data:`LLOYD_ROUNDS`). A chart that is not a disc
-   (it goes round a handle or a hole, or touches itself at a vertex) gets a second seed at its face
-   farthest from the first, and the charts grow again.
+1. **Charts** grow from seeds over the faces' dual graph, each face joining the seed nearest to it. The
+   seeds start farthest apart and move to their charts' centres (:data:`LLOYD_ROUNDS`). A chart that is
+   not a disc (it goes round a handle or a hole) is cut open along the edges of libigl's cut graph inside
+   it and the charts grow again; one with no such edge left gets a second seed at its face farthest from
+   the first. (Growing on the surface alone, with no cut, split the ring gear ``fixed_top.ply`` into 112 to
+   232 charts before all were discs; growing on the whole cut-open disc made every chart's border a comb of
+   slits.)
 2. **Borders**: each chart's boundary loop is split into segments where the chart beyond it changes (or
    the mesh's own boundary begins or ends). Every segment gets a whole number of quanta of its tile's
    perimeter (``4 Q``), a border's two sides the same number, every tile's segments summing to ``4 Q``: a
@@ -81,13 +83,16 @@ def layout_extent(layout: dict) -> tuple[float, float]:
 def weld_defects(segments, quantum: int, tiles: int, scale: int) -> int:
     """How many perimeter edges of a layout of square charts (``segments``: ``(tile, start, length, twin)`` in
     quanta) would not weld into a manifold quad mesh on an image of ``scale`` pixels per quantum: an edge whose
-    two ends are glued into one vertex, or more than two edges glued into one (a border of one quantum beside
-    its own twin's neighbour at ``scale = 1``).
+    two ends are glued into one vertex, more than two edges glued into one (a border of one quantum beside
+    its own twin's neighbour at ``scale = 1``), or a square's corner whose two sides are glued there (the tip
+    of a slit at a corner folds the corner's quad onto itself).
 
     Examples
     --------
-    >>> weld_defects([(0, 0, 16, 1), (1, 0, 16, 0)], 4, 2, 1), weld_defects([(0, 0, 8, 1), (0, 8, 8, 0)], 4, 1, 1)
-    (0, 0)
+    >>> weld_defects([(0, 0, 16, 1), (1, 0, 16, 0)], 4, 2, 1)         # two squares glued round their rims
+    0
+    >>> weld_defects([(0, 0, 8, 1), (0, 8, 8, 0)], 4, 1, 2)           # one square folded: tips at two corners
+    2
     """
     per = 4 * quantum * scale
     a, b = [], []
@@ -110,7 +115,9 @@ def weld_defects(segments, quantum: int, tiles: int, scale: int) -> int:
     x, y = group[i], group[j]
     collapsed = int(np.sum(x == y))
     _, counts = np.unique(np.minimum(x, y)[x != y] * n + np.maximum(x, y)[x != y], return_counts=True)
-    return collapsed + int(np.sum(counts[counts > 2]))
+    base, corner = used[:, None] * per, np.arange(0, per, quantum * scale)     # a slit's tip at a corner folds
+    folded = int(np.sum(group[base + (corner - 1) % per] == group[base + (corner + 1) % per]))   # its quad
+    return collapsed + int(np.sum(counts[counts > 2])) + folded
 
 
 def _dual_graph(vertices: np.ndarray, tris: np.ndarray):
@@ -367,6 +374,17 @@ def _quantize(lengths: list, borders: list, quanta: int) -> list:
             for c, segs in enumerate(borders)]
 
 
+def _first_segment(segs: list, quanta: list, c: int, q: int) -> int:
+    """The segment of chart ``c`` to lay out from the square's corner (0, 0): the first that puts no slit's
+    tip (where a segment meets its own twin) on a corner of the square (its quad would fold onto itself)."""
+    start = np.concatenate([[0], np.cumsum(quanta)[:-1]])
+    tips = [s for s, (_, _, twin) in enumerate(segs) if twin == (c, (s - 1) % len(segs))]
+    if not tips:
+        return 0
+    worst = [int(np.sum((start[tips] - start[r]) % q == 0)) for r in range(len(segs))]
+    return int(np.argmin(worst))
+
+
 def chart_coords(mesh: Mesh, *, charts: int = DEFAULT_CHARTS, balance: str = DEFAULT_DISK_BALANCE,
                  progress: Progress | None = None) -> tuple:
     """Split a manifold, oriented, connected mesh into disc charts and map each onto a square of its own.
@@ -449,6 +467,12 @@ def chart_coords(mesh: Mesh, *, charts: int = DEFAULT_CHARTS, balance: str = DEF
     columns = int(np.ceil(np.sqrt(k)))
     rows = int(np.ceil(k / columns))
     offsets = np.cumsum([0] + [len(s) for s in borders])
+    first = [_first_segment(segs, quanta[c], c, q) for c, segs in enumerate(borders)]
+
+    def index(c: int, s: int) -> int:
+        """The global index of chart ``c``'s segment ``s``, its segments numbered from ``first[c]``."""
+        return int(offsets[c] + (s - first[c]) % len(borders[c]))
+
     segments, out_v, out_f, out_uv, out_src, out_w, errors, starved = [], [], [], [], [], [], [], []
     base = 0
     for c, ((ids, f, loop), segs) in enumerate(zip(pieces, borders)):
@@ -461,12 +485,13 @@ def chart_coords(mesh: Mesh, *, charts: int = DEFAULT_CHARTS, balance: str = DEF
         edge = np.linalg.norm(v[loop[(np.arange(n) + 1) % n]] - v[loop], axis=1)
         t = np.empty(n)
         start = 0
-        for s, (a, length, twin) in enumerate(segs):
+        for s in np.roll(np.arange(len(segs)), -first[c]).tolist():
+            a, length, twin = segs[s]
             span = max(lengths[c][s], 1e-300)
             run = (a + np.arange(length)) % n
             arc = np.concatenate([[0.0], np.cumsum(edge[run])[:-1]])
             t[run] = start + quanta[c][s] * arc / span
-            segments.append([c, start, quanta[c][s], -1 if twin is None else int(offsets[twin[0]] + twin[1])])
+            segments.append([c, start, quanta[c][s], -1 if twin is None else index(*twin)])
             start += quanta[c][s]
         v, f, src, weight, loop, t, _ = _split_at_corners(v, f, src, weight, loop, t, q)
         heard = None if progress is None else (lambda msg, c=c: progress(f"chart {c + 1} of {k}: {msg}"))
