@@ -376,7 +376,8 @@ def _quantize(lengths: list, borders: list, quanta: int) -> list:
 
 def _first_segment(segs: list, quanta: list, c: int, q: int) -> int:
     """The segment of chart ``c`` to lay out from the square's corner (0, 0): the first that puts no slit's
-    tip (where a segment meets its own twin) on a corner of the square (its quad would fold onto itself)."""
+    tip (where a segment meets its own twin) on a corner of the square (its quad would fold onto itself).
+    """
     start = np.concatenate([[0], np.cumsum(quanta)[:-1]])
     tips = [s for s, (_, _, twin) in enumerate(segs) if twin == (c, (s - 1) % len(segs))]
     if not tips:
