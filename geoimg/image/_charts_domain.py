@@ -119,6 +119,16 @@ class ChartsDomain(Domain):
     def same_kind(self, other: Domain) -> bool:
         """Multi-chart images pair up pixel for pixel only when laid out alike.
 
+        Parameters
+        ----------
+        other : Domain
+            Another image's domain.
+
+        Returns
+        -------
+        bool
+            Whether they blend pixel for pixel.
+
         Examples
         --------
         >>> d = ChartsDomain(quantum=4, columns=2, segments=((0, 0, 16, 1), (1, 0, 16, 0)))
@@ -131,7 +141,13 @@ class ChartsDomain(Domain):
     # ------------------------------------------------------------------ grid
     @property
     def tiles(self) -> int:
-        """How many tiles the grid has (the charts use the first ones)."""
+        """How many tiles the grid has (the charts use the first ones).
+
+        Examples
+        --------
+        >>> ChartsDomain(quantum=4, columns=2, rows=2, segments=((0, 0, 16, -1),)).tiles
+        4
+        """
         return self.columns * self.rows
 
     def _span(self) -> tuple[int, int]:
@@ -186,6 +202,18 @@ class ChartsDomain(Domain):
 
     def tile_points(self, tile: np.ndarray, uv: np.ndarray) -> np.ndarray:
         """Points ``uv`` (K, 2) of the unit square of each ``tile`` (K,) in the image's parameter space.
+
+        Parameters
+        ----------
+        tile : numpy.ndarray
+            (K,) tile indices.
+        uv : numpy.ndarray
+            (K, 2) points of the unit square.
+
+        Returns
+        -------
+        numpy.ndarray
+            (K, 2) parameter points.
 
         Examples
         --------
@@ -276,6 +304,18 @@ class ChartsDomain(Domain):
         stays within half the gutter of its tile (its centre's distance plus a quarter of its reach, the
         face's own size for the weights that ask), so that nothing of one chart reaches the next tile.
 
+        Parameters
+        ----------
+        centres : numpy.ndarray
+            (F, 2) the faces' parametric centres.
+        reach : numpy.ndarray
+            (F,) how far each face's weights reach.
+
+        Returns
+        -------
+        list
+            ``(face indices, R, b)`` per copy.
+
         Examples
         --------
         >>> d = ChartsDomain(quantum=4, columns=2, segments=((0, 0, 16, 1), (1, 0, 16, 0)))
@@ -304,6 +344,18 @@ class ChartsDomain(Domain):
         half the gutter (or ``width`` at the image's edge), so that a filter sees the surface continue
         across charts.
 
+        Parameters
+        ----------
+        array : numpy.ndarray
+            (H, W) or (H, W, C).
+        width : int
+            Pixels added on each side.
+
+        Returns
+        -------
+        numpy.ndarray
+            The padded array.
+
         Examples
         --------
         >>> d = ChartsDomain(quantum=4, columns=2, segments=((0, 0, 16, 1), (1, 0, 16, 0)))
@@ -331,7 +383,25 @@ class ChartsDomain(Domain):
         return out
 
     def estimate_normals(self, pixels: np.ndarray) -> np.ndarray | None:
-        """Normals from each tile's own grid (never across the gutter)."""
+        """Normals from each tile's own grid (never across the gutter; zero there).
+
+        Parameters
+        ----------
+        pixels : numpy.ndarray
+            (H, W, 3) positions.
+
+        Returns
+        -------
+        numpy.ndarray
+            (H, W, 3) unit normals.
+
+        Examples
+        --------
+        >>> d = ChartsDomain(quantum=4, columns=2, segments=((0, 0, 16, 1), (1, 0, 16, 0)))
+        >>> u, v = np.meshgrid(np.arange(21.0), np.arange(9.0))
+        >>> d.estimate_normals(np.dstack([u, v, 0 * u]))[4, 4].tolist()
+        [0.0, 0.0, 1.0]
+        """
         p = np.asarray(pixels, np.float64)
         out = np.zeros(p.shape[:2] + (3,))
         r0, c0, n = self._origins(p.shape[:2])

@@ -18,6 +18,16 @@ def perimeter_pixels(n: int) -> np.ndarray:
     """Flat pixel index (in an ``n x n`` square) of each perimeter position 0 .. 4 (n - 1) (the last one is
     pixel 0 again).
 
+    Parameters
+    ----------
+    n : int
+        The square's side in pixels.
+
+    Returns
+    -------
+    numpy.ndarray
+        (4 (n - 1) + 1,) flat pixel indices.
+
     Examples
     --------
     >>> perimeter_pixels(3).tolist()

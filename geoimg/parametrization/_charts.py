@@ -53,6 +53,20 @@ def tile_points(tile: np.ndarray, uv: np.ndarray, quantum: int, columns: int, ro
     """Points ``uv`` (K, 2) of the unit square of each ``tile`` (K,) on a grid of ``columns x rows`` squares of
     ``quantum`` quanta a side, ``gutter`` quanta apart, scaled so that the grid's longer side is 1.
 
+    Parameters
+    ----------
+    tile : numpy.ndarray
+        (K,) tile indices (row by row).
+    uv : numpy.ndarray
+        (K, 2) points of the unit square.
+    quantum, columns, rows, gutter : int
+        The grid's layout.
+
+    Returns
+    -------
+    numpy.ndarray
+        (K, 2) parameter points.
+
     Examples
     --------
     >>> tile_points(np.array([0, 1]), np.array([[0.0, 0.0], [1.0, 1.0]]), 4, 2, 1, 2).tolist()
@@ -68,6 +82,16 @@ def tile_points(tile: np.ndarray, uv: np.ndarray, quantum: int, columns: int, ro
 def layout_extent(layout: dict) -> tuple[float, float]:
     """The parameter rectangle of a grid of squares (``layout``: a :class:`~geoimg.image.ChartsDomain`'s
     fields), its longer side 1.
+
+    Parameters
+    ----------
+    layout : dict
+        ``quantum``, ``columns``, ``rows`` and ``gutter``.
+
+    Returns
+    -------
+    tuple of float
+        (width, height).
 
     Examples
     --------
