@@ -5,16 +5,15 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse.csgraph import connected_components
 
 import filters
 from ..errors import ImageError
-from ..parametrization import perimeter_point
-from ..parametrization._charts import MIN_SCALE, layout_extent, tile_points, weld_defects
+from ..parametrization import perimeter_point, twin_positions
+from ..parametrization._charts import MIN_SCALE, layout_extent, layout_span, tile_points, weld_defects
 
 from ._domain import Domain, grid_normals
-from ._perimeter import copy_across, ghost_copies, perimeter_pixels, perimeter_sides
+from ._perimeter import (copy_across, corners_within, ghost_copies, glue_groups, perimeter_pixels, perimeter_sides,
+                         straight_pieces)
 
 __all__ = ["ChartsDomain"]
 
@@ -152,8 +151,7 @@ class ChartsDomain(Domain):
 
     def _span(self) -> tuple[int, int]:
         """Quanta across and down the layout."""
-        pitch = self.quantum + self.gutter
-        return self.columns * pitch - self.gutter, self.rows * pitch - self.gutter
+        return layout_span(self.quantum, self.columns, self.rows, self.gutter)
 
     @property
     def extent(self) -> tuple:
@@ -170,8 +168,8 @@ class ChartsDomain(Domain):
         across, down = self._span()
         m = (w - 1) // across
         if m < MIN_SCALE or (w - 1) % across or (h - 1) != m * down:
-            raise ImageError(f"pixels: {self.size_rule()} (e.g. {self.grid_shape(self.round_resolution(max(h, w)))[0]}"
-                             f" x {self.grid_shape(self.round_resolution(max(h, w)))[1]}), got {h} x {w}")
+            eh, ew = self.grid_shape(self.round_resolution(max(h, w)))
+            raise ImageError(f"pixels: {self.size_rule()} (e.g. {eh} x {ew}), got {h} x {w}")
 
     def grid_shape(self, resolution: int) -> tuple[int, int]:
         if isinstance(resolution, bool) or not isinstance(resolution, (int, np.integer)) or resolution < 2:
@@ -228,19 +226,7 @@ class ChartsDomain(Domain):
         """``(tile, position)`` of every glued perimeter pixel and of its twin (both directions), positions in
         pixels along the tile's perimeter.
         """
-        scale = (n - 1) // self.quantum
-        out: list = [[], [], [], []]
-        for tile, a, length, t in self.segments:
-            if t < 0:
-                continue
-            j = np.arange(length * scale + 1)
-            out[0].append(np.full(len(j), tile))
-            out[1].append(a * scale + j)
-            out[2].append(np.full(len(j), self.segments[t][0]))
-            out[3].append(self.segments[t][1] * scale + length * scale - j)
-        if not out[0]:
-            return tuple(np.zeros(0, np.int64) for _ in range(4))
-        return tuple(np.concatenate(x) for x in out)
+        return twin_positions(self.segments, (n - 1) // self.quantum)
 
     def _pixel_of(self, shape, tile: np.ndarray, position: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Image (row, column) of perimeter positions (pixels) of tiles."""
@@ -258,17 +244,9 @@ class ChartsDomain(Domain):
         tp, p, tq, q = self._twin_pairs(self._origins(shape)[2])
         rp, cp = self._pixel_of(shape, tp, p)
         rq, cq = self._pixel_of(shape, tq, q)
-        graph = sparse.coo_matrix((np.ones(len(rp)), (rp * W + cp, rq * W + cq)), shape=(H * W, H * W))
-        _, label = connected_components(graph, directed=False)
-        first = np.full(label.max() + 1, H * W, np.int64)
-        np.minimum.at(first, label, np.arange(H * W))
-        return np.unique(first[label], return_inverse=True)
+        return glue_groups(H * W, rp * W + cp, rq * W + cq)
 
     # ------------------------------------------------------------------ the surface beyond a side
-    def _corners_within(self, start: int, length: int) -> list:
-        q = self.quantum
-        return [c for c in range(q, 4 * q, q) if start < c < start + length]
-
     def _tile_point(self, tile: int, t: list) -> np.ndarray:
         return self.tile_points(np.full(len(t), tile), perimeter_point(t, self.quantum))
 
@@ -281,11 +259,7 @@ class ChartsDomain(Domain):
             if t < 0:
                 continue
             ttile, tstart = self.segments[t][0], self.segments[t][1]
-            cuts = {0, length}
-            cuts.update(c - start for c in self._corners_within(start, length))
-            cuts.update(tstart + length - c for c in self._corners_within(tstart, length))
-            cuts_sorted = sorted(cuts)
-            for o1, o2 in zip(cuts_sorted[:-1], cuts_sorted[1:]):
+            for o1, o2 in straight_pieces(start, length, tstart, self.quantum):
                 out.append((tile, (self._tile_point(tile, [start + o1, start + o2]),
                                    self._tile_point(ttile, [tstart + length - o1, tstart + length - o2]))))
         return out
@@ -294,7 +268,7 @@ class ChartsDomain(Domain):
         out: list = []
         for tile, start, length, t in self.segments:
             if t < 0:
-                cuts = [start, *self._corners_within(start, length), start + length]
+                cuts = [start, *corners_within(start, length, self.quantum), start + length]
                 out.extend(self._tile_point(tile, [a, b]) for a, b in zip(cuts[:-1], cuts[1:]))
         return out
 

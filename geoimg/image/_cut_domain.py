@@ -5,15 +5,14 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse.csgraph import connected_components
 
 import filters
 from ..errors import ImageError
-from ..parametrization import perimeter_point
+from ..parametrization import perimeter_point, twin_positions
 
 from ._domain import Domain
-from ._perimeter import copy_across, ghost_copies, perimeter_pixels, perimeter_sides
+from ._perimeter import (copy_across, corners_within, ghost_copies, glue_groups, perimeter_pixels, perimeter_sides,
+                         straight_pieces)
 
 __all__ = ["CutDomain"]
 
@@ -130,29 +129,15 @@ class CutDomain(Domain):
 
     def _twin_pairs(self, n: int):
         """Perimeter positions ``(p, p')`` of twin pixels (both directions), in pixels."""
-        scale = (n - 1) // self.quantum
-        ps, qs = [], []
-        for a, length, t in self.segments:
-            if t < 0:
-                continue
-            j = np.arange(length * scale + 1)
-            ps.append(a * scale + j)
-            qs.append(self.segments[t][0] * scale + length * scale - j)
-        if not ps:
-            return np.zeros(0, np.int64), np.zeros(0, np.int64)
-        return np.concatenate(ps), np.concatenate(qs)
+        _, p, _, q = twin_positions([(0, a, length, t) for a, length, t in self.segments], (n - 1) // self.quantum)
+        return p, q
 
     def _make_glue(self, shape):
         self.check_shape(shape)
         n = shape[0]
         per = perimeter_pixels(n)
         p, q = self._twin_pairs(n)
-        rows, cols = per[p], per[q]
-        graph = sparse.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n * n, n * n))
-        _, label = connected_components(graph, directed=False)
-        first = np.full(label.max() + 1, n * n, np.int64)
-        np.minimum.at(first, label, np.arange(n * n))
-        return np.unique(first[label], return_inverse=True)
+        return glue_groups(n * n, per[p], per[q])
 
     def _pieces(self):
         """Straight pieces of the twinned segments: ``(a, b, a', b')`` perimeter positions (quanta) of a
@@ -163,11 +148,7 @@ class CutDomain(Domain):
             if t < 0:
                 continue
             tstart = self.segments[t][0]
-            cuts = {0, length}
-            cuts.update(c - start for c in self._corners_within(start, length))
-            cuts.update(tstart + length - c for c in self._corners_within(tstart, length))
-            cuts = sorted(cuts)
-            for o1, o2 in zip(cuts[:-1], cuts[1:]):
+            for o1, o2 in straight_pieces(start, length, tstart, self.quantum):
                 out.append((start + o1, start + o2, tstart + length - o1, tstart + length - o2))
         return out
 
@@ -204,14 +185,9 @@ class CutDomain(Domain):
         out = []
         for start, length, t in self.segments:
             if t < 0:
-                cuts = [start, *self._corners_within(start, length), start + length]
+                cuts = [start, *corners_within(start, length, self.quantum), start + length]
                 out.extend(zip(cuts[:-1], cuts[1:]))
         return out
-
-    def _corners_within(self, start: int, length: int) -> list:
-        """The square's corners (perimeter positions, quanta) strictly inside ``start .. start + length``."""
-        q = self.quantum
-        return [c for c in range(q, 4 * q, q) if start < c < start + length]
 
     def pad(self, array: np.ndarray, width: int) -> np.ndarray:
         """Reflected at the mesh's own boundary; across a cut, the pixels inward of the twin, so a filter

@@ -8,8 +8,11 @@ and a filter reads across it the pixels inward of the other side (:func:`copy_ac
 from __future__ import annotations
 
 import numpy as np
+from scipy import sparse
+from scipy.sparse.csgraph import connected_components
 
-__all__ = ["perimeter_pixels", "perimeter_sides", "INWARD", "ghost_copies", "copy_across"]
+__all__ = ["perimeter_pixels", "perimeter_sides", "INWARD", "corners_within", "straight_pieces", "glue_groups",
+           "ghost_copies", "copy_across"]
 
 INWARD = np.array([[1, 0], [0, -1], [-1, 0], [0, 1]])     # (row, col) step into a square, by side
 
@@ -44,6 +47,49 @@ def perimeter_pixels(n: int) -> np.ndarray:
 def perimeter_sides(t: np.ndarray, n: int) -> np.ndarray:
     """The side (0: row 0, 1: last column, 2: last row, 3: column 0) of perimeter positions ``t`` (pixels)."""
     return np.minimum(np.asarray(t) // (n - 1), 3)
+
+
+def corners_within(start: int, length: int, quantum: int) -> list:
+    """The square's corners (perimeter positions, quanta) strictly inside ``start .. start + length``.
+
+    Examples
+    --------
+    >>> corners_within(2, 8, 4)
+    [4, 8]
+    """
+    return [c for c in range(quantum, 4 * quantum, quantum) if start < c < start + length]
+
+
+def straight_pieces(start: int, length: int, twin_start: int, quantum: int) -> list:
+    """A glued segment split where either side turns a corner of its square: ``(o1, o2)`` offsets along it
+    (offset ``o`` is ``start + o`` on this side, ``twin_start + length - o`` on the twin).
+
+    Examples
+    --------
+    >>> straight_pieces(2, 4, 9, 4)      # this side turns at 4, the twin (9 .. 13) at 12
+    [(0, 1), (1, 2), (2, 4)]
+    """
+    cuts = {0, length}
+    cuts.update(c - start for c in corners_within(start, length, quantum))
+    cuts.update(twin_start + length - c for c in corners_within(twin_start, length, quantum))
+    ordered = sorted(cuts)
+    return list(zip(ordered[:-1], ordered[1:]))
+
+
+def glue_groups(size: int, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The glue of ``size`` pixels where pixel ``a[k]`` is pixel ``b[k]`` (flat indices): each group's first
+    pixel and each pixel's group (what :meth:`~geoimg.Domain.glue` returns).
+
+    Examples
+    --------
+    >>> [x.tolist() for x in glue_groups(4, np.array([0, 3]), np.array([2, 2]))]
+    [[0, 1], [0, 1, 0, 0]]
+    """
+    graph = sparse.coo_matrix((np.ones(len(a)), (a, b)), shape=(size, size))
+    _, label = connected_components(graph, directed=False)
+    first = np.full(label.max() + 1, size, np.int64)
+    np.minimum.at(first, label, np.arange(size))
+    return np.unique(first[label], return_inverse=True)
 
 
 def _to_segment(points: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarray:

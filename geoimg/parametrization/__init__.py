@@ -6,7 +6,7 @@ the octahedral map that unfolds the sphere onto a square.
 [[0.0, 0.0, 1.0]]
 """
 from ._parametrize import AXES, PARAMETRIZATION_METHODS, Parametrization, parametrize, signed_face_areas
-from ._cut import QUANTA_PER_SIDE, cut_coords, layout_quanta, perimeter_point
+from ._cut import QUANTA_PER_SIDE, cut_coords, layout_quanta, perimeter_point, twin_positions
 from ._charts import chart_coords, layout_extent, tile_points
 from ._disk import DISK_BALANCES, DISK_BOUNDARIES, disk_coords
 from ._sphere import sphere_coords
@@ -21,6 +21,7 @@ __all__ = [
     "tile_points",
     "layout_quanta",
     "perimeter_point",
+    "twin_positions",
     "AXES",
     "DISK_BALANCES",
     "DISK_BOUNDARIES",

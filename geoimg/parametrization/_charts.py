@@ -34,11 +34,12 @@ from .._choices import DEFAULT_DISK_BALANCE, DISK_BALANCES
 from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
-from ._cut import _close_small_holes, _cut_open, _split_at_corners, _split_chords, perimeter_point
+from ._cut import (_closed_for_map, _split_at_corners, _split_chords, cut_along, edge_keys, perimeter_point,
+                   twin_positions)
 from ._disk import planar_interior
-from ._laplacian import STARVED_SHARE, planar_cross, triangle_areas
+from ._laplacian import planar_cross, starved_share, triangle_areas
 
-__all__ = ["chart_coords", "tile_points", "layout_extent", "segment_charts", "weld_defects", "MIN_SCALE",
+__all__ = ["chart_coords", "tile_points", "layout_extent", "layout_span", "segment_charts", "weld_defects", "MIN_SCALE",
            "CHART_QUANTUM", "CHART_GUTTER", "DEFAULT_CHARTS"]
 
 CHART_QUANTUM = 16        # quanta per side of a chart's square
@@ -47,6 +48,18 @@ DEFAULT_CHARTS = 8        # charts to start from; more where one is not a disc
 MAX_CHARTS = 256
 MIN_SCALE = 2             # pixels per quantum at least: a border of one quantum then has a pixel inside it
 LLOYD_ROUNDS = 3          # seeds moved to their charts' centres this many times
+
+
+def layout_span(quantum: int, columns: int, rows: int, gutter: int) -> tuple[int, int]:
+    """Quanta across and down a grid of ``columns x rows`` squares of ``quantum`` quanta, ``gutter`` apart.
+
+    Examples
+    --------
+    >>> layout_span(4, 2, 1, 2)
+    (10, 4)
+    """
+    pitch = quantum + gutter
+    return columns * pitch - gutter, rows * pitch - gutter
 
 
 def tile_points(tile: np.ndarray, uv: np.ndarray, quantum: int, columns: int, rows: int, gutter: int) -> np.ndarray:
@@ -74,7 +87,7 @@ def tile_points(tile: np.ndarray, uv: np.ndarray, quantum: int, columns: int, ro
     """
     tile = np.asarray(tile, np.int64)
     pitch = quantum + gutter
-    big = max(columns, rows) * pitch - gutter
+    big = max(layout_span(quantum, columns, rows, gutter))
     corner = np.stack([(tile % columns) * pitch, (tile // columns) * pitch], axis=1)
     return (corner + np.asarray(uv, np.float64) * quantum) / big
 
@@ -98,13 +111,12 @@ def layout_extent(layout: dict) -> tuple[float, float]:
     >>> layout_extent({"quantum": 4, "columns": 2, "rows": 1, "gutter": 2})
     (1.0, 0.4)
     """
-    pitch = layout["quantum"] + layout["gutter"]
-    across, down = layout["columns"] * pitch - layout["gutter"], layout["rows"] * pitch - layout["gutter"]
+    across, down = layout_span(layout["quantum"], layout["columns"], layout["rows"], layout["gutter"])
     big = max(across, down)
     return across / big, down / big
 
 
-def weld_defects(segments, quantum: int, tiles: int, scale: int) -> int:
+def weld_defects(segments: list | tuple, quantum: int, tiles: int, scale: int) -> int:
     """How many perimeter edges of a layout of square charts (``segments``: ``(tile, start, length, twin)`` in
     quanta) would not weld into a manifold quad mesh on an image of ``scale`` pixels per quantum: an edge whose
     two ends are glued into one vertex, more than two edges glued into one (a border of one quantum beside
@@ -119,20 +131,10 @@ def weld_defects(segments, quantum: int, tiles: int, scale: int) -> int:
     2
     """
     per = 4 * quantum * scale
-    a, b = [], []
-    for tile, start, length, twin in segments:
-        if twin < 0:
-            continue
-        ttile, tstart = segments[twin][0], segments[twin][1]
-        j = np.arange(length * scale + 1)
-        a.append(tile * per + (start * scale + j) % per)
-        b.append(ttile * per + (tstart * scale + length * scale - j) % per)
+    tp, p, tq, q = twin_positions(segments, scale)
     n = tiles * per
-    if a:
-        _, group = connected_components(coo_matrix((np.ones(sum(map(len, a))), (np.concatenate(a), np.concatenate(b))),
-                                                   shape=(n, n)), directed=False)
-    else:
-        group = np.arange(n)
+    _, group = connected_components(coo_matrix((np.ones(len(p)), (tp * per + p % per, tq * per + q % per)),
+                                               shape=(n, n)), directed=False)
     used = np.unique([s[0] for s in segments])
     i = (used[:, None] * per + np.arange(per)).ravel()
     j = (used[:, None] * per + (np.arange(per) + 1) % per).ravel()
@@ -214,9 +216,7 @@ def _cut_at(vertices: np.ndarray, tris: np.ndarray, keys: set):
     """The triangles cut open along the edges ``keys`` (vertices copied along them) and each vertex's source."""
     if not keys:
         return vertices, tris, np.arange(len(vertices))
-    n = len(vertices)
-    k = np.array(sorted(keys), np.int64)
-    return _cut_open(vertices, tris, [np.array([a, b]) for a, b in zip((k // n).tolist(), (k % n).tolist())])
+    return cut_along(vertices, tris, keys)
 
 
 def segment_charts(vertices: np.ndarray, tris: np.ndarray, charts: int = DEFAULT_CHARTS,
@@ -267,19 +267,18 @@ def segment_charts(vertices: np.ndarray, tris: np.ndarray, charts: int = DEFAULT
             break
         seeds = moved
     cuttable = np.isin(keys, np.array(sorted(cut or ()), np.int64))
-    opened: set = set()
     splits = 0
-    blocked = np.zeros(len(fa), bool)
+    blocked = np.zeros(len(fa), bool)          # dual edges across the cut edges opened so far
+    cut_tris = tris
     while True:
         label, dist = _grow(_without(graph, fa, fb, blocked), seeds)
-        _, cut_tris, _ = _cut_at(vertices, tris, opened)
         bad = [c for c in range(len(seeds)) if not _is_disc(cut_tris[label == c])]
         if not bad:
-            return label.astype(np.int64), splits, opened
+            return label.astype(np.int64), splits, set(keys[blocked].tolist())
         inside = np.isin(label[fa], bad) & (label[fa] == label[fb]) & cuttable & ~blocked
         if inside.any():                       # open the cut inside the charts that are not discs
             blocked |= inside
-            opened |= set(keys[inside].tolist())
+            cut_tris = _cut_at(vertices, tris, set(keys[blocked].tolist()))[1]
             continue
         if len(seeds) + len(bad) > min(MAX_CHARTS, F):
             raise ParametrizationError(f"method='charts': {len(bad)} of {len(seeds)} charts are still not discs; "
@@ -307,16 +306,17 @@ def _borders(charts: list, source: np.ndarray) -> list:
     """Per chart: its boundary loop's segments as ``(first edge, edges, twin (chart, segment) or None)``; an
     edge's twin is the other chart edge on the same input edge (``source``: each vertex's input vertex).
     """
+    edges = []                        # per chart, its loop's edges as input vertex pairs
     owner: dict = {}
     for c, (used, _, loop) in enumerate(charts):
         a, b = source[used[loop]], source[used[np.roll(loop, -1)]]
-        for i, key in enumerate(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist())):
+        edges.append(list(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist())))
+        for i, key in enumerate(edges[c]):
             owner.setdefault(key, []).append((c, i))
     partner = []
-    for c, (used, _, loop) in enumerate(charts):
-        a, b = source[used[loop]], source[used[np.roll(loop, -1)]]
+    for c in range(len(charts)):
         mine = []
-        for i, key in enumerate(zip(np.minimum(a, b).tolist(), np.maximum(a, b).tolist())):
+        for i, key in enumerate(edges[c]):
             other = [x for x in owner[key] if x != (c, i)]
             mine.append(other[0] if other else (-1, -1))
         partner.append(mine)
@@ -362,27 +362,24 @@ def _quantize(lengths: list, borders: list, quanta: int) -> list:
     """Whole numbers of quanta per segment, at least 1, a border's two sides equal, each chart's summing to
     ``quanta``, near each segment's share of its chart's boundary length (``scipy.optimize.milp``).
     """
-    unit: dict = {}
+    unit: dict = {}                  # a border's two sides, or a rim segment -> its unknown
+    unit_of: list = []               # per chart, each segment's unknown
     targets: list = []
     for c, segs in enumerate(borders):
         perimeter = max(float(sum(lengths[c])), 1e-300)
+        unit_of.append([])
         for s, (_, _, twin) in enumerate(segs):
-            share = lengths[c][s] / perimeter * quanta
             key = (c, s) if twin is None or twin > (c, s) else twin
             if key not in unit:
                 unit[key] = len(targets)
                 targets.append([])
-            targets[unit[key]].append(share)
+            targets[unit[key]].append(lengths[c][s] / perimeter * quanta)
+            unit_of[c].append(unit[key])
     u = len(targets)
     t = np.array([np.mean(x) for x in targets])
-    rows, cols, vals = [], [], []
-    for c, segs in enumerate(borders):
-        for s, (_, _, twin) in enumerate(segs):
-            key = (c, s) if twin is None or twin > (c, s) else twin
-            rows.append(c)
-            cols.append(unit[key])
-            vals.append(1.0)
-    A = coo_matrix((vals, (rows, cols)), shape=(len(borders), u)).toarray()
+    rows = [c for c, units in enumerate(unit_of) for _ in units]
+    A = coo_matrix((np.ones(len(rows)), (rows, [x for units in unit_of for x in units])),
+                   shape=(len(borders), u)).toarray()
     eye = np.eye(u)
     constraints = [LinearConstraint(np.hstack([A, np.zeros((len(borders), u))]), quanta, quanta),
                    LinearConstraint(np.hstack([eye, -eye]), -np.inf, t),
@@ -394,8 +391,7 @@ def _quantize(lengths: list, borders: list, quanta: int) -> list:
         raise ParametrizationError("method='charts': the charts' borders cannot be laid out on their squares "
                                    f"(no whole numbers of quanta fit: {res.message})")
     x = np.round(res.x[:u]).astype(int)
-    return [[int(x[unit[(c, s) if twin is None or twin > (c, s) else twin]]) for s, (_, _, twin) in enumerate(segs)]
-            for c, segs in enumerate(borders)]
+    return [[int(x[k]) for k in units] for units in unit_of]
 
 
 def _first_segment(segs: list, quanta: list, c: int, q: int) -> int:
@@ -464,18 +460,8 @@ def chart_coords(mesh: Mesh, *, charts: int = DEFAULT_CHARTS, balance: str = DEF
         raise ParametrizationError(f"balance: expected one of {DISK_BALANCES}, got {balance!r}")
     if isinstance(charts, bool) or not isinstance(charts, (int, np.integer)) or not 1 <= charts <= MAX_CHARTS:
         raise ParametrizationError(f"charts: expected a whole number from 1 to {MAX_CHARTS}, got {charts!r}")
-    tris, _ = mesh.triangulate()
-    weld, fill, zipped, filled = _close_small_holes(mesh.vertices, tris, topology(mesh).genus or 0)
-    tris = np.concatenate([weld[tris], fill])
-    used = np.unique(tris)
-    remap = np.full(mesh.n_vertices, -1, np.int64)
-    remap[used] = np.arange(len(used))
-    vertices, tris = mesh.vertices[used], remap[tris]
-    n = len(vertices)
-    cut = set()
-    for path in igl.cut_to_disk(np.ascontiguousarray(tris, np.int64)):
-        p = np.asarray(path, np.int64)
-        cut.update((np.minimum(p[:-1], p[1:]) * n + np.maximum(p[:-1], p[1:])).tolist())
+    vertices, tris, used, zipped, filled, _ = _closed_for_map(mesh)
+    cut = edge_keys(igl.cut_to_disk(np.ascontiguousarray(tris, np.int64)), len(vertices))
     label, splits, opened = segment_charts(vertices, tris, charts, cut)
     vertices, tris, disc_source = _cut_at(vertices, tris, opened)
     pieces = _chart_loops(vertices, tris, label)
@@ -530,10 +516,7 @@ def chart_coords(mesh: Mesh, *, charts: int = DEFAULT_CHARTS, balance: str = DEF
         out_src.append(ids[src])
         out_w.append(weight)
         base += len(v)
-    a3 = np.concatenate([x[0] for x in starved])
-    a2 = np.concatenate([x[1] for x in starved])
-    fair = a2 / max(float(a2.sum()), 1e-300) / np.maximum(a3 / max(float(a3.sum()), 1e-300), 1e-300)
-    share = float(a3[fair < STARVED_SHARE].sum() / max(float(a3.sum()), 1e-300))
+    share = starved_share(np.concatenate([x[0] for x in starved]), np.concatenate([x[1] for x in starved]))
     defects = [weld_defects(segments, q, k, scale) for scale in (MIN_SCALE, MIN_SCALE + 1)]
     if any(defects):
         raise ParametrizationError(f"method='charts': the {k} charts' borders would not weld into a manifold mesh "

@@ -39,9 +39,9 @@ from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._disk import _folds, planar_interior
-from ._laplacian import STARVED_SHARE, planar_cross, triangle_areas
+from ._laplacian import STARVED_SHARE, planar_cross, starved_share, triangle_areas
 
-__all__ = ["cut_coords", "layout_quanta", "perimeter_point", "QUANTA_PER_SIDE"]
+__all__ = ["cut_coords", "layout_quanta", "perimeter_point", "twin_positions", "QUANTA_PER_SIDE"]
 
 QUANTA_PER_SIDE = 64
 SMALL_HOLE_EDGES = 8      # a hole of at most this many edges is closed for the map (it would cost a cut path):
@@ -53,16 +53,42 @@ AUGMENT_GAIN = 0.9        # when it lowers the resampling error to this share or
                           # surface (smaller gains, or none in starvation, cost fidelity: a CAD plate -1.7 dB)
 
 
+def _closed_for_map(mesh: Mesh) -> tuple:
+    """The mesh's triangles with its small holes closed (:func:`_close_small_holes`), every vertex on one:
+    ``vertices, tris, used`` (each vertex's index in the mesh), and how many cracks were zipped, holes filled
+    and fill triangles added.
+    """
+    tris, _ = mesh.triangulate()
+    weld, fill, zipped, filled = _close_small_holes(mesh.vertices, tris, topology(mesh).genus or 0)
+    tris = np.concatenate([weld[tris], fill])
+    used = np.unique(tris)          # a crack's welded side, and any vertex on no triangle, leave
+    remap = np.full(mesh.n_vertices, -1, np.int64)
+    remap[used] = np.arange(len(used))
+    return mesh.vertices[used], remap[tris], used, zipped, filled, int(len(fill))
+
+
+def edge_keys(paths: list, n: int) -> set:
+    """The keys ``min * n + max`` of the edges along ``paths`` (sequences of vertex indices)."""
+    keys: set = set()
+    for c in paths:
+        c = np.asarray(c, np.int64)
+        keys.update((np.minimum(c[:-1], c[1:]) * n + np.maximum(c[:-1], c[1:])).tolist())
+    return keys
+
+
 def _cut_open(vertices: np.ndarray, tris: np.ndarray, cuts: list):
     """The disk mesh (vertices copied along the ``cuts``, paths of vertices) and each disk vertex's source
     vertex.
     """
+    return cut_along(vertices, tris, edge_keys(cuts, len(vertices)))
+
+
+def cut_along(vertices: np.ndarray, tris: np.ndarray, keys: set):
+    """The triangles cut open along the edges ``keys`` (``min * n + max``; libigl's ``cut_mesh`` copies the
+    vertices along them) and each vertex's source vertex.
+    """
     tris = np.ascontiguousarray(tris, np.int64)
     n = len(vertices)
-    keys = set()
-    for c in cuts:
-        c = np.asarray(c, np.int64)
-        keys.update((np.minimum(c[:-1], c[1:]) * n + np.maximum(c[:-1], c[1:])).tolist())
     cut = np.zeros(tris.shape, bool)
     for k in range(3):
         a, b = tris[:, k], tris[:, (k + 1) % 3]
@@ -289,6 +315,44 @@ def perimeter_point(t: ArrayLike, quanta_per_side: int) -> np.ndarray:
     return np.stack([u, v], axis=1)
 
 
+def twin_positions(segments: list | tuple, scale: int) -> tuple:
+    """Every glued perimeter pixel and its twin, both directions: ``(tile, position, twin's tile, twin's
+    position)`` arrays, positions in pixels along a square's perimeter (``start * scale`` to ``(start +
+    length) * scale``, not reduced modulo the perimeter), for ``segments`` ``(tile, start, length, twin)`` in
+    quanta on squares of ``scale`` pixels per quantum. Offset ``j`` along a segment is offset ``length - j``
+    along its twin.
+
+    Parameters
+    ----------
+    segments : list or tuple
+        ``(tile, start, length, twin)`` per segment (``twin`` an index into ``segments``, -1 for none).
+    scale : int
+        Pixels per quantum.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(tile, position, twin's tile, twin's position)``.
+
+    Examples
+    --------
+    >>> [a.tolist() for a in twin_positions([(0, 0, 2, 1), (0, 2, 2, 0)], 1)]
+    [[0, 0, 0, 0, 0, 0], [0, 1, 2, 2, 3, 4], [0, 0, 0, 0, 0, 0], [4, 3, 2, 2, 1, 0]]
+    """
+    out: list = [[], [], [], []]
+    for tile, start, length, twin in segments:
+        if twin < 0:
+            continue
+        j = np.arange(length * scale + 1)
+        out[0].append(np.full(len(j), tile))
+        out[1].append(start * scale + j)
+        out[2].append(np.full(len(j), segments[twin][0]))
+        out[3].append(segments[twin][1] * scale + length * scale - j)
+    if not out[0]:
+        return tuple(np.zeros(0, np.int64) for _ in range(4))
+    return tuple(np.concatenate(x) for x in out)
+
+
 def layout_quanta(segments: int, quanta_per_side: int | None = None) -> int:
     """Quanta per side of the square for a boundary of ``segments`` segments: ``quanta_per_side`` when given,
     else :data:`QUANTA_PER_SIDE` doubled until the perimeter's four sides hold a quantum per segment (a mesh
@@ -372,9 +436,7 @@ def _map_cut(vertices: np.ndarray, tris: np.ndarray, cuts: list, quanta_per_side
             "chords_split": int(n_chords), "corners_split": int(n_corners), "segments": len(starts),
             **relaxed}
     error = relaxed["start_errors"][relaxed["start"]]
-    a3, a2 = triangle_areas(v, f), np.abs(planar_cross(coords, f))
-    fair = a2 / max(float(a2.sum()), 1e-300) / np.maximum(a3 / max(float(a3.sum()), 1e-300), 1e-300)
-    starved = float(a3[fair < STARVED_SHARE].sum() / max(float(a3.sum()), 1e-300))
+    starved = starved_share(triangle_areas(v, f), np.abs(planar_cross(coords, f)))
     return _CutMap((disk, coords, (source, weight), layout, info), cuts, _folds(coords, f), error, starved)
 
 
@@ -624,13 +686,7 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str =
     """
     if balance not in DISK_BALANCES:
         raise ParametrizationError(f"balance: expected one of {DISK_BALANCES}, got {balance!r}")
-    tris, _ = mesh.triangulate()
-    weld, fill, zipped, filled = _close_small_holes(mesh.vertices, tris, topology(mesh).genus or 0)
-    tris = np.concatenate([weld[tris], fill])
-    used = np.unique(tris)          # a crack's welded side, and any vertex on no triangle, leave
-    remap = np.full(mesh.n_vertices, -1, np.int64)
-    remap[used] = np.arange(len(used))
-    vertices, tris = mesh.vertices[used], remap[tris]
+    vertices, tris, used, zipped, filled, fill_faces = _closed_for_map(mesh)
     cuts = [np.asarray(c, np.int64) for c in igl.cut_to_disk(np.ascontiguousarray(tris, np.int64))]
     best = _map_cut(vertices, tris, cuts, quanta_per_side, balance, progress)
     errors = [best.error]
@@ -648,7 +704,7 @@ def cut_coords(mesh: Mesh, *, quanta_per_side: int | None = None, balance: str =
     disk, coords, (source, weight), layout, info = best.result
     source = used[source]
     info.update(cut_paths=len(cuts), cut_branches=len(best.cuts) - len(cuts), cut_errors=errors,
-                cracks_zipped=zipped, holes_filled=filled, fill_faces=int(len(fill)), starved_share=best.starved)
+                cracks_zipped=zipped, holes_filled=filled, fill_faces=fill_faces, starved_share=best.starved)
     closed = [f"zipped {zipped} crack{'s' * (zipped > 1)}"] * bool(zipped) + \
         [f"filled {filled} small hole{'s' * (filled > 1)}"] * bool(filled)
     if closed:

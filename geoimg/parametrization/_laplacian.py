@@ -25,10 +25,24 @@ __all__ = [
     "corner_angles",
     "corner_cotangents",
     "solve_free",
+    "starved_share",
 ]
 
 _TINY = 1e-300
 STARVED_SHARE = 0.25     # a triangle given less than this share of its fair parameter area is starved
+
+
+def starved_share(area3: np.ndarray, area2: np.ndarray) -> float:
+    """The share of the surface (triangle areas ``area3``) whose triangles get less than
+    :data:`STARVED_SHARE` of their fair share of the parameter area (``area2``, the same triangles').
+
+    Examples
+    --------
+    >>> starved_share(np.array([1.0, 1.0]), np.array([1.0, 0.1]))
+    0.5
+    """
+    fair = area2 / max(float(area2.sum()), 1e-300) / np.maximum(area3 / max(float(area3.sum()), 1e-300), 1e-300)
+    return float(area3[fair < STARVED_SHARE].sum() / max(float(area3.sum()), 1e-300))
 
 
 def _corners(vertices: np.ndarray, tris: np.ndarray):
