@@ -11,8 +11,8 @@ import numpy as np
 from scipy import sparse
 from scipy.sparse.csgraph import connected_components
 
-__all__ = ["perimeter_pixels", "perimeter_sides", "INWARD", "corners_within", "straight_pieces", "glue_groups",
-           "ghost_copies", "copy_across"]
+__all__ = ["perimeter_pixels", "perimeter_cells", "perimeter_sides", "INWARD", "corners_within", "straight_pieces",
+           "glue_groups", "ghost_copies", "copy_across"]
 
 INWARD = np.array([[1, 0], [0, -1], [-1, 0], [0, 1]])     # (row, col) step into a square, by side
 
@@ -36,12 +36,27 @@ def perimeter_pixels(n: int) -> np.ndarray:
     >>> perimeter_pixels(3).tolist()
     [0, 1, 2, 5, 8, 7, 6, 3, 0]
     """
-    m = n - 1
-    t = np.arange(4 * m + 1)
-    side, f = np.minimum(t // m, 3), t - np.minimum(t // m, 3) * m
-    row = np.choose(side, [np.zeros_like(f), f, np.full_like(f, m), m - f])
-    col = np.choose(side, [f, np.full_like(f, m), m - f, np.zeros_like(f)])
+    row, col = perimeter_cells(np.arange(4 * (n - 1) + 1), n)
     return row * n + col
+
+
+def perimeter_cells(t: np.ndarray, n) -> tuple[np.ndarray, np.ndarray]:
+    """(row, column) in an ``n x n`` square of perimeter positions ``t`` (pixels, 0 .. 4 (n - 1)); ``n`` may be
+    an array, one side per position.
+
+    Examples
+    --------
+    >>> [x.tolist() for x in perimeter_cells(np.array([1, 3, 4]), np.array([3, 3, 5]))]
+    [[0, 1, 0], [1, 2, 4]]
+    """
+    t = np.asarray(t, np.int64)
+    m = np.asarray(n, np.int64) - 1
+    side = np.minimum(t // m, 3)
+    f = t - side * m
+    zero, last = np.zeros_like(f), np.broadcast_to(m, f.shape)
+    row = np.choose(side, [zero, f, last, m - f])
+    col = np.choose(side, [f, last, m - f, zero])
+    return row, col
 
 
 def perimeter_sides(t: np.ndarray, n: int) -> np.ndarray:
@@ -60,9 +75,10 @@ def corners_within(start: int, length: int, quantum: int) -> list:
     return [c for c in range(quantum, 4 * quantum, quantum) if start < c < start + length]
 
 
-def straight_pieces(start: int, length: int, twin_start: int, quantum: int) -> list:
+def straight_pieces(start: int, length: int, twin_start: int, quantum: int, twin_quantum: int | None = None) -> list:
     """A glued segment split where either side turns a corner of its square: ``(o1, o2)`` offsets along it
-    (offset ``o`` is ``start + o`` on this side, ``twin_start + length - o`` on the twin).
+    (offset ``o`` is ``start + o`` on this side, ``twin_start + length - o`` on the twin; the twin's square
+    ``twin_quantum`` quanta a side, ``quantum`` when not given).
 
     Examples
     --------
@@ -71,7 +87,8 @@ def straight_pieces(start: int, length: int, twin_start: int, quantum: int) -> l
     """
     cuts = {0, length}
     cuts.update(c - start for c in corners_within(start, length, quantum))
-    cuts.update(twin_start + length - c for c in corners_within(twin_start, length, quantum))
+    cuts.update(twin_start + length - c
+                for c in corners_within(twin_start, length, quantum if twin_quantum is None else twin_quantum))
     ordered = sorted(cuts)
     return list(zip(ordered[:-1], ordered[1:]))
 

@@ -8,7 +8,7 @@ import geoimg
 from geoimg import ChartsDomain, ImageError, InputError, ParametrizationError
 from geoimg.mesh import point_mesh_distance, surface_distance, topology
 from geoimg.parametrization import chart_coords, layout_extent, tile_points
-from geoimg.parametrization._charts import segment_charts, weld_defects
+from geoimg.parametrization._charts import layout_span, pack_squares, segment_charts, weld_defects
 from geoimg.parametrization._parametrize import _charts, _starved_cut_to_charts
 from geoimg.surface._attributes import locate
 
@@ -66,7 +66,7 @@ def test_twin_pixels_are_one_point_of_the_mesh(case):
 def test_the_quad_mesh_is_watertight_with_the_genus(case):
     mesh, param = case
     img = geoimg.mesh_to_image(mesh, 129, parametrization=param)
-    assert img.domain.kind == "charts" and img.shape[0] >= 129
+    assert img.domain.kind == "charts" and max(img.shape) >= 129
     quads = img.to_mesh()
     t, t_in = topology(quads), topology(mesh)
     assert t.closed and t.components == 1 and t.genus == t_in.genus
@@ -83,7 +83,7 @@ def test_no_face_of_one_chart_reaches_another_tile():
     domain = geoimg.Domain.from_metadata("charts", dict(param.domain_fields))
     shape = domain.grid_shape(domain.round_resolution(60))
     lin, _ = _linear(param, shape)
-    img = geoimg.fit_surface(mesh, param, 1e-4, weights="coverage").sample(shape[1])
+    img = geoimg.fit_surface(mesh, param, 1e-4, weights="coverage").sample(max(shape))
     ok = img.valid & np.isfinite(lin).all(axis=2)
     assert ok.sum() > 0.5 * img.valid.sum()
     assert np.abs(np.asarray(img.pixels, np.float64)[ok] - lin[ok]).max() < 1e-4      # float32 pixels, s > 0
@@ -96,9 +96,9 @@ def test_gutter_pixels_are_never_valid():
     d = img.domain
     r0, c0, n = d._origins(img.shape)
     inside = np.zeros(img.shape, bool)
-    for r, c in zip(r0[:param.info["charts"]], c0):
-        inside[r:r + n, c:c + n] = True
-    assert d.tiles > param.info["charts"]                  # an empty tile too: all of it invalid
+    for r, c, k in zip(r0, c0, n):
+        inside[r:r + k, c:c + k] = True
+    assert len(d.squares) == param.info["charts"] and (~inside).sum() > 0.1 * inside.size
     assert not (img.valid & ~inside).any()
 
 
@@ -109,15 +109,15 @@ def test_filters_read_across_a_border_the_twins_pixels():
     px = np.asarray(img.pixels, np.float64)
     padded = d.pad(px, 2)
     n = d._origins(img.shape)[2]
-    tp, p, tq, q = d._twin_pairs(n)
-    scale = (n - 1) // d.quantum
+    scale = d._scale(img.shape)
+    tp, p, tq, q = d._twin_pairs(scale)
     nodes = {(k, a * scale) for k, a, _, _ in d.segments} | {(k, (a + m) * scale) for k, a, m, _ in d.segments}
-    keep = (p % (n - 1) != 0) & (q % (n - 1) != 0) & np.array([(k, x) not in nodes for k, x in zip(tp, p)])
+    keep = (p % (n[tp] - 1) != 0) & (q % (n[tq] - 1) != 0) & np.array([(k, x) not in nodes for k, x in zip(tp, p)])
     assert keep.sum() > 100                                 # ends of segments: two twins, either may win
     rq, cq = d._pixel_of(img.shape, tq[keep], q[keep])
     rp, cp = d._pixel_of(img.shape, tp[keep], p[keep])
     from geoimg.image._perimeter import INWARD, perimeter_sides
-    sp, sq = perimeter_sides(p[keep], n), perimeter_sides(q[keep], n)
+    sp, sq = perimeter_sides(p[keep], n[tp[keep]]), perimeter_sides(q[keep], n[tq[keep]])
     got = padded[rp - INWARD[sp, 0] + 2, cp - INWARD[sp, 1] + 2]         # one step out of this side
     want = px[rq + INWARD[sq, 0], cq + INWARD[sq, 1]]                   # one step into the twin
     np.testing.assert_array_equal(got, want)
@@ -174,38 +174,76 @@ def test_bad_arguments():
 
 
 def test_layout_points_agree_with_the_domain():
-    d = ChartsDomain(quantum=4, columns=3, rows=2, gutter=2,
-                     segments=((0, 0, 16, 1), (1, 0, 16, 0), (2, 0, 16, -1)))
+    squares = ((0, 0, 4), (0, 6, 4), (6, 0, 2))
+    d = ChartsDomain(squares=squares, gutter=2, segments=((0, 0, 16, 1), (1, 0, 16, 0), (2, 0, 8, -1)))
     uv = np.random.default_rng(1).random((7, 2))
     tile = np.array([0, 1, 2, 0, 1, 2, 1])
-    np.testing.assert_array_equal(d.tile_points(tile, uv), tile_points(tile, uv, 4, 3, 2, 2))
-    assert d.extent == layout_extent(d.to_metadata())
+    np.testing.assert_array_equal(d.tile_points(tile, uv), tile_points(tile, uv, squares))
+    assert d.extent == layout_extent(d.to_metadata()) == (1.0, 0.8)
     u, v = d.pixel_uv(d.grid_shape(d.round_resolution(30)))
     r0, c0, n = d._origins((len(v), len(u)))
-    np.testing.assert_allclose(u[c0[1]:c0[1] + n][[0, -1]], d.tile_points([1, 1], [[0, 0], [1, 1]])[:, 0])
+    for k in range(3):
+        np.testing.assert_allclose(u[c0[k]:c0[k] + n[k]][[0, -1]], d.tile_points([k, k], [[0, 0], [1, 1]])[:, 0])
+        np.testing.assert_allclose(v[r0[k]:r0[k] + n[k]][[0, -1]], d.tile_points([k, k], [[0, 0], [1, 1]])[:, 1])
+
+
+def test_squares_of_their_own_sizes_pack_apart():
+    sides = [9, 1, 4, 4, 2, 7, 3, 3, 1]
+    squares = pack_squares(sides, 2)
+    assert [s for _, _, s in squares] == sides
+    ChartsDomain(squares=tuple(squares), gutter=2,                 # refuses squares closer than the gutter
+                 segments=tuple((k, 0, 4 * s, -1) for k, s in enumerate(sides)))
+    across, down = layout_span(squares)
+    assert max(across, down) ** 2 < 2.5 * sum((s + 2) ** 2 for s in sides)
+
+
+TWO = ((0, 0, 4), (0, 6, 4))
 
 
 @pytest.mark.parametrize("fields, message", [
     (dict(segments=()), "segments"),
     (dict(segments=((0, 0, 15, -1),)), "segments"),                         # not round the perimeter
-    (dict(columns=2, segments=((0, 0, 16, 1), (1, 0, 8, 0), (1, 8, 8, -1))), "segments"),   # unequal twins
-    (dict(segments=((1, 0, 16, -1),)), "segments"),                          # tile out of the grid
+    (dict(squares=TWO, segments=((0, 0, 16, 1), (1, 0, 8, 0), (1, 8, 8, -1))), "segments"),   # unequal twins
+    (dict(segments=((1, 0, 16, -1),)), "segments"),                          # no such square
+    (dict(squares=TWO, segments=((0, 0, 16, -1),)), "segments"),             # a square without segments
     (dict(gutter=0, segments=((0, 0, 16, -1),)), "gutter"),
-    (dict(quantum=0, segments=((0, 0, 0, -1),)), "quantum"),
-    (dict(columns=True, segments=((0, 0, 16, -1),)), "columns"),
+    (dict(squares=((0, 0, 0),), segments=((0, 0, 0, -1),)), "squares"),
+    (dict(squares=((0, 0, 4), (0, 5, 4)), segments=((0, 0, 16, -1), (1, 0, 16, -1))), "squares"),  # 1 apart
+    (dict(squares=((0, 0, 4), (2, 2, 4)), segments=((0, 0, 16, -1), (1, 0, 16, -1))), "squares"),  # overlap
+    (dict(squares=((-1, 0, 4),), segments=((0, 0, 16, -1),)), "squares"),
+    (dict(squares=(("a", 0, 4),), segments=((0, 0, 16, -1),)), "squares"),
     (dict(segments=(("a", 0, 16, -1),)), "segments"),
 ])
 def test_bad_layouts_are_refused(fields, message):
     with pytest.raises(ImageError, match=message):
-        ChartsDomain(**{"quantum": 4, **fields})
+        ChartsDomain(**{"squares": ((0, 0, 4),), **fields})
 
 
 def test_a_border_glued_within_one_tile_is_allowed():
-    assert ChartsDomain(quantum=4, segments=((0, 0, 8, 1), (0, 8, 8, 0))).segments
+    assert ChartsDomain(squares=((0, 0, 4),), segments=((0, 0, 8, 1), (0, 8, 8, 0))).segments
+
+
+def test_squares_of_two_sizes_glue_pixel_for_pixel():
+    """A square of 4 quanta glued along its first row to the first row and last column of a square of 2:
+    pixel j of the one is pixel 4 m - j round the other, whatever the corner between."""
+    d = ChartsDomain(squares=((0, 0, 4), (0, 6, 2)), gutter=2,
+                     segments=((0, 0, 4, 2), (0, 4, 12, -1), (1, 0, 4, 0), (1, 4, 4, -1)))
+    shape = d.grid_shape(d.round_resolution(17))
+    m = d._scale(shape)
+    assert m >= 2
+    reps, group = d.glue(shape)
+    group = group.reshape(shape)
+    r0, c0, n = d._origins(shape)
+    assert n.tolist() == [4 * m + 1, 2 * m + 1]
+    for j in range(4 * m + 1):
+        t = 4 * m - j
+        twin = (r0[1], c0[1] + t) if t <= 2 * m else (r0[1] + t - 2 * m, c0[1] + 2 * m)
+        assert group[r0[0], c0[0] + j] == group[twin]
+    assert len(np.unique(group)) == shape[0] * shape[1] - (4 * m + 1)
 
 
 def test_bad_sizes_are_refused():
-    d = ChartsDomain(quantum=4, columns=2, gutter=2, segments=((0, 0, 16, 1), (1, 0, 16, 0)))
+    d = ChartsDomain(squares=TWO, gutter=2, segments=((0, 0, 16, 1), (1, 0, 16, 0)))
     assert d.round_resolution(12) == 21 and d.grid_shape(21) == (9, 21)
     for bad in (12, 11, 1, True, 2.5):                       # 11: one pixel per quantum, too few
         with pytest.raises(ImageError, match="resolution"):
@@ -222,9 +260,9 @@ def test_a_layout_that_would_not_weld_is_refused():
     rim = [(0, 2, 14, -1), (1, 2, 14, -1)]
     straight = [(0, 0, 1, 4), (0, 1, 1, 3), rim[0], (1, 0, 1, 1), (1, 1, 1, 0), rim[1]]
     crossed = [(0, 0, 1, 3), (0, 1, 1, 4), rim[0], (1, 0, 1, 0), (1, 1, 1, 1), rim[1]]
-    assert [weld_defects(straight, 4, 2, m) for m in (1, 2)] == [0, 0]
-    assert weld_defects(crossed, 4, 2, 1) > 0 and weld_defects(crossed, 4, 2, 2) == 0
-    d = ChartsDomain(quantum=4, columns=2, segments=tuple(crossed))
+    assert [weld_defects(straight, [4, 4], m) for m in (1, 2)] == [0, 0]
+    assert weld_defects(crossed, [4, 4], 1) > 0 and weld_defects(crossed, [4, 4], 2) == 0
+    d = ChartsDomain(squares=TWO, segments=tuple(crossed))
     assert d.round_resolution(2) == 21                     # two pixels a quantum at least
     with pytest.raises(ImageError, match="multi-chart"):
         d.glue((5, 11))
