@@ -54,6 +54,8 @@ CHART_GUTTER = 2          # quanta between neighbouring squares (filters read ac
 MIN_SIDE = 2              # quanta per side of the smallest square
 DEFAULT_CHARTS = 8        # charts to start from; more where one is not a disc
 MAX_CHARTS = 256
+MIN_CHART_FACES = 8       # charts to start from at most one per this many faces (a chart of one triangle
+                          # onto a square leaves part of it uncovered: trimesh's L.off as 4 charts, 14 % off)
 MAX_SEGMENTS = 64         # a chart whose border has more segments (slits cut inside it) gets a second seed
 MIN_SCALE = 2             # pixels per quantum at least: a border of one quantum then has a pixel inside it
 LLOYD_ROUNDS = 3          # seeds moved to their charts' centres this many times
@@ -320,7 +322,7 @@ def segment_charts(vertices: np.ndarray, tris: np.ndarray, charts: int = DEFAULT
     """
     graph, fa, fb, keys = _dual_graph(vertices, tris)
     F = len(tris)
-    k = max(1, min(int(charts), F))
+    k = max(1, min(int(charts), F // MIN_CHART_FACES))
     seeds = [0]
     dist = dijkstra(graph, indices=0)
     while len(seeds) < k:                      # farthest-point seeds
@@ -633,7 +635,8 @@ def chart_coords(mesh: Mesh, *, charts: int = DEFAULT_CHARTS, balance: str = DEF
     layout = {"squares": [list(x) for x in squares], "gutter": CHART_GUTTER, "segments": segments}
     across, down = layout_span(squares)
     stages = [f"{k} charts, each a disc ({splits} added where one was not), on squares of {min(sides)} to "
-              f"{max(sides)} quanta ({across} x {down} in all)"]
+              f"{max(sides)} quanta ({across} x {down} in all)" if k > 1 else
+              f"1 chart, a disc, on a square of {sides[0]} quanta ({across} x {down} in all)"]
     if zipped or filled:
         stages.insert(0, f"zipped {zipped} cracks and filled {filled} small holes (the image spans them)")
     info = {"charts": k, "chart_splits": int(splits), "cut_edges_opened": len(opened), "chart_errors": errors,

@@ -274,3 +274,15 @@ def test_points_of_an_image_lie_on_the_mesh():
     px = np.asarray(img.pixels, np.float64)[img.valid]
     diag = np.linalg.norm(np.ptp(mesh.vertices, axis=0))
     assert np.percentile(point_mesh_distance(px, mesh), 99) < 0.01 * diag
+
+
+def test_a_mesh_of_few_faces_is_not_split_into_single_triangles():
+    """An L of four triangles asked for 8 charts: one chart per triangle left part of each square's
+    triangle uncovered (14 % of the diagonal off); at most one chart per 8 faces maps it whole."""
+    v = np.array([[0.0, 0, 0], [2, 0, 0], [2, 2, 0], [1, 2, 0], [1, 1, 0], [0, 1, 0]])
+    mesh = geoimg.Mesh(v, np.array([[5, 0, 1], [1, 2, 3], [1, 3, 4], [1, 4, 5]]))
+    param = _charts(mesh, charts=8)
+    assert param.info["charts"] == 1 and param.degenerate_faces == 0 and param.flipped_faces == 0
+    img = geoimg.mesh_to_image(mesh, 129, parametrization=param)
+    d = surface_distance(mesh, img.to_mesh(), 20000)
+    assert d["hausdorff_rel"] < 0.01 and d["psnr_db"] > 60
