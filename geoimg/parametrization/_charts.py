@@ -173,11 +173,18 @@ def pack_squares(sides: Sequence, gutter: int, span: int | None = None) -> list:
             best = (key, place)
     assert best is not None
     out = [(best[1][k][0], best[1][k][1], sides[k]) for k in range(len(sides))]
-    across, down = layout_span(out)
-    if span is not None and max(across, down) < span:
-        dr, dc = (span - down, 0) if down >= across else (0, span - across)
-        out = [(r + dr, c + dc, n) for r, c, n in out]
-    return out
+    return out if span is None else _to_span(out, span)
+
+
+def _to_span(squares: list, span: int) -> list:
+    """``squares`` moved from the first row (or column) so that the layout's longer side is ``span``, if
+    shorter.
+    """
+    across, down = layout_span(squares)
+    if max(across, down) >= span:
+        return squares
+    dr, dc = (span - down, 0) if down >= across else (0, span - across)
+    return [(r + dr, c + dc, n) for r, c, n in squares]
 
 
 def weld_defects(segments: list | tuple, sides: Sequence, scale: int) -> int:
@@ -461,7 +468,7 @@ def _solve_quanta(targets: np.ndarray, unit_of: list, fewest: np.ndarray, least:
     return np.round(res.x[:u]).astype(int), np.round(res.x[u:u + k]).astype(int)
 
 
-def _quantize(lengths: list, borders: list, areas: np.ndarray, closed: list) -> tuple[list, list]:
+def _quantize(lengths: list, borders: list, areas: np.ndarray, closed: list) -> tuple[list, list, list]:
     """Whole numbers of quanta per side of each chart's square and per segment of its border (at least 1, or
     2 where its two ends are one vertex (``closed``): on one quantum of two pixels its two edges would be one;
     a border's two sides equal; a square's segments summing to four sides), near each chart's share of the
@@ -493,16 +500,17 @@ def _quantize(lengths: list, borders: list, areas: np.ndarray, closed: list) -> 
         wanted = root / per_quantum
         targets = np.array([np.mean([4 * wanted[c] * share for c, share in sides_of]) for sides_of in shares])
         x, sides = _solve_quanta(targets, unit_of, fewest, least, wanted)
-        big = max(layout_span(pack_squares(sides, CHART_GUTTER)))
+        squares = pack_squares(sides, CHART_GUTTER)
+        big = max(layout_span(squares))
         key = (big > LAYOUT_QUANTA, abs(big - LAYOUT_QUANTA))        # within the longer side first
         if best is None or key < best[0]:
-            best = (key, x, sides)
+            best = (key, x, sides, squares)
         if 0.9 * LAYOUT_QUANTA <= big <= LAYOUT_QUANTA:
             break
         per_quantum *= big / (0.95 * LAYOUT_QUANTA)
     assert best is not None
-    _, x, sides = best
-    return [[int(x[k]) for k in units] for units in unit_of], sides.tolist()
+    _, x, sides, squares = best
+    return [[int(x[k]) for k in units] for units in unit_of], sides.tolist(), _to_span(squares, LAYOUT_QUANTA)
 
 
 def _first_segment(segs: list, quanta: list, c: int, q: int) -> int:
@@ -584,8 +592,7 @@ def chart_coords(mesh: Mesh, *, charts: int = DEFAULT_CHARTS, balance: str = DEF
         ends = disc_source[ids[loop]]
         closed.append([bool(ends[a] == ends[(a + n) % len(loop)]) for a, n, _ in segs])
     areas = [float(triangle_areas(vertices[ids], f).sum()) for ids, f, _ in pieces]
-    quanta, sides = _quantize(lengths, borders, np.array(areas), closed)
-    squares = pack_squares(sides, CHART_GUTTER, LAYOUT_QUANTA)
+    quanta, sides, squares = _quantize(lengths, borders, np.array(areas), closed)
     k = len(pieces)
     offsets = np.cumsum([0] + [len(s) for s in borders])
     first = [_first_segment(segs, quanta[c], c, sides[c]) for c, segs in enumerate(borders)]
