@@ -377,7 +377,9 @@ class Mesh:
         that bends a non-planar quad least), larger polygons fanned. A polygon of 5 corners or more that is
         not convex (in the plane that fits it best), or whose fan would have a triangle of zero area (corners
         on a line beside the first), is split by ear clipping instead, so that no triangle lies outside it
-        or is flat.
+        or is flat. Two quads that share both edges at a vertex of valence 2 (a doublet, common in
+        quad-dominant meshes) are split through that vertex, whichever way was asked: the other split
+        gives one triangle twice, and the mesh of triangles would not be a manifold.
 
         Returns
         -------
@@ -456,6 +458,13 @@ class Mesh:
             if ears is not None:
                 corners[start[np.searchsorted(owner, face)] + np.arange(k - 2)] = ears
         t = f[owner[:, None], corners]
+        for _ in range(4 if quad.any() else 0):   # two quads on both edges of a valence-2 vertex: through it
+            twice = _quads_split_twice(t, owner, quad)
+            if not twice.any():
+                break
+            rows = twice[owner]
+            corners[rows] = (corners[rows] + 1) % 4
+            t = f[owner[:, None], corners]
         return t, owner, corners
 
     def _reflex_faces(self) -> np.ndarray:
@@ -578,6 +587,20 @@ def _plane_coordinates(p: np.ndarray) -> np.ndarray:
     y = np.cross(normal, x)
     q = p - p.mean(axis=0)
     return np.stack([q @ x, q @ y], axis=1)
+
+
+def _quads_split_twice(tris: np.ndarray, owner: np.ndarray, quad: np.ndarray) -> np.ndarray:
+    """The quads (a mask over the faces) one of whose triangles has the corners of another triangle: two
+    quads that share both edges at a vertex of valence 2 (a "doublet" of quad-dominant meshes), each split
+    along the diagonal that misses it, give the same triangle twice, its edges then on four triangles.
+    Split through that vertex instead, they give a manifold.
+    """
+    key = np.sort(tris, axis=1)
+    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    repeated = counts[inverse.ravel()] > 1
+    out = np.zeros(len(quad), bool)
+    out[owner[repeated]] = True
+    return out & quad
 
 
 def _ear_clip(xy: np.ndarray) -> np.ndarray | None:

@@ -72,3 +72,23 @@ def test_referenced_vertices_and_bbox():
     m = Mesh([[0, 0, 0], [3, 0, 0], [0, 4, 0], [100, 100, 100]], [[0, 1, 2]])
     assert m.referenced_vertices().tolist() == [True, True, True, False]
     assert m.bounding_box_diagonal() == pytest.approx(5.0)
+
+
+def _cube_with_a_doublet():
+    """A cube whose top is two quads sharing both edges at a raised vertex 8 of valence 2 (a doublet)."""
+    v = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1], [0.5, 0.5, 2.5]]
+    f = [[0, 3, 2, 1], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7], [4, 5, 6, 8], [6, 7, 4, 8]]
+    return Mesh(v, f)
+
+
+@pytest.mark.parametrize("quads", ["fan", "shorter"])
+def test_quads_around_a_valence_2_vertex_are_split_through_it(quads):
+    # split along the diagonal that misses vertex 8, both quads give the triangle (4, 6, 8): its edges would
+    # lie on four triangles, which no map of a closed surface can unfold
+    tris, owner = _cube_with_a_doublet().triangulate(quads)
+    edges = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    assert (counts == 2).all()
+    assert len(np.unique(np.sort(tris, axis=1), axis=0)) == len(tris) == 14
+    assert all(8 in t for t in tris[owner >= 5].tolist())
+    assert np.array_equal(owner, np.repeat(np.arange(7), 2))
