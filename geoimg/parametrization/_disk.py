@@ -238,13 +238,16 @@ START_WEIGHTS = ("mean-value", "uniform")     # the interior's starts: Floater's
 ERROR_RESOLUTION = 257                         # the image side the starts are compared at (Gu et al.'s)
 
 
-def resampling_error(area3: np.ndarray, uv: np.ndarray, f: np.ndarray, resolution: int = ERROR_RESOLUTION) -> float:
+def resampling_error(area3: np.ndarray, uv: np.ndarray, f: np.ndarray, resolution: int = ERROR_RESOLUTION, *,
+                     image_area: float | None = None) -> float:
     """How far an image resampled through the planar map ``uv`` of triangles ``f`` (3-D areas ``area3``) is
     expected to be from them, at ``resolution`` squared pixels: ``sum_t A_t min(A_t / a_t, 2 N^2 A_t)^2``
     over the triangles' shares ``A_t`` of the surface and ``a_t`` of the parameter area. A triangle gets
     ``N^2 a_t`` samples, ``h_t^2 ~ A_t / (N^2 a_t)`` apart on it, and resampling errs by about ``h_t^2``
     times the curvature (the form :func:`.sampling_rotation` ranks sphere maps by); one that gets less than
-    half a sample errs by about its own size instead, however small its share of the map.
+    half a sample errs by about its own size instead, however small its share of the map. ``a_t`` is a share
+    of the map's own area, or with ``image_area`` of that area (a layout that leaves part of the image empty,
+    such as the charts', gives its triangles less than their share of the map).
 
     On trimesh's CAD models cut open, this ranks the two starts of :func:`planar_interior` as their images
     at 257^2 do on 10 of 11 (without the cap, on 9: it made the Stanford scan's worst-starved start look
@@ -259,7 +262,7 @@ def resampling_error(area3: np.ndarray, uv: np.ndarray, f: np.ndarray, resolutio
     """
     a = np.abs(planar_cross(uv, f))
     A = area3 / max(float(area3.sum()), 1e-300)
-    a = a / max(float(a.sum()), 1e-300)
+    a = a / max(float(a.sum()) if image_area is None else float(image_area), 1e-300)
     ratio = np.minimum(A / np.maximum(a, 1e-300), 2.0 * resolution ** 2 * A)
     return float(np.sum(A * ratio ** 2))
 
