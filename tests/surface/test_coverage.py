@@ -9,6 +9,7 @@ import geoimg
 from geoimg import fit_surface, parametrize
 from geoimg.mesh import point_mesh_distance
 from geoimg.surface import _coverage_kernels as ck
+from geoimg.surface._coverage import _orientation, _quads_unfolded
 from helpers import finite_differences, mixed_mesh
 import meshes
 
@@ -211,3 +212,27 @@ def test_the_sphere_cells_list_every_triangle_where_it_counts_and_change_no_samp
     loose = surf._evaluate(directions, t1, t2)
     for a, b in zip(tight, loose):                              # ... the same sums
         np.testing.assert_array_equal(a, b)
+
+
+def test_a_quad_its_shorter_split_would_fold_is_split_the_other_way():
+    # a dart in (u, v), its reflex corner 2 raised: the shorter diagonal in space (1-3) runs outside the dart,
+    # so that split turns a triangle over in the parameter domain and the surface's triangles would overlap
+    v = np.array([[0.0, 0.0, -3.0], [2.0, 0.0, 0.0], [0.5, 0.5, 3.0], [0.0, 2.0, 0.0]])
+    mesh = geoimg.Mesh(v, [[0, 1, 2, 3]])
+    tris, owner = mesh.triangulate("shorter")
+    assert sorted(map(sorted, tris.tolist())) == [[0, 1, 3], [1, 2, 3]]
+    p = parametrize(mesh, "heightfield", axis="z")
+    fixed = _quads_unfolded(mesh, tris, owner, p.coords)
+    assert sorted(map(sorted, fixed.tolist())) == [[0, 1, 2], [0, 2, 3]]
+    o = _orientation(p.coords, fixed)
+    assert (o > 0).all() or (o < 0).all()
+    img = geoimg.mesh_to_image(mesh, 33, 1e-4, parametrization=p, fidelity=False)
+    u, w = img.domain.pixel_uv(img.pixels.shape[:2])
+    uv = np.stack(np.meshgrid(u, w), axis=-1)
+    inside = np.zeros(uv.shape[:2], bool)                  # a pixel spacing within one of the two triangles
+    for t in fixed:
+        a, b, c = p.coords[t]
+        lam = np.linalg.solve(np.array([b - a, c - a]).T, (uv - a).reshape(-1, 2).T).T.reshape(uv.shape)
+        inside |= (lam.min(axis=-1) > 0.1) & (lam.sum(axis=-1) < 0.9)
+    assert inside.sum() > 50
+    assert point_mesh_distance(img.pixels[inside], geoimg.Mesh(v, fixed)).max() < 1e-6
