@@ -286,7 +286,8 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
     Parameters
     ----------
     mesh : Mesh
-        Closed, one component, genus 0; polygons are split into fans for the map.
+        Closed, one component, genus 0; mapped as the image samples it: quads split along their shorter
+        diagonal, larger polygons into fans.
     steps : int, optional
         Area-balancing steps at most (0: the centred, nearly conformal map); the balancing stops sooner
         when it has converged. Default: 200, or on a mesh of T < 10,000 triangles as many as 2,000,000 / T
@@ -337,7 +338,7 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
         raise InputError(f"beta: expected a number >= 0, got {beta!r}")
     asked = steps
     x = mesh.vertices
-    tris, _ = mesh.triangulate()
+    tris, _ = mesh.triangulate(quads="shorter")
     used = mesh.referenced_vertices()
     vertex_area = vertex_areas(x, tris)
     lap = laplacian(cotangent_weights(x, tris))
