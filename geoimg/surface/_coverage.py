@@ -368,7 +368,8 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
 
 def _orientation(coords: np.ndarray, tris: np.ndarray) -> np.ndarray:
     """Each triangle's orientation in the parameter domain: twice its signed area on the plane, ``det(a, b, c)``
-    on the sphere."""
+    on the sphere.
+    """
     a, b, c = coords[tris[:, 0]], coords[tris[:, 1]], coords[tris[:, 2]]
     if coords.shape[1] == 2:
         return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
