@@ -39,7 +39,9 @@ from scipy.special import ndtri
 from ..errors import InputError, ParametrizationError
 from ..image import Domain
 from ..mesh import Mesh
+from ..parametrization._laplacian import planar_cross
 from ..parametrization._octahedral import directions
+from ..parametrization._orientation import chord_orientation
 from . import _coverage_kernels as ck
 from . import _kernels as kernels
 from ._addressing import PlanarAddressing, SphereAddressing
@@ -367,21 +369,19 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
 
 
 def _orientation(coords: np.ndarray, tris: np.ndarray) -> np.ndarray:
-    """Each triangle's orientation in the parameter domain: twice its signed area on the plane, ``det(a, b, c)``
-    on the sphere.
+    """Each triangle's orientation in the parameter domain: :func:`planar_cross` on the plane,
+    :func:`chord_orientation` on the sphere.
     """
-    a, b, c = coords[tris[:, 0]], coords[tris[:, 1]], coords[tris[:, 2]]
-    if coords.shape[1] == 2:
-        return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-    return np.einsum("ij,ij->i", a, np.cross(b, c))
+    return planar_cross(coords, tris) if coords.shape[1] == 2 else chord_orientation(coords, tris)
 
 
 def _quads_unfolded(mesh: Mesh, tris: np.ndarray, owner: np.ndarray, coords: np.ndarray) -> np.ndarray:
     """``tris`` (quads split along their shorter diagonal in space), with every quad whose split folds over in
-    the parameter domain split along its other diagonal where that one does not. A map is one-to-one on its
-    own triangles (fans): a quad it leaves non-convex, split the other way, has a triangle turned over, and
-    the surface's triangles then overlap (a 112-face cage of odedstein/meshes' fish on the sphere: 11 % of
-    its diagonal away at 257^2, 40.2 dB).
+    the parameter domain split along its other diagonal where that one does not. A map is one-to-one on the
+    triangles it was made on (fans for the planar maps; sphere maps are made on these very triangles): a quad
+    it leaves non-convex, split the other way, has a triangle turned over, and the surface's triangles then
+    overlap (a 112-face cage of odedstein/meshes' fish on a fan-made sphere map: 11 % of its diagonal away at
+    257^2, 40.2 dB).
     """
     o = _orientation(coords, tris)
     sign = 1.0 if np.sum(o > 0) >= np.sum(o < 0) else -1.0
