@@ -1,4 +1,4 @@
-"""Checks that the tests run on bundled, synthetic and (tests/test_shared_data.py) real meshes alike."""
+"""Checks that the tests run on synthetic and (tests/test_real_meshes.py) real meshes alike."""
 import warnings
 
 import numpy as np

@@ -1,8 +1,8 @@
 """Fixtures shared by the tests (helpers live in helpers.py).
 
-tests/test_shared_data.py runs the checks that need the larger third-party meshes of ../shared/data
-(not bundled: their licences do not allow it, or they are large); without that folder beside the checkout
-it is skipped with the reason shown (one skip), and the report's header says which.
+tests/test_real_meshes.py runs its checks on the bundled real meshes, and on the larger third-party meshes
+of ../shared/data too (not bundled: their licences do not allow it) where that folder is beside the
+checkout; the report's header says which.
 """
 import pytest
 
@@ -12,8 +12,8 @@ from helpers import MOUNTAIN, SHARED
 
 def pytest_report_header(config):
     if SHARED.is_dir():
-        return f"shared data: {SHARED} (tests/test_shared_data.py collected)"
-    return f"shared data: {SHARED} absent, so tests/test_shared_data.py is skipped (bundled data only)"
+        return f"shared data: {SHARED} (tests/test_real_meshes.py runs on its meshes too)"
+    return f"shared data: {SHARED} absent (tests/test_real_meshes.py runs on the bundled meshes only)"
 
 
 @pytest.fixture(scope="session")

@@ -1,6 +1,6 @@
 """Test helpers: the bundled meshes (tests/data, samples/data, the package's sample terrain), the larger
-real meshes of ../shared/data (beside the checkout; only tests/test_shared_data.py uses them) and small
-synthetic meshes."""
+real meshes of ../shared/data (beside the checkout; only tests/test_real_meshes.py uses them, where they are
+present) and small synthetic meshes."""
 import warnings
 from pathlib import Path
 
@@ -25,7 +25,7 @@ def data_file(name: str) -> Path:
 
 
 def shared_file(rel: str) -> Path:
-    """A file of ../shared/data (tests/test_shared_data.py is skipped where that folder is absent)."""
+    """A file of ../shared/data (tests/test_real_meshes.py asks only for those that are present)."""
     path = SHARED / rel
     if not path.is_file():
         raise FileNotFoundError(f"shared test data {path} not present")
@@ -54,6 +54,24 @@ def load_data(name: str) -> geoimg.Mesh:
 def load_shared(rel: str) -> geoimg.Mesh:
     """A mesh of ../shared/data, quietly."""
     return load_quietly(shared_file(rel))
+
+
+def _real_name(row) -> str:
+    return row if isinstance(row, str) else row[0]
+
+
+def real_meshes(*rows) -> list:
+    """The rows (a mesh's name, or a tuple that starts with it) whose mesh is here: every bundled one (a file
+    name) and those of ../shared/data/meshes (a path with its folder) where that folder is beside the checkout.
+
+    A test parametrized over them runs on the bundled meshes in a clone on its own, and on both beside
+    ../shared."""
+    return [row for row in rows if "/" not in _real_name(row) or (SHARED / "meshes" / _real_name(row)).is_file()]
+
+
+def load_real(name: str) -> geoimg.Mesh:
+    """A mesh of :func:`real_meshes`: bundled (a file name) or of ../shared/data/meshes (a path), quietly."""
+    return load_shared(f"meshes/{name}") if "/" in name else load_data(name)
 
 
 def mixed_mesh(seed: int = 0, n: int = 7):

@@ -67,7 +67,7 @@ def test_truncated_equals_exact_on_a_real_terrain(mountain, s):
 @pytest.mark.parametrize("sliver_rule", ["robust", "paper"])
 def test_surface_converges_to_the_mesh_as_s_shrinks(sliver_rule):
     # an octahedral hemisphere: its projection squeezes the rim's triangles, so it plateaus from s ~ 0.5
-    # on (tests/test_shared_data.py holds pmp's hemisphere.off to the finer steps down to s = 0.25)
+    # on (tests/test_real_meshes.py holds the terrain and pmp's hemisphere.off to the finer steps down to s = 0.25)
     rms = surface_to_vertices_rms(meshes.octa_hemisphere(20), (2.0, 1.0, 0.5), sliver_rule)
     assert all(a > 1.5 * b for a, b in zip(rms, rms[1:])), rms
     assert rms[-1] < 0.3 * rms[0]
