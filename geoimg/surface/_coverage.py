@@ -171,18 +171,23 @@ class CoverageSurface(Surface):
     def cells(self) -> tuple:
         """Triangles binned by their reach (made once, on first use)."""
         if self._cells is None:
-            reach = self.size + 1.05 * (-self._zmin()) * self.widths() * self.spread if self.tol > 0 else \
-                np.full(len(self.size), 4.0)
-            reach = np.minimum(reach, 4.0)
+            reach = np.minimum(self._reach(), 4.0) if self.tol > 0 else np.full(len(self.size), 4.0)
             cut = self.tol > 0                   # cut off below zmin: the cells past that leave a triangle out
             object.__setattr__(self, "_cells", build_cells_3d(
                 self.centres, reach, planes=self.edges() if cut else None, floor=self._zmin(), unit=self.UNIT_POINTS))
         return self._cells
 
+    def _reach(self) -> np.ndarray:
+        """How far from its centre each triangle's terms reach: its corners' distance, plus the grown edges'
+        offset at its sharpest corner.
+        """
+        return self.size + 1.05 * (-self._zmin()) * self.widths() * self.spread
+
     def _evaluate(self, pts, t1, t2, derivatives=True, exact=False):
         exact = exact or self.tol == 0
         fallback = np.arange(len(self.size)) if exact else self.fallback
-        return ck.evaluate_coverage(pts, t1, t2, (self.edges(),) + tuple(self.tables[1:]), self.cells(), fallback,
+        return ck.evaluate_coverage(pts, t1, t2, (self.edges(),) + tuple(self.tables[1:]),
+                                    None if exact else self.cells(), fallback,
                                     zmin=self._zmin(), floor=FLOOR_OVER_TOL * self.tol, derivatives=derivatives,
                                     exact=exact)
 
@@ -266,6 +271,13 @@ class SphereCoverageSurface(SphereAddressing, CoverageSurface):
     def curvature(self, resolution: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         return sphere_curvature(self, resolution)
 
+    def _reach(self) -> np.ndarray:
+        """On the sphere the planar rule falls short for large triangles (the sphere bulges beyond the chord
+        triangle, and the edges' planes through the centre meet its plane at a slant): the bound of
+        :func:`~._coverage_kernels.sphere_reach` instead.
+        """
+        return ck.sphere_reach(self.edges(), self.tables[2], self._zmin(), self.centres)
+
     def auto_resolution(self) -> int:
         """Odd side whose pixels are ``s * dbar`` apart on the sphere, on average."""
         side = int(math.ceil(math.sqrt(4.0 * math.pi) / (self.s * self.dbar))) + 1
@@ -276,10 +288,21 @@ class SphereCoverageSurface(SphereAddressing, CoverageSurface):
             raise InputError(f"backend {backend!r}: octahedral (spherical) images are sampled on the CPU only")
         n = shape[0]
         q = self.domain.directions(n).reshape(-1, 3)             # type: ignore[attr-defined]   # octahedral
-        t1, t2 = tangent_frames(q)
-        P, P1, P2, st = self._evaluate(q, t1, t2, derivatives=normals)
+        if self.tol > 0:     # triangle by triangle over each octant; the uncertified pixels exactly
+            P, P1, P2, ok = ck.sample_octahedral_coverage(q, (self.edges(),) + tuple(self.tables[1:]),
+                                                          zmin=self._zmin(), floor=FLOOR_OVER_TOL * self.tol,
+                                                          derivatives=normals)
+            redo = np.flatnonzero(~ok)
+            if len(redo):      # along tangent frames there: any two tangents give the normal
+                t1, t2 = tangent_frames(q[redo])
+                P[redo], P1[redo], P2[redo], _ = self._evaluate(q[redo], t1, t2, derivatives=normals, exact=True)
+            n_exact = len(redo)
+        else:
+            t1, t2 = tangent_frames(q)
+            P, P1, P2, st = self._evaluate(q, t1, t2, derivatives=normals)
+            n_exact = int((st == ck.EXACT).sum())
         nrm = kernels.unit_normals(P1, P2, self.orientation).reshape(n, n, 3) if normals else None
-        return P.reshape(n, n, 3), nrm, None, int((st == ck.EXACT).sum()), 0
+        return P.reshape(n, n, 3), nrm, None, n_exact, 0
 
 
 def _triangle_tables(corners: np.ndarray, xyz: np.ndarray, planar: bool):

@@ -18,6 +18,10 @@ sphere: the central projection onto its chord plane), so
 outside the triangles (beyond a planar mesh's border) and is recomputed in the log domain over the
 triangles ``fallback`` lists (the border's), shifted by the largest log-weight so that nothing
 underflows: status ``EXACT``.
+
+Three ways to sum: scattered points cell by cell (:func:`evaluate_coverage`), planar grids triangle by
+triangle over each one's box (:func:`sample_grid_coverage`), and octahedral grids triangle by triangle over
+each octant's share of its reach (:func:`sample_octahedral_coverage`).
 """
 from __future__ import annotations
 
@@ -26,13 +30,15 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ._kernels import grid_bands
+from ._kernels import _band_lists, _band_rows, grid_bands
 from ._sphere_kernels import _cell_of
 
-__all__ = ["evaluate_coverage", "sample_grid_coverage", "offset_boxes", "log_ndtr", "TRUNCATED", "EXACT"]
+__all__ = ["evaluate_coverage", "sample_grid_coverage", "sample_octahedral_coverage", "octant_owners", "offset_boxes",
+           "log_ndtr", "TRUNCATED", "EXACT"]
 
 TRUNCATED, EXACT = 0, 1
 WMIN = 0.5          # w . p at or below it: the triangle is skipped (see _add)
+EXACT_RUN = 16      # points summed exactly without cells go in runs of this many (the parallel loop's items)
 _SQRT1_2 = 1.0 / math.sqrt(2.0)
 _LOG_SQRT_2PI = 0.5 * math.log(2.0 * math.pi)
 
@@ -107,9 +113,19 @@ def _add(t, p, t1, t2, E, K, w, zmin, zmax, deriv, shift, log_domain, wmin, tabl
     z2 = (E[t, 2, 0] * p[0] + E[t, 2, 1] * p[1] + E[t, 2, 2] * p[2])
     if not log_domain and z2 < zmin:
         return False
-    wp = w[t, 0] * p[0] + w[t, 1] * p[1] + w[t, 2] * p[2]
+    return _add_terms(t, z0, z1, z2, p[0], p[1], p[2], t1, t2, E, K, w, zmax, deriv, shift, log_domain, wmin, table,
+                      acc)
+
+
+@njit(cache=True, inline="always")
+def _term(t, z0, z1, z2, p0, p1, p2, K, w, zmax, deriv, shift, log_domain, wmin, table):
+    """Triangle ``t``'s weight and point at ``(p0, p1, p2)`` from its edge functions ``z0, z1, z2``:
+    ``(kind, F, r0, r1, r2, P0, P1, P2, 1 / (w . p))``, ``r_k`` the edges' ``dPhi/dz / Phi`` (with ``deriv``);
+    ``kind`` 0 where it is skipped (``w . p <= wmin``), 1 where its weight is 0, 2 for a term.
+    """
+    wp = w[t, 0] * p0 + w[t, 1] * p1 + w[t, 2] * p2
     if not wp > wmin:
-        return False
+        return 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     if log_domain:
         c0, r0 = _log_edge(z0)
         c1, r1 = _log_edge(z1)
@@ -121,11 +137,21 @@ def _add(t, p, t1, t2, E, K, w, zmin, zmax, deriv, shift, log_domain, wmin, tabl
         c2, r2 = _edge(z2, zmax, deriv, table)
         F = c0 * c1 * c2
     if F == 0.0:                # nothing to add; a near-degenerate triangle's map may be huge there (0 * inf)
-        return True
+        return 1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     inv_wp = 1.0 / wp
-    P0 = (K[t, 0, 0] * p[0] + K[t, 0, 1] * p[1] + K[t, 0, 2] * p[2]) * inv_wp
-    P1 = (K[t, 1, 0] * p[0] + K[t, 1, 1] * p[1] + K[t, 1, 2] * p[2]) * inv_wp
-    P2 = (K[t, 2, 0] * p[0] + K[t, 2, 1] * p[1] + K[t, 2, 2] * p[2]) * inv_wp
+    P0 = (K[t, 0, 0] * p0 + K[t, 0, 1] * p1 + K[t, 0, 2] * p2) * inv_wp
+    P1 = (K[t, 1, 0] * p0 + K[t, 1, 1] * p1 + K[t, 1, 2] * p2) * inv_wp
+    P2 = (K[t, 2, 0] * p0 + K[t, 2, 1] * p1 + K[t, 2, 2] * p2) * inv_wp
+    return 2, F, r0, r1, r2, P0, P1, P2, inv_wp
+
+
+@njit(cache=True, inline="always")
+def _add_terms(t, z0, z1, z2, p0, p1, p2, t1, t2, E, K, w, zmax, deriv, shift, log_domain, wmin, table, acc):
+    """The part of :func:`_add` after the edge tests: ``z0, z1, z2`` the edge functions at ``(p0, p1, p2)``."""
+    kind, F, r0, r1, r2, P0, P1, P2, inv_wp = _term(t, z0, z1, z2, p0, p1, p2, K, w, zmax, deriv, shift, log_domain,
+                                                    wmin, table)
+    if kind < 2:
+        return kind == 1
     acc[0] += F
     acc[1] += F * P0
     acc[2] += F * P1
@@ -239,9 +265,9 @@ def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, zmin, floor, deri
     """The coverage-weighted surface and its derivatives along ``t1, t2`` at points ``pts`` (k, 3) given in
     homogeneous coordinates (see the module's text). ``tables`` is ``(E, K, w)``: (T, 3, 3) edge rows over
     each triangle's width, (T, 3, 3) maps and (T, 3) denominators; ``cells`` from
-    :func:`~._sphere_kernels.build_cells_3d` over the triangles' reach; ``fallback`` the triangles a point outside
-    them is summed over (all of them with
-    ``exact``). Returns ``P, P_t1, P_t2`` (k, 3) and a status per point.
+    :func:`~._sphere_kernels.build_cells_3d` over the triangles' reach (None with ``exact``: every point is
+    summed over ``fallback`` alone, in runs of :data:`EXACT_RUN`); ``fallback`` the triangles a point outside
+    them is summed over (all of them with ``exact``). Returns ``P, P_t1, P_t2`` (k, 3) and a status per point.
     """
     pts = np.ascontiguousarray(pts, np.float64)
     k = len(pts)
@@ -250,8 +276,14 @@ def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, zmin, floor, deri
     P, D1, D2 = np.empty((k, 3)), np.empty((k, 3)), np.empty((k, 3))
     status = np.empty(k, np.int8)
     E, K, w = tables
+    if cells is None:
+        if not exact:
+            raise ValueError("evaluate_coverage: cells are needed unless exact")
+        cells = (2.0, 1, np.zeros(2, np.int64), np.zeros(0, np.int64))
+        cell = np.arange(k, dtype=np.int64) // EXACT_RUN
+    else:
+        cell = _cells_of(pts, float(cells[0]), int(cells[1]))
     h, n, ptr, cf = cells
-    cell = _cells_of(pts, float(h), int(n))
     order = np.argsort(cell, kind="stable").astype(np.int64)       # the points grouped by cell
     group_cell, group_start = np.unique(cell[order], return_index=True)
     group_ptr = np.append(group_start, len(order)).astype(np.int64)
@@ -365,3 +397,412 @@ def sample_grid_coverage(u, v, tables, *, zmin, floor, derivatives=True):
     _grid_kernel(u, v, E, K, w, c0, c1, r0, r1, band, band_ptr, band_faces, float(zmin), float(-zmin), float(floor),
                  bool(derivatives), TABLE, P, Pu, Pv, ok)
     return P, (Pu if derivatives else None), (Pv if derivatives else None), ok
+
+
+# Octahedral images, triangle by triangle. Inside one octant the octahedral unfolding is affine: image
+# coordinates (a, b) in [-1, 1]^2 (a along columns, b along rows) give the octahedron's point
+# o(a, b) = o0 + a oa + b ob, and the pixel's direction is o / |o|. An edge function z = E . q is then
+# (E . o) / |o|, whose sign is affine in (a, b); where z >= zmin, E . o >= zmin |o| >= zmin max|o| (zmin < 0),
+# a half-plane of the octant. So each triangle reaches, in each octant, no farther than a convex polygon: the
+# octant's triangle clipped by its three edges' half-planes and by its denominator's (w . q > WMIN, so
+# w . o > WMIN / sqrt(3)). Its pixel box is swept as the planar grid kernel sweeps a triangle's box, every
+# pixel by the one octant that owns it (:func:`octant_owners`), so that a pixel gets each triangle once.
+
+_VERTS = 16             # room for a clipped polygon: the octant's 3 corners plus one per clip
+_SLACK = 1e-6           # in units of the edge functions: rounding never drops a pixel
+_W_FLOOR = WMIN / math.sqrt(3.0) * (1.0 - 1e-9) - _SLACK     # w . o > WMIN |o| >= WMIN / sqrt(3)
+
+
+@njit(cache=True, inline="always")
+def _octant(oc):
+    """Octant ``oc`` (bit 0: x > 0, bit 1: y > 0, bit 2: the lower half, z < 0): ``o0, oa, ob`` of its
+    affine unfolding and its triangle's three corners in ``(a, b)``.
+    """
+    sx = 1.0 if oc & 1 else -1.0
+    sy = 1.0 if oc & 2 else -1.0
+    if oc < 4:          # in the diamond |a| + |b| <= 1: o = (a, b, 1 - |a| - |b|)
+        return (0.0, 0.0, 1.0), (1.0, 0.0, -sx), (0.0, 1.0, -sy), (0.0, 0.0, sx, 0.0, 0.0, sy)
+    # in a corner triangle: o = (sx (1 - |b|), sy (1 - |a|), 1 - |a| - |b|)
+    return (sx, sy, 1.0), (0.0, -sx * sy, -sx), (-sx * sy, 0.0, -sy), (sx, 0.0, 0.0, sy, sx, sy)
+
+
+@njit(cache=True, inline="always")
+def _clip(pa, pb, m, g0, ga, gb, qa, qb):
+    """The polygon ``(pa, pb)[:m]`` clipped to ``g0 + ga a + gb b >= 0``, into ``(qa, qb)``; returns its size."""
+    k = 0
+    for i in range(m):
+        j = i + 1 if i + 1 < m else 0
+        fi = g0 + ga * pa[i] + gb * pb[i]
+        fj = g0 + ga * pa[j] + gb * pb[j]
+        if fi >= 0.0:
+            qa[k] = pa[i]
+            qb[k] = pb[i]
+            k += 1
+        if (fi >= 0.0) != (fj >= 0.0):
+            t = fi / (fi - fj)
+            qa[k] = pa[i] + t * (pa[j] - pa[i])
+            qb[k] = pb[i] + t * (pb[j] - pb[i])
+            k += 1
+    return k
+
+
+@njit(cache=True)
+def _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb):
+    """The polygon of octant ``oc`` (in ``(a, b)``, into ``pa, pb``) outside which triangle ``t``'s terms are
+    cut off; returns its size (0: none there) and the bound on ``|o|`` it was clipped with (``H`` then holds
+    its half-planes, see :func:`_half_planes`). Clipped twice: with ``max|o| = 1``, then with the largest
+    ``|o|`` over the first polygon (``|o|`` is convex: its largest value is at a corner).
+    """
+    o0, oa, ob, corners = _octant(oc)
+    big = 1.0
+    m = 0
+    for rounds in range(2):
+        _half_planes(t, oc, E, w, zmin, big, H)
+        pa[0], pb[0], pa[1], pb[1], pa[2], pb[2] = corners
+        m = 3
+        for e in range(4):
+            m = _clip(pa, pb, m, H[e, 0], H[e, 1], H[e, 2], qa, qb)
+            for k in range(m):
+                pa[k] = qa[k]
+                pb[k] = qb[k]
+            if m == 0:
+                return 0, big
+        if rounds == 1:
+            break
+        big = 0.0
+        for k in range(m):
+            x = o0[0] + oa[0] * pa[k] + ob[0] * pb[k]
+            y = o0[1] + oa[1] * pa[k] + ob[1] * pb[k]
+            z = o0[2] + oa[2] * pa[k] + ob[2] * pb[k]
+            big = max(big, math.sqrt(x * x + y * y + z * z))
+        big = min(big * (1.0 + 1e-9), 1.0)
+    return m, big
+
+
+@njit(cache=True, inline="always")
+def _half_planes(t, oc, E, w, zmin, big, H):
+    """The four half-planes ``g0 + ga a + gb b >= 0`` of :func:`_reach_polygon` in octant ``oc``, its three
+    edges' at ``big`` and its denominator's, into ``H`` (4, 3).
+    """
+    o0, oa, ob, corners = _octant(oc)
+    for e in range(4):
+        if e < 3:
+            r0, r1, r2 = E[t, e, 0], E[t, e, 1], E[t, e, 2]
+            floor = zmin * big - _SLACK
+        else:
+            r0, r1, r2 = w[t, 0], w[t, 1], w[t, 2]
+            floor = _W_FLOOR
+        H[e, 0] = r0 * o0[0] + r1 * o0[1] + r2 * o0[2] - floor
+        H[e, 1] = r0 * oa[0] + r1 * oa[1] + r2 * oa[2]
+        H[e, 2] = r0 * ob[0] + r1 * ob[1] + r2 * ob[2]
+
+
+@njit(cache=True, inline="always")
+def _octant_row(oc, i, m):
+    """The columns ``j0..j1-1`` of row ``i`` of an ``(m + 1)``-pixel octahedral image that octant ``oc`` owns
+    (:func:`octant_owners`): with ``A = 2j - m``, ``B = 2i - m``, the upper half holds ``|A| + |B| <= m``, ties go
+    to the positive sides.
+    """
+    if (oc & 2 != 0) != (2 * i >= m):
+        return 0, 0
+    h = m // 2
+    half_width = (m - abs(2 * i - m)) // 2
+    if oc < 4:
+        return (h, h + half_width + 1) if oc & 1 else (h - half_width, h)
+    return (h + half_width + 1, m + 1) if oc & 1 else (0, h - half_width)
+
+
+@njit(cache=True, inline="always")
+def _row_span(H, b, half, c0, c1):
+    """The columns ``j0..j1-1`` of columns ``c0..c1-1`` on the row at ``b`` where every half-plane of ``H``
+    holds (rounded outwards by a millionth of a pixel).
+    """
+    alo, ahi = -np.inf, np.inf
+    for e in range(H.shape[0]):
+        g = H[e, 0] + H[e, 2] * b
+        ga = H[e, 1]
+        if ga > 0.0:
+            alo = max(alo, -g / ga)
+        elif ga < 0.0:
+            ahi = min(ahi, -g / ga)
+        elif g < 0.0:
+            return c0, c0
+    alo, ahi = max(alo, -2.0), min(ahi, 2.0)       # the image spans [-1, 1]
+    if not alo <= ahi:
+        return c0, c0
+    return max(c0, int(math.ceil((alo + 1.0) * half - 1e-6))), min(c1, int(math.floor((ahi + 1.0) * half + 1e-6)) + 1)
+
+
+@njit(parallel=True, cache=True)
+def _octant_boxes(E, w, zmin, n, boxes, bigs):
+    """Each triangle's pixel box ``(r0, r1, c0, c1)`` in each octant of an ``n x n`` image, into ``boxes``
+    (T, 8, 4): rows ``r0..r1-1``, columns ``c0..c1-1``; empty where it reaches nothing there (and in the
+    octants :func:`_near_octants` rules out); and the bound on ``|o|`` its polygon was clipped with, into
+    ``bigs`` (T, 8). Runs of triangles in parallel.
+    """
+    half = 0.5 * (n - 1)
+    T = E.shape[0]
+    runs = min(T, 256)
+    for run in prange(runs):
+        pa = np.empty(_VERTS)
+        pb = np.empty(_VERTS)
+        qa = np.empty(_VERTS)
+        qb = np.empty(_VERTS)
+        H = np.empty((4, 3))
+        for t in range(run * T // runs, (run + 1) * T // runs):
+            near = _near_octants(t, E, w, zmin)
+            for oc in range(8):
+                for k in range(4):
+                    boxes[t, oc, k] = 0
+                bigs[t, oc] = 1.0
+                if not near & (1 << oc):
+                    continue
+                m, bigs[t, oc] = _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb)
+                if m == 0:
+                    continue
+                alo, ahi, blo, bhi = pa[0], pa[0], pb[0], pb[0]
+                for k in range(1, m):
+                    alo, ahi = min(alo, pa[k]), max(ahi, pa[k])
+                    blo, bhi = min(blo, pb[k]), max(bhi, pb[k])
+                boxes[t, oc, 0] = max(0, int(math.ceil((blo + 1.0) * half - 1e-6)))
+                boxes[t, oc, 1] = min(n, int(math.floor((bhi + 1.0) * half + 1e-6)) + 1)
+                boxes[t, oc, 2] = max(0, int(math.ceil((alo + 1.0) * half - 1e-6)))
+                boxes[t, oc, 3] = min(n, int(math.floor((ahi + 1.0) * half + 1e-6)) + 1)
+
+
+@njit(cache=True)
+def _grown_corners(t, E, w, zmin):
+    """The corners of the chord triangle that holds the central projection of every direction triangle ``t``'s
+    terms reach, as ``(ok, G0, G1, G2)`` (``ok`` False where its edges do not fix them). With ``V_k`` its unit
+    corners, ``w = sum_k mu_k E_k`` (``mu_k > 0``) and ``beta`` the barycentric coordinates of the projection
+    of ``q`` onto its chord plane, ``beta_k = mu_k z_k / (w . q)``: where every ``z_k >= zmin`` and
+    ``w . q > WMIN``, ``beta_k >= zmin mu_k / WMIN = -gamma_k``, the triangle grown to the corners
+    ``G_j = (1 + sum_k gamma_k) V_j - sum_k gamma_k V_k``.
+    """
+    nothing = (0.0, 0.0, 0.0)
+    v0 = _corner(t, 0, E)
+    v1 = _corner(t, 1, E)
+    v2 = _corner(t, 2, E)
+    det = _det3(E[t, 0, 0], E[t, 1, 0], E[t, 2, 0], E[t, 0, 1], E[t, 1, 1], E[t, 2, 1], E[t, 0, 2], E[t, 1, 2],
+                E[t, 2, 2])
+    if v0[3] == 0.0 or v1[3] == 0.0 or v2[3] == 0.0 or not det != 0.0:
+        return False, nothing, nothing, nothing
+    # mu from w = sum_k mu_k E_k, by Cramer's rule on the columns E_k
+    mu0 = _det3(w[t, 0], E[t, 1, 0], E[t, 2, 0], w[t, 1], E[t, 1, 1], E[t, 2, 1], w[t, 2], E[t, 1, 2], E[t, 2, 2]) / det
+    mu1 = _det3(E[t, 0, 0], w[t, 0], E[t, 2, 0], E[t, 0, 1], w[t, 1], E[t, 2, 1], E[t, 0, 2], w[t, 2], E[t, 2, 2]) / det
+    mu2 = _det3(E[t, 0, 0], E[t, 1, 0], w[t, 0], E[t, 0, 1], E[t, 1, 1], w[t, 1], E[t, 0, 2], E[t, 1, 2], w[t, 2]) / det
+    if not (0.0 < mu0 < np.inf and 0.0 < mu1 < np.inf and 0.0 < mu2 < np.inf):
+        return False, nothing, nothing, nothing
+    grow = -zmin / WMIN * (1.0 + 1e-6)
+    g0, g1, g2 = grow * mu0 + 1e-9, grow * mu1 + 1e-9, grow * mu2 + 1e-9
+    top = 1.0 + g0 + g1 + g2
+    base = (g0 * v0[0] + g1 * v1[0] + g2 * v2[0], g0 * v0[1] + g1 * v1[1] + g2 * v2[1],
+            g0 * v0[2] + g1 * v1[2] + g2 * v2[2])
+    return (True, (top * v0[0] - base[0], top * v0[1] - base[1], top * v0[2] - base[2]),
+            (top * v1[0] - base[0], top * v1[1] - base[1], top * v1[2] - base[2]),
+            (top * v2[0] - base[0], top * v2[1] - base[1], top * v2[2] - base[2]))
+
+
+@njit(cache=True)
+def _near_octants(t, E, w, zmin):
+    """The octants triangle ``t``'s terms may reach (a superset), as bits: a direction it reaches lies in the
+    cone over :func:`_grown_corners`, so on the side of each coordinate plane where all three of them are.
+    """
+    ok, G0, G1, G2 = _grown_corners(t, E, w, zmin)
+    if not ok:
+        return 255
+    lx, hx = min(G0[0], G1[0], G2[0]), max(G0[0], G1[0], G2[0])
+    ly, hy = min(G0[1], G1[1], G2[1]), max(G0[1], G1[1], G2[1])
+    lz, hz = min(G0[2], G1[2], G2[2]), max(G0[2], G1[2], G2[2])
+    tiny = 1e-12 * max(-lx, hx, -ly, hy, -lz, hz)
+    bits = 0
+    for oc in range(8):
+        if (hx < -tiny if oc & 1 else lx > tiny) or (hy < -tiny if oc & 2 else ly > tiny) \
+                or (lz > tiny if oc >= 4 else hz < -tiny):
+            continue
+        bits |= 1 << oc
+    return bits
+
+
+@njit(parallel=True, cache=True)
+def sphere_reach(E, w, zmin, centres):
+    """How far (chord distance) from its centre ``centres[t]`` a direction triangle ``t``'s terms reach can
+    lie: at most ``max_j |G_j - c| + max(1 - h, max_j |G_j| - 1)`` with ``G_j`` its :func:`_grown_corners`
+    and ``h`` the chord plane's distance from the origin (the central projection onto the unit sphere moves a
+    point of the grown triangle by ``| |g| - 1 |``); 4 (the whole sphere) where they are not fixed.
+    """
+    T = E.shape[0]
+    out = np.empty(T)
+    for t in prange(T):
+        ok, G0, G1, G2 = _grown_corners(t, E, w, zmin)
+        if not ok:
+            out[t] = 4.0
+            continue
+        far = 0.0
+        longest = 0.0
+        for G in (G0, G1, G2):
+            far = max(far, math.sqrt((G[0] - centres[t, 0]) ** 2 + (G[1] - centres[t, 1]) ** 2
+                                     + (G[2] - centres[t, 2]) ** 2))
+            longest = max(longest, math.sqrt(G[0] * G[0] + G[1] * G[1] + G[2] * G[2]))
+        # the chord plane's distance from the origin: w is normal to it, and the centre lies on it
+        h = (w[t, 0] * centres[t, 0] + w[t, 1] * centres[t, 1] + w[t, 2] * centres[t, 2]) \
+            / math.sqrt(w[t, 0] ** 2 + w[t, 1] ** 2 + w[t, 2] ** 2)
+        out[t] = min(4.0, (far + max(1.0 - h, longest - 1.0)) * (1.0 + 1e-9))
+    return out
+
+
+@njit(cache=True, inline="always")
+def _corner(t, k, E):
+    """Triangle ``t``'s unit corner ``k`` (across from edge ``k``: on edges ``k + 1`` and ``k + 2``, on the
+    inner side of edge ``k``), and 1 (0, with zeros, when the edges do not fix it).
+    """
+    a, b = (k + 1) % 3, (k + 2) % 3
+    x = E[t, a, 1] * E[t, b, 2] - E[t, a, 2] * E[t, b, 1]
+    y = E[t, a, 2] * E[t, b, 0] - E[t, a, 0] * E[t, b, 2]
+    z = E[t, a, 0] * E[t, b, 1] - E[t, a, 1] * E[t, b, 0]
+    size = math.sqrt(x * x + y * y + z * z)
+    side = x * E[t, k, 0] + y * E[t, k, 1] + z * E[t, k, 2]
+    if not (size > 0.0 and side != 0.0 and size < np.inf):
+        return 0.0, 0.0, 0.0, 0.0
+    f = (1.0 if side > 0.0 else -1.0) / size
+    return x * f, y * f, z * f, 1.0
+
+
+@njit(cache=True, inline="always")
+def _det3(a, b, c, d, e, f, g, h, i):
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+
+
+def octant_owners(n: int) -> np.ndarray:
+    """The octant (as :func:`_octant` numbers them) that owns each pixel of an ``n x n`` octahedral image:
+    the one whose closed triangle holds it, ties to the upper half and to the positive sides. From integers.
+    """
+    k = 2 * np.arange(n, dtype=np.int64) - (n - 1)          # (n - 1) a along columns, (n - 1) b along rows
+    A, B = np.meshgrid(k, k)
+    lower = np.abs(A) + np.abs(B) > n - 1
+    return ((A >= 0).astype(np.int8) + 2 * (B >= 0) + 4 * lower).astype(np.int8)
+
+
+@njit(parallel=True, cache=True)
+def _octahedral_kernel(q, E, K, w, boxes, bigs, band, band_ptr, band_entries, zmin, zmax, floor, deriv, table,
+                       P, Da, Db, ok):
+    """Octahedral images, triangle by triangle and octant by octant: bands of ``band`` rows run in parallel;
+    every (triangle, octant) entry a band lists (``8 t + octant``) adds the triangle's terms over the pixels of
+    its box that the octant owns (:func:`_octant_row`; on each row, only between the columns its half-planes
+    leave: :func:`_row_span`) to the band's running sums, as :func:`_term` gives them. A pixel's triangles come in
+    ascending order, as the points kernel sums them: the same points. Derivatives are along the image's
+    ``a`` and ``b`` (``Da``, ``Db``): in the pixel's octant ``dq/da = (o_a - q (q . o_a)) / |o|``, and
+    ``1 / |o| = |q|_1``, so a triangle's terms need its rows times ``o_a``, ``o_b`` once per entry.
+    Pixels whose sum is below ``floor`` are left to the points kernel (``ok`` False).
+    """
+    n = int(round(math.sqrt(q.shape[0])))
+    half = 0.5 * (n - 1)
+    for b in prange(band_ptr.shape[0] - 1):
+        i0 = b * band
+        i1 = min(n, i0 + band)
+        acc = np.zeros((band, n, 12))
+        H = np.empty((4, 3))
+        for k in range(band_ptr[b], band_ptr[b + 1]):
+            e = band_entries[k]
+            t = e >> 3
+            oc = e & 7
+            e00, e01, e02 = E[t, 0, 0], E[t, 0, 1], E[t, 0, 2]
+            e10, e11, e12 = E[t, 1, 0], E[t, 1, 1], E[t, 1, 2]
+            e20, e21, e22 = E[t, 2, 0], E[t, 2, 1], E[t, 2, 2]
+            _, oa, ob, _ = _octant(oc)
+            # the rows along the octant's two image directions
+            ea0, ea1, ea2 = _along(E, t, 0, oa), _along(E, t, 1, oa), _along(E, t, 2, oa)
+            eb0, eb1, eb2 = _along(E, t, 0, ob), _along(E, t, 1, ob), _along(E, t, 2, ob)
+            wa = w[t, 0] * oa[0] + w[t, 1] * oa[1] + w[t, 2] * oa[2]
+            wb = w[t, 0] * ob[0] + w[t, 1] * ob[1] + w[t, 2] * ob[2]
+            ka0, ka1, ka2 = _along(K, t, 0, oa), _along(K, t, 1, oa), _along(K, t, 2, oa)
+            kb0, kb1, kb2 = _along(K, t, 0, ob), _along(K, t, 1, ob), _along(K, t, 2, ob)
+            _half_planes(t, oc, E, w, zmin, bigs[t, oc], H)
+            for i in range(max(boxes[t, oc, 0], i0), min(boxes[t, oc, 1], i1)):
+                r = i - i0
+                o0, o1 = _octant_row(oc, i, n - 1)
+                j0, j1 = _row_span(H, (i - half) / half, half, max(boxes[t, oc, 2], o0), min(boxes[t, oc, 3], o1))
+                for j in range(j0, j1):
+                    p = i * n + j
+                    p0, p1, p2 = q[p, 0], q[p, 1], q[p, 2]
+                    z0 = e00 * p0 + e01 * p1 + e02 * p2
+                    if z0 < zmin:
+                        continue
+                    z1 = e10 * p0 + e11 * p1 + e12 * p2
+                    if z1 < zmin:
+                        continue
+                    z2 = e20 * p0 + e21 * p1 + e22 * p2
+                    if z2 < zmin:
+                        continue
+                    kind, F, r0, r1, r2, X, Y, Z, inv_wp = _term(t, z0, z1, z2, p0, p1, p2, K, w, zmax, deriv, 0.0,
+                                                                 False, WMIN, table)
+                    if kind < 2:
+                        continue
+                    a = acc[r, j]
+                    a[0] += F
+                    a[1] += F * X
+                    a[2] += F * Y
+                    a[3] += F * Z
+                    if not deriv:
+                        continue
+                    inv_o = abs(p0) + abs(p1) + abs(p2)
+                    sa = p0 * oa[0] + p1 * oa[1] + p2 * oa[2]
+                    sb = p0 * ob[0] + p1 * ob[1] + p2 * ob[2]
+                    R = r0 * z0 + r1 * z1 + r2 * z2
+                    f = F * inv_o
+                    g = f * inv_wp
+                    dF = f * (r0 * ea0 + r1 * ea1 + r2 * ea2 - sa * R)
+                    a[4] += dF
+                    a[5] += dF * X + g * (ka0 - X * wa)
+                    a[6] += dF * Y + g * (ka1 - Y * wa)
+                    a[7] += dF * Z + g * (ka2 - Z * wa)
+                    dF = f * (r0 * eb0 + r1 * eb1 + r2 * eb2 - sb * R)
+                    a[8] += dF
+                    a[9] += dF * X + g * (kb0 - X * wb)
+                    a[10] += dF * Y + g * (kb1 - Y * wb)
+                    a[11] += dF * Z + g * (kb2 - Z * wb)
+        for i in range(i0, i1):
+            r = i - i0
+            for j in range(n):
+                p = i * n + j
+                s = acc[r, j, 0]
+                ok[p] = s >= floor
+                if not ok[p]:
+                    continue
+                for c in range(3):
+                    val = acc[r, j, 1 + c] / s
+                    P[p, c] = val
+                    Da[p, c] = (acc[r, j, 5 + c] - val * acc[r, j, 4]) / s
+                    Db[p, c] = (acc[r, j, 9 + c] - val * acc[r, j, 8]) / s
+
+
+@njit(cache=True, inline="always")
+def _along(M, t, k, d):
+    """Row ``k`` of triangle ``t``'s matrix ``M`` times the vector ``d``."""
+    return M[t, k, 0] * d[0] + M[t, k, 1] * d[1] + M[t, k, 2] * d[2]
+
+
+def sample_octahedral_coverage(q, tables, *, zmin, floor, derivatives=True):
+    """The coverage-weighted surface on a square octahedral image whose pixels have unit directions ``q``
+    (n * n, 3), row by row, triangle by triangle over each one's box in each octant (see
+    :func:`_octahedral_kernel`). ``tables`` are ``(E, K, w)`` with ``E`` divided by each triangle's width.
+    Returns ``P, P_a, P_b`` (n * n, 3; the derivatives along the image's columns and rows, zeros without
+    ``derivatives``) and ``ok`` (n * n): pixels whose sum is certified (the others are left unwritten: the
+    points kernel's to fill).
+    """
+    E, K, w = tables
+    q = np.ascontiguousarray(q, np.float64)
+    n = int(round(math.sqrt(len(q))))
+    boxes = np.empty((E.shape[0], 8, 4), np.int64)
+    bigs = np.empty((E.shape[0], 8))
+    _octant_boxes(E, w, float(zmin), n, boxes, bigs)
+    flat = boxes.reshape(-1, 4)
+    live = np.flatnonzero((flat[:, 1] > flat[:, 0]) & (flat[:, 3] > flat[:, 2])).astype(np.int64)
+    r0, r1 = np.ascontiguousarray(flat[:, 0]), np.ascontiguousarray(flat[:, 1])
+    band = _band_rows(n)
+    band_ptr, band_entries = _band_lists(-(-n // band), band, live, r0, r1)
+    P, Da, Db = np.empty((n * n, 3)), np.empty((n * n, 3)), np.empty((n * n, 3))
+    ok = np.empty(n * n, np.bool_)
+    _octahedral_kernel(q, E, K, w, boxes, bigs, band, band_ptr, band_entries, float(zmin),
+                       float(-zmin), float(floor), bool(derivatives), TABLE, P, Da, Db, ok)
+    return P, Da, Db, ok
