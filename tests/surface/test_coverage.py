@@ -316,3 +316,26 @@ def test_octant_rows_partition_the_image_as_its_owners_do(n):
                 o = np.array(o0) + a * np.array(oa) + b * np.array(ob)
                 np.testing.assert_allclose(o / np.linalg.norm(o), d[i, j], atol=1e-15)
     assert (seen == 1).all()
+
+
+@pytest.mark.parametrize("res", [33, 129])
+def test_the_planar_image_sums_every_triangle_that_counts_in_order(mountain, res):
+    """Planar images, swept triangle by triangle over each one's box, give every pixel the brute-force truncated
+    sum's point to the bit, on the terrain grid and on an irregular mixed mesh."""
+    from geoimg.surface._coverage import prefilter_s
+    uv, faces = mixed_mesh(seed=3)
+    irregular = geoimg.Mesh(np.column_stack([uv, np.sin(3 * uv[:, 0]) * uv[:, 1]]), faces)
+    for mesh, param in ((mountain, parametrize(mountain, "heightfield")),
+                        (irregular, geoimg.Parametrization(uv, (1.0, 1.0)))):
+        base = fit_surface(mesh, param, 1.0, weights="coverage")
+        surf = base.with_s(prefilter_s(base, res))
+        image = surf.sample(res)
+        u, v = surf.domain.pixel_uv(image.pixels.shape[:2])
+        uu, vv = np.meshgrid(u, v)
+        k = uu.size
+        points = np.column_stack([uu.ravel(), vv.ravel(), np.ones(k)])
+        E, K, w = (surf.edges(),) + tuple(surf.tables[1:])
+        every = (4.0, 1, np.array([0, len(E)], np.int64), np.arange(len(E), dtype=np.int64))
+        P = ck.evaluate_coverage(points, np.tile([1.0, 0.0, 0.0], (k, 1)), np.tile([0.0, 1.0, 0.0], (k, 1)),
+                                 (E, K, w), every, surf.fallback, zmin=surf._zmin(), floor=1e4 * surf.tol)[0]
+        np.testing.assert_array_equal(image.pixels.reshape(-1, 3), P.astype(image.pixels.dtype))
