@@ -56,9 +56,14 @@ TABLE_LO, TABLE_STEP, TABLE_SIZE = -8.0, 1.0 / 512, 8193      # Phi and phi at -
 
 
 def _table() -> np.ndarray:
+    """The cubic Hermite interpolant of ``Phi`` between neighbouring knots (values and slopes ``phi`` there),
+    as the coefficients ``c0..c3`` of ``c0 + c1 t + c2 t^2 + c3 t^3`` on each interval (t from 0 to 1).
+    """
     z = TABLE_LO + TABLE_STEP * np.arange(TABLE_SIZE)
-    cdf = np.array([0.5 * math.erfc(-x * _SQRT1_2) for x in z])
-    return np.ascontiguousarray(np.stack([cdf, np.exp(-0.5 * z * z - _LOG_SQRT_2PI)], axis=1))
+    f = np.array([0.5 * math.erfc(-x * _SQRT1_2) for x in z])
+    d = np.exp(-0.5 * z * z - _LOG_SQRT_2PI) * TABLE_STEP
+    f0, f1, d0, d1 = f[:-1], f[1:], d[:-1], d[1:]
+    return np.ascontiguousarray(np.stack([f0, d0, 3.0 * (f1 - f0) - 2.0 * d0 - d1, 2.0 * (f0 - f1) + d0 + d1], axis=1))
 
 
 TABLE = _table()
@@ -68,8 +73,9 @@ TABLE = _table()
 def _edge(z, zmax, deriv, table):
     """``Phi(z)`` and ``(dPhi/dz / Phi)(z)`` (0 unless ``deriv``); 1 and 0 from ``zmax`` on. Cubic Hermite
     interpolation of ``Phi`` between the table's knots (values and slopes ``phi`` there: within 1e-13 of
-    ``Phi``), and the derivative of that interpolant, so that the surface's derivatives are exactly those of
-    the surface evaluated (an erfc per edge cost 10 times as much).
+    ``Phi``), by Horner's rule on each interval's coefficients, and the derivative of that interpolant, so
+    that the surface's derivatives are exactly those of the surface evaluated (an erfc per edge cost 10 times
+    as much).
     """
     if z >= zmax:
         return 1.0, 0.0
@@ -78,15 +84,11 @@ def _edge(z, zmax, deriv, table):
         x = 0.0
     i = min(int(x), TABLE_SIZE - 2)
     t = x - i
-    t2 = t * t
-    t3 = t2 * t
-    f0, d0 = table[i, 0], table[i, 1] * TABLE_STEP
-    f1, d1 = table[i + 1, 0], table[i + 1, 1] * TABLE_STEP
-    cdf = (2.0 * t3 - 3.0 * t2 + 1.0) * f0 + (t3 - 2.0 * t2 + t) * d0 + (3.0 * t2 - 2.0 * t3) * f1 + (t3 - t2) * d1
+    c0, c1, c2, c3 = table[i, 0], table[i, 1], table[i, 2], table[i, 3]
+    cdf = c0 + t * (c1 + t * (c2 + t * c3))
     if not deriv:
         return cdf, 0.0
-    slope = ((6.0 * t2 - 6.0 * t) * f0 + (3.0 * t2 - 4.0 * t + 1.0) * d0 + (6.0 * t - 6.0 * t2) * f1
-             + (3.0 * t2 - 2.0 * t) * d1) / TABLE_STEP
+    slope = (c1 + t * (2.0 * c2 + 3.0 * t * c3)) / TABLE_STEP
     return cdf, slope / cdf
 
 
@@ -361,21 +363,37 @@ def _grid_kernel(u, v, E, K, w, c0, c1, r0, r1, band, band_ptr, band_faces, zmin
                         Pv[i, j, c] = (acc[r, j, 9 + c] - val * acc[r, j, 8]) / s
 
 
+@njit(parallel=True, cache=True)
 def offset_boxes(E, zmin):
     """The bounding box ``(umin, umax, vmin, vmax)`` of each planar triangle's region where all its edge
     functions are at least ``zmin`` (the triangle grown by ``-zmin`` widths: its corners meet where two
-    grown edges do).
+    grown edges do, by Cramer's rule on ``E_a . (x, y, 1) = E_b . (x, y, 1) = zmin``).
     """
     T = E.shape[0]
-    corners = np.empty((T, 3, 2))
-    for k in range(3):                  # Cramer's rule on E_a . (x, y, 1) = E_b . (x, y, 1) = zmin
-        a, b = (k + 1) % 3, (k + 2) % 3
-        ra, rb = zmin - E[:, a, 2], zmin - E[:, b, 2]
-        det = E[:, a, 0] * E[:, b, 1] - E[:, a, 1] * E[:, b, 0]
-        corners[:, k, 0] = (ra * E[:, b, 1] - rb * E[:, a, 1]) / det
-        corners[:, k, 1] = (E[:, a, 0] * rb - E[:, b, 0] * ra) / det
-    lo, hi = corners.min(axis=1), corners.max(axis=1)
-    return lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1]
+    umin, umax, vmin, vmax = np.empty(T), np.empty(T), np.empty(T), np.empty(T)
+    for t in prange(T):
+        ulo, uhi, vlo, vhi = np.inf, -np.inf, np.inf, -np.inf
+        for k in range(3):
+            a, b = (k + 1) % 3, (k + 2) % 3
+            ra, rb = zmin - E[t, a, 2], zmin - E[t, b, 2]
+            det = E[t, a, 0] * E[t, b, 1] - E[t, a, 1] * E[t, b, 0]
+            x = (ra * E[t, b, 1] - rb * E[t, a, 1]) / det
+            y = (E[t, a, 0] * rb - E[t, b, 0] * ra) / det
+            ulo, uhi, vlo, vhi = _lower(ulo, x), _upper(uhi, x), _lower(vlo, y), _upper(vhi, y)
+        umin[t], umax[t], vmin[t], vmax[t] = ulo, uhi, vlo, vhi
+    return umin, umax, vmin, vmax
+
+
+@njit(cache=True, inline="always")
+def _lower(m, x):
+    """``min`` as numpy's: a NaN wins."""
+    return x if (x < m or x != x) else m
+
+
+@njit(cache=True, inline="always")
+def _upper(m, x):
+    """``max`` as numpy's: a NaN wins."""
+    return x if (x > m or x != x) else m
 
 
 def sample_grid_coverage(u, v, tables, *, zmin, floor, derivatives=True):
@@ -409,6 +427,7 @@ def sample_grid_coverage(u, v, tables, *, zmin, floor, derivatives=True):
 # pixel by the one octant that owns it (:func:`octant_owners`), so that a pixel gets each triangle once.
 
 _VERTS = 16             # room for a clipped polygon: the octant's 3 corners plus one per clip
+ROUNDS = 2
 _SLACK = 1e-6           # in units of the edge functions: rounding never drops a pixel
 _W_FLOOR = WMIN / math.sqrt(3.0) * (1.0 - 1e-9) - _SLACK     # w . o > WMIN |o| >= WMIN / sqrt(3)
 
@@ -456,7 +475,7 @@ def _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb):
     o0, oa, ob, corners = _octant(oc)
     big = 1.0
     m = 0
-    for rounds in range(2):
+    for rounds in range(ROUNDS):
         _half_planes(t, oc, E, w, zmin, big, H)
         pa[0], pb[0], pa[1], pb[1], pa[2], pb[2] = corners
         m = 3
@@ -467,7 +486,7 @@ def _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb):
                 pb[k] = qb[k]
             if m == 0:
                 return 0, big
-        if rounds == 1:
+        if rounds == ROUNDS - 1:
             break
         big = 0.0
         for k in range(m):
@@ -534,11 +553,20 @@ def _row_span(H, b, half, c0, c1):
 
 
 @njit(parallel=True, cache=True)
-def _octant_boxes(E, w, zmin, n, boxes, bigs):
-    """Each triangle's pixel box ``(r0, r1, c0, c1)`` in each octant of an ``n x n`` image, into ``boxes``
-    (T, 8, 4): rows ``r0..r1-1``, columns ``c0..c1-1``; empty where it reaches nothing there (and in the
-    octants :func:`_near_octants` rules out); and the bound on ``|o|`` its polygon was clipped with, into
-    ``bigs`` (T, 8). Runs of triangles in parallel.
+def _near_all(E, w, zmin):
+    """:func:`_near_octants` of every triangle, as bits (T,)."""
+    out = np.empty(E.shape[0], np.uint8)
+    for t in prange(E.shape[0]):
+        out[t] = _near_octants(t, E, w, zmin)
+    return out
+
+
+@njit(parallel=True, cache=True)
+def _octant_boxes(E, w, zmin, n, near, start, entry, boxes, bigs):
+    """Each triangle's pixel box in each octant :func:`_near_octants` leaves it (``near``, its bits), one slot
+    each, from ``start[t]`` on in octant order: the entry ``8 t + octant`` into ``entry``, rows ``r0..r1-1``
+    and columns ``c0..c1-1`` into ``boxes`` (slots, 4) (zeros where it reaches nothing there), and the bound
+    on ``|o|`` its polygon was clipped with into ``bigs``. Runs of triangles in parallel.
     """
     half = 0.5 * (n - 1)
     T = E.shape[0]
@@ -550,24 +578,24 @@ def _octant_boxes(E, w, zmin, n, boxes, bigs):
         qb = np.empty(_VERTS)
         H = np.empty((4, 3))
         for t in range(run * T // runs, (run + 1) * T // runs):
-            near = _near_octants(t, E, w, zmin)
+            slot = start[t]
             for oc in range(8):
+                if not near[t] & (1 << oc):
+                    continue
+                entry[slot] = 8 * t + oc
                 for k in range(4):
-                    boxes[t, oc, k] = 0
-                bigs[t, oc] = 1.0
-                if not near & (1 << oc):
-                    continue
-                m, bigs[t, oc] = _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb)
-                if m == 0:
-                    continue
-                alo, ahi, blo, bhi = pa[0], pa[0], pb[0], pb[0]
-                for k in range(1, m):
-                    alo, ahi = min(alo, pa[k]), max(ahi, pa[k])
-                    blo, bhi = min(blo, pb[k]), max(bhi, pb[k])
-                boxes[t, oc, 0] = max(0, int(math.ceil((blo + 1.0) * half - 1e-6)))
-                boxes[t, oc, 1] = min(n, int(math.floor((bhi + 1.0) * half + 1e-6)) + 1)
-                boxes[t, oc, 2] = max(0, int(math.ceil((alo + 1.0) * half - 1e-6)))
-                boxes[t, oc, 3] = min(n, int(math.floor((ahi + 1.0) * half + 1e-6)) + 1)
+                    boxes[slot, k] = 0
+                m, bigs[slot] = _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb)
+                if m > 0:
+                    alo, ahi, blo, bhi = pa[0], pa[0], pb[0], pb[0]
+                    for k in range(1, m):
+                        alo, ahi = min(alo, pa[k]), max(ahi, pa[k])
+                        blo, bhi = min(blo, pb[k]), max(bhi, pb[k])
+                    boxes[slot, 0] = max(0, int(math.ceil((blo + 1.0) * half - 1e-6)))
+                    boxes[slot, 1] = min(n, int(math.floor((bhi + 1.0) * half + 1e-6)) + 1)
+                    boxes[slot, 2] = max(0, int(math.ceil((alo + 1.0) * half - 1e-6)))
+                    boxes[slot, 3] = min(n, int(math.floor((ahi + 1.0) * half + 1e-6)) + 1)
+                slot += 1
 
 
 @njit(cache=True)
@@ -684,10 +712,11 @@ def octant_owners(n: int) -> np.ndarray:
 
 
 @njit(parallel=True, cache=True)
-def _octahedral_kernel(q, E, K, w, boxes, bigs, band, band_ptr, band_entries, zmin, zmax, floor, deriv, table,
+def _octahedral_kernel(q, E, K, w, entry, boxes, bigs, band, band_ptr, band_slots, zmin, zmax, floor, deriv, table,
                        P, Da, Db, ok):
     """Octahedral images, triangle by triangle and octant by octant: bands of ``band`` rows run in parallel;
-    every (triangle, octant) entry a band lists (``8 t + octant``) adds the triangle's terms over the pixels of
+    every (triangle, octant) slot a band lists (its entry ``8 t + octant``, its box and its bound on ``|o|``
+    from :func:`_octant_boxes`) adds the triangle's terms over the pixels of
     its box that the octant owns (:func:`_octant_row`; on each row, only between the columns its half-planes
     leave: :func:`_row_span`) to the band's running sums, as :func:`_term` gives them. A pixel's triangles come in
     ascending order, as the points kernel sums them: the same points. Derivatives are along the image's
@@ -703,7 +732,8 @@ def _octahedral_kernel(q, E, K, w, boxes, bigs, band, band_ptr, band_entries, zm
         acc = np.zeros((band, n, 12))
         H = np.empty((4, 3))
         for k in range(band_ptr[b], band_ptr[b + 1]):
-            e = band_entries[k]
+            sl = band_slots[k]
+            e = entry[sl]
             t = e >> 3
             oc = e & 7
             e00, e01, e02 = E[t, 0, 0], E[t, 0, 1], E[t, 0, 2]
@@ -717,11 +747,11 @@ def _octahedral_kernel(q, E, K, w, boxes, bigs, band, band_ptr, band_entries, zm
             wb = w[t, 0] * ob[0] + w[t, 1] * ob[1] + w[t, 2] * ob[2]
             ka0, ka1, ka2 = _along(K, t, 0, oa), _along(K, t, 1, oa), _along(K, t, 2, oa)
             kb0, kb1, kb2 = _along(K, t, 0, ob), _along(K, t, 1, ob), _along(K, t, 2, ob)
-            _half_planes(t, oc, E, w, zmin, bigs[t, oc], H)
-            for i in range(max(boxes[t, oc, 0], i0), min(boxes[t, oc, 1], i1)):
+            _half_planes(t, oc, E, w, zmin, bigs[sl], H)
+            for i in range(max(boxes[sl, 0], i0), min(boxes[sl, 1], i1)):
                 r = i - i0
                 o0, o1 = _octant_row(oc, i, n - 1)
-                j0, j1 = _row_span(H, (i - half) / half, half, max(boxes[t, oc, 2], o0), min(boxes[t, oc, 3], o1))
+                j0, j1 = _row_span(H, (i - half) / half, half, max(boxes[sl, 2], o0), min(boxes[sl, 3], o1))
                 for j in range(j0, j1):
                     p = i * n + j
                     p0, p1, p2 = q[p, 0], q[p, 1], q[p, 2]
@@ -793,16 +823,19 @@ def sample_octahedral_coverage(q, tables, *, zmin, floor, derivatives=True):
     E, K, w = tables
     q = np.ascontiguousarray(q, np.float64)
     n = int(round(math.sqrt(len(q))))
-    boxes = np.empty((E.shape[0], 8, 4), np.int64)
-    bigs = np.empty((E.shape[0], 8))
-    _octant_boxes(E, w, float(zmin), n, boxes, bigs)
-    flat = boxes.reshape(-1, 4)
-    live = np.flatnonzero((flat[:, 1] > flat[:, 0]) & (flat[:, 3] > flat[:, 2])).astype(np.int64)
-    r0, r1 = np.ascontiguousarray(flat[:, 0]), np.ascontiguousarray(flat[:, 1])
+    near = _near_all(E, w, float(zmin))
+    counts = np.unpackbits(near[:, None], axis=1).sum(axis=1)
+    start = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
+    slots = int(counts.sum())
+    entry = np.empty(slots, np.int64)
+    boxes = np.empty((slots, 4), np.int64)
+    bigs = np.empty(slots)
+    _octant_boxes(E, w, float(zmin), n, near, start, entry, boxes, bigs)
     band = _band_rows(n)
-    band_ptr, band_entries = _band_lists(-(-n // band), band, live, r0, r1)
+    band_ptr, band_slots = _band_lists(-(-n // band), band, np.arange(slots, dtype=np.int64),
+                                       np.ascontiguousarray(boxes[:, 0]), np.ascontiguousarray(boxes[:, 1]))
     P, Da, Db = np.empty((n * n, 3)), np.empty((n * n, 3)), np.empty((n * n, 3))
     ok = np.empty(n * n, np.bool_)
-    _octahedral_kernel(q, E, K, w, boxes, bigs, band, band_ptr, band_entries, float(zmin),
+    _octahedral_kernel(q, E, K, w, entry, boxes, bigs, band, band_ptr, band_slots, float(zmin),
                        float(-zmin), float(floor), bool(derivatives), TABLE, P, Da, Db, ok)
     return P, Da, Db, ok
