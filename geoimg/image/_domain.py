@@ -69,6 +69,17 @@ def _glue_of(domain: Domain, shape: tuple) -> tuple[np.ndarray, np.ndarray] | No
     return glue
 
 
+@functools.lru_cache(maxsize=8)
+def _shared_of(domain: Domain, shape: tuple) -> tuple[np.ndarray, np.ndarray]:
+    """The pixels in groups of two or more of a domain's glue (ascending) and their groups renumbered from 0."""
+    group = domain.glue(shape)[1]
+    shared = np.flatnonzero(np.bincount(group)[group] > 1)
+    local = np.unique(group[shared], return_inverse=True)[1].ravel()
+    for a in (shared, local):
+        a.setflags(write=False)
+    return shared, local
+
+
 def _check_orientation(value) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or int(value) not in (-1, 1):
         raise ImageError(f"orientation: expected +1 or -1, got {value!r}")
@@ -421,8 +432,12 @@ class Domain(ABC):
         glue = self.glue(a.shape[:2])
         if glue is None:
             return a
-        group = glue[1]
-        return group_means(a, group)[group].reshape(a.shape).astype(a.dtype)
+        shared, local = _shared_of(self, (int(a.shape[0]), int(a.shape[1])))
+        out = a + a.dtype.type(0)           # a copy; a lone pixel's mean is itself (-0 becomes 0, as its sum)
+        flat = out.reshape(len(glue[1]), -1)
+        # the shared groups' sums over the same pixels in the same order as over the whole image
+        flat[shared] = group_means(a.reshape(len(glue[1]), -1)[shared], local)[local].astype(a.dtype)
+        return out
 
     def symmetric_mask(self, weights: np.ndarray) -> np.ndarray:
         """The largest weight of each group of glued pixels, given to all of them.

@@ -72,3 +72,17 @@ def test_kind_names_read_their_fields_from_the_metadata():
 def test_bad_domains_are_refused(make, message):
     with pytest.raises((ImageError, TypeError, ValueError), match=message):
         make()
+
+
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_averaging_glued_pixels_gives_the_whole_images_group_means_to_the_byte(dtype):
+    """Only pixels in groups of two or more are averaged, over the same pixels in the same order as the means
+    over every group of the image: the same bytes (a lone -0 becomes 0 as its sum did; NaN stays)."""
+    from geoimg.parametrization._octahedral import group_means
+    domain = OctahedralDomain()
+    a = np.random.default_rng(5).normal(size=(33, 33, 3)).astype(dtype)
+    a.flat[::7] = -0.0
+    a.flat[::11] = np.nan
+    group = domain.glue(a.shape[:2])[1]
+    whole = group_means(a, group)[group].reshape(a.shape).astype(a.dtype)
+    assert domain.average_glued(a).tobytes() == whole.tobytes()
