@@ -434,6 +434,8 @@ class Domain(ABC):
             return a
         shared, local = _shared_of(self, (int(a.shape[0]), int(a.shape[1])))
         out = a + a.dtype.type(0)           # a copy; a lone pixel's mean is itself (-0 becomes 0, as its sum)
+        if not len(shared):
+            return out
         flat = out.reshape(len(glue[1]), -1)
         # the shared groups' sums over the same pixels in the same order as over the whole image
         flat[shared] = group_means(a.reshape(len(glue[1]), -1)[shared], local)[local].astype(a.dtype)
