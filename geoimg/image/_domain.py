@@ -72,7 +72,10 @@ def _glue_of(domain: Domain, shape: tuple) -> tuple[np.ndarray, np.ndarray] | No
 @functools.lru_cache(maxsize=8)
 def _shared_of(domain: Domain, shape: tuple) -> tuple[np.ndarray, np.ndarray]:
     """The pixels in groups of two or more of a domain's glue (ascending) and their groups renumbered from 0."""
-    group = domain.glue(shape)[1]
+    glue = domain.glue(shape)
+    if glue is None:                    # asked only of a domain that glues pixels
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    group = glue[1]
     shared = np.flatnonzero(np.bincount(group)[group] > 1)
     local = np.unique(group[shared], return_inverse=True)[1].ravel()
     for a in (shared, local):
