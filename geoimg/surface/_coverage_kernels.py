@@ -427,7 +427,7 @@ def sample_grid_coverage(u, v, tables, *, zmin, floor, derivatives=True):
 # pixel by the one octant that owns it (:func:`octant_owners`), so that a pixel gets each triangle once.
 
 _VERTS = 16             # room for a clipped polygon: the octant's 3 corners plus one per clip
-ROUNDS = 2
+_CLIP_ROUNDS = 2        # clippings of a reach polygon: at max|o| = 1, then at the first polygon's largest |o|
 _SLACK = 1e-6           # in units of the edge functions: rounding never drops a pixel
 _W_FLOOR = WMIN / math.sqrt(3.0) * (1.0 - 1e-9) - _SLACK     # w . o > WMIN |o| >= WMIN / sqrt(3)
 
@@ -475,7 +475,7 @@ def _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb):
     o0, oa, ob, corners = _octant(oc)
     big = 1.0
     m = 0
-    for rounds in range(ROUNDS):
+    for rounds in range(_CLIP_ROUNDS):
         _half_planes(t, oc, E, w, zmin, big, H)
         pa[0], pb[0], pa[1], pb[1], pa[2], pb[2] = corners
         m = 3
@@ -486,7 +486,7 @@ def _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb):
                 pb[k] = qb[k]
             if m == 0:
                 return 0, big
-        if rounds == ROUNDS - 1:
+        if rounds == _CLIP_ROUNDS - 1:
             break
         big = 0.0
         for k in range(m):
