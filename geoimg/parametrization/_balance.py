@@ -1,8 +1,9 @@
 """Area balancing of a one-to-one map of a triangle mesh onto the sphere or the plane: one descent for both.
 
 A descent on ``E = sum_t a_t [log(r_t)^2 + beta (D_t / A_t - 2)]`` (``r_t`` a triangle's share of the map's
-area over its share of the mesh's, ``D_t / A_t - 2`` its conformal distortion; energy and gradient in
-numba, :mod:`._balance_kernels`) moves the vertices; every accepted step keeps every triangle positive, so
+area over its share of the mesh's, or over the share asked of it: :func:`target_shares`; ``D_t / A_t - 2``
+its conformal distortion; energy and gradient in numba, :mod:`._balance_kernels`) moves the vertices; every
+accepted step keeps every triangle positive, so
 a one-to-one map stays one. On the sphere the vertices move in their tangent planes and are put back on
 the sphere; on the plane a vertex may be held (a corner of the square) or slide along a line (a side of the
 square), so squeezed parts near the boundary can open along it.
@@ -24,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import sparse
 
+from ..errors import InputError
 from ._balance_kernels import balance_energy, balance_gradient, local_sweeps, project_moves, step_to
 from ._laplacian import (
     corner_cotangents,
@@ -38,6 +40,7 @@ from ._laplacian import (
 __all__ = [
     "balance",
     "relax_locally",
+    "target_shares",
     "settle",
     "vertex_triangles",
     "default_steps",
@@ -116,12 +119,12 @@ def vertex_triangles(tris: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def relax_locally(s, x, tris, used=None, beta: float = 0.3, sweeps: int = SWEEPS, *, planar: bool = False,
-                  held=None, along=None, reach: float = 0.3):
+                  held=None, along=None, reach: float = 0.3, shares=None):
     """Sweeps of single-vertex moves down the area-balancing energy (:func:`._balance_kernels.local_sweeps`):
     each vertex of ``used`` (and not ``held``) in turn steps at most ``reach`` times its shortest edge along
     its own gradient, so long as its triangles' energy falls and all stay positive. What :func:`balance`
-    cannot do where one squeezed triangle blocks every step of all vertices at once. Returns the new map;
-    ``s`` is left as it is.
+    cannot do where one squeezed triangle blocks every step of all vertices at once. ``shares`` as for
+    :func:`balance`. Returns the new map; ``s`` is left as it is.
 
     >>> x = np.array([[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0]])
     >>> tris = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
@@ -135,16 +138,31 @@ def relax_locally(s, x, tris, used=None, beta: float = 0.3, sweeps: int = SWEEPS
     n = len(out)
     used = np.isin(np.arange(n), tris) if used is None else np.asarray(used, bool)
     moves = np.ascontiguousarray(used & (~np.asarray(held, bool) if held is not None else True))
-    a3 = triangle_areas(x, tris)
     ptr, ring = vertex_triangles(tris, n)
     along = np.zeros((n, 3)) if along is None else np.ascontiguousarray(along, np.float64)
-    local_sweeps(out, tris, ptr, ring, a3 / a3.sum(), corner_cotangents(x, tris), float(beta), bool(planar),
+    local_sweeps(out, tris, ptr, ring, target_shares(x, tris, shares), corner_cotangents(x, tris), float(beta),
+                 bool(planar),
                  moves, along, int(sweeps), float(reach))
     return out
 
 
+def target_shares(x, tris, shares=None) -> np.ndarray:
+    """The share of the map each triangle is balanced towards (T,, summing to 1): ``shares`` normalized, or
+    by default its share of the mesh's area.
+
+    >>> x = np.array([[0., 0, 0], [2, 0, 0], [0, 1, 0], [2, 1, 0]])
+    >>> tris = np.array([[0, 1, 2], [1, 3, 2]])
+    >>> target_shares(x, tris).tolist(), target_shares(x, tris, [1.0, 3.0]).tolist()
+    ([0.5, 0.5], [0.25, 0.75])
+    """
+    w = triangle_areas(x, tris) if shares is None else np.asarray(shares, np.float64)
+    if w.shape != (len(tris),) or not (np.isfinite(w).all() and (w >= 0).all() and w.sum() > 0):
+        raise InputError("shares: expected one finite share >= 0 per triangle, not all 0")
+    return np.ascontiguousarray(w / w.sum())
+
+
 def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3, steps: int | None = None,
-            progress=None, *, planar: bool = False, held=None, along=None):
+            progress=None, *, planar: bool = False, held=None, along=None, shares=None):
     """Descend the area-balancing energy from the map ``s`` of the mesh ``x, tris``; every accepted step keeps
     all triangles positive. Returns ``(s, steps taken, (energy at the start, energy at the end))``.
 
@@ -166,6 +184,9 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
         On the plane: vertices that stay where they are.
     along : (n, 3) float, optional
         On the plane: a unit direction per vertex that may only slide along it (zero rows move freely).
+    shares : (T,) float, optional
+        The share of the map each triangle is balanced towards (:func:`target_shares`; by default its share
+        of the mesh's area; :func:`._sampling_shares.sampling_shares` asks more for the parts that bend).
 
     Steps follow the Laplacian-smoothed gradient (limbs move as a whole). Every other step is scaled on
     both sides of the smoothing by each squeezed vertex's linear scale ``sigma < 1`` (:func:`squeeze_scale`):
@@ -181,11 +202,10 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
     n = len(s)
     steps = default_steps(len(tris)) if steps is None else int(steps)
     used = np.isin(np.arange(n), tris) if used is None else np.asarray(used, bool)
-    a3 = triangle_areas(x, tris)
     lap = laplacian(cotangent_weights(x, tris)) if lap is None else lap
     vertex_area = vertex_areas(x, tris) if vertex_area is None else vertex_area
     moves = np.ascontiguousarray(used & (~np.asarray(held, bool) if held is not None else True))
-    a, cot = a3 / a3.sum(), corner_cotangents(x, tris)
+    a, cot = target_shares(x, tris, shares), corner_cotangents(x, tris)
     e, state = balance_energy(s, tris, a, cot, beta, planar)
     if not np.isfinite(e):
         return s, 0, (e, e)
@@ -248,7 +268,7 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
 
 
 def settle(s, x, tris, rounds: int, lap=None, vertex_area=None, used=None, beta: float = 0.3, steps: int | None = None,
-           progress=None, *, planar: bool = False, held=None, along=None):
+           progress=None, *, planar: bool = False, held=None, along=None, shares=None):
     """:func:`balance`, then ``rounds`` times :data:`SWEEPS` single-vertex sweeps (:func:`relax_locally`) and
     :func:`balance` again: the sweeps open what held back the steps of all vertices at once (a triangle of no
     area, one squeezed part), and the steps then go on. ``steps`` caps each balancing (none is swept after
@@ -262,7 +282,7 @@ def settle(s, x, tris, rounds: int, lap=None, vertex_area=None, used=None, beta:
     >>> bool(e1 < 1e-6 < e0), np.round(out[4], 3).tolist()
     (True, [0.5, 0.5, 0.0])
     """
-    kw = {"planar": planar, "held": held, "along": along}
+    kw = {"planar": planar, "held": held, "along": along, "shares": shares}
     out, taken, (e_start, e_end) = balance(s, x, tris, lap, vertex_area, used, beta, steps, progress, **kw)
     for _ in range(rounds if steps != 0 else 0):
         if progress is not None:

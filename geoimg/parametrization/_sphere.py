@@ -20,8 +20,12 @@
    (:mod:`._multilevel`), which needs only a few fine steps: the slow part of the balancing, opening the
    squeezed ears and limbs, happens on the coarse copy. A shape whose direct maps fold is mapped coarse to fine
    (:mod:`._progressive`), balanced and swept at every size.
+   The final balancing aims each triangle at its share of the *image* rather than of the area: its area
+   times the cube root of its bending (:mod:`._sampling_shares`), the density that makes the resampling
+   error least, so the parts that bend get the pixels the flat parts do not need.
 4. A rotation lines the sphere up with the mesh (vertex directions from the mesh's centre), so the
-   octahedral image shows the shape the way it stands.
+   octahedral image shows the shape the way it stands; then the turn of the sphere whose octahedral image
+   samples the bent parts best is taken (:func:`._octahedral.sampling_rotation`).
 """
 from __future__ import annotations
 
@@ -38,6 +42,7 @@ from ._multilevel import multilevel_start, open_folds
 from ._octahedral import sampling_rotation
 from ._orientation import chord_orientation, facing_out
 from ._progressive import progressive_sphere
+from ._sampling_shares import bending_weight, sampling_shares
 from .._types import Progress
 
 __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
@@ -377,9 +382,11 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
     if start in ("conformal", "mean-value"):
         info.update(conformal_area_ratio_min=first["area_ratio_min"], conformal_area_ratio_max=first["area_ratio_max"])
     rounds = SPHERE_SWEEP_ROUNDS if asked is None else 0           # given steps, the plain balancing alone
-    s, done, energy = settle(s, x, tris, rounds, lap, vertex_area, used, float(beta), steps, progress)
+    bend = bending_weight(x, tris)          # each triangle's share of the image: more where the surface bends
+    s, done, energy = settle(s, x, tris, rounds, lap, vertex_area, used, float(beta), steps, progress,
+                             shares=sampling_shares(x, tris, bend))
     s[idx] = _align(s[idx], x[idx], vertex_area[idx])
-    turn, gain = sampling_rotation(s, x, tris)           # the octahedral image's best sampling of the mesh
+    turn, gain = sampling_rotation(s, x, tris, bend)     # the octahedral image's best sampling of the mesh
     s[idx] = s[idx] @ turn.T
     info["sampling_gain_db"] = gain
     det = chord_orientation(s, tris)
