@@ -52,7 +52,7 @@ def main() -> None:
     before, after = rows_of(args.before, models), rows_of(args.after, models)
     worst = sorted((k for k, r in before.items() if r["status"] in ("ok", "poor") and r["psnr_db"]),
                    key=lambda k: float(before[k]["psnr_db"]))[:args.k]
-    fig, axes = plt.subplots(len(worst), 3, figsize=(12, 3.2 * len(worst)))
+    fig, axes = plt.subplots(len(worst), 3, figsize=(12, 3.2 * len(worst)), squeeze=False)
     with tempfile.TemporaryDirectory() as tmp:
         for i, name in enumerate(worst):
             pngs = [Path(tmp) / f"{i}_{j}.png" for j in range(3)]

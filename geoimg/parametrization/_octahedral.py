@@ -316,7 +316,8 @@ def sampling_rotation(s: np.ndarray, x: np.ndarray, tris: np.ndarray,
     mean given by ``bend`` (:func:`._sampling_shares.bending_weight`; 1 everywhere when None). Of the identity
     and :data:`SAMPLING_ROTATIONS` fixed rotations, the one that makes this least is returned. Over twenty
     random turns of the map of ``bumpy.off``, the images' PSNR at 257^2 ranks with this at a Spearman
-    correlation of 0.88, and at -0.87 without the curvature (which picked a turn 0.7 dB below the best).
+    correlation of 0.88, and at -0.87 without the curvature (which picked a turn 0.7 dB below the best); on
+    the horse's, 0.64 against 0.48.
 
     Examples
     --------
