@@ -141,8 +141,7 @@ def relax_locally(s, x, tris, used=None, beta: float = 0.3, sweeps: int = SWEEPS
     ptr, ring = vertex_triangles(tris, n)
     along = np.zeros((n, 3)) if along is None else np.ascontiguousarray(along, np.float64)
     local_sweeps(out, tris, ptr, ring, target_shares(x, tris, shares), corner_cotangents(x, tris), float(beta),
-                 bool(planar),
-                 moves, along, int(sweeps), float(reach))
+                 bool(planar), moves, along, int(sweeps), float(reach))
     return out
 
 

@@ -14,18 +14,8 @@ the normal field, cotangent formula with cotangents clamped to ``[0, COT_CAP]`` 
 than a fair triangle), averaged over the neighbouring triangles (:data:`SMOOTHING` rounds through the
 vertices, weighted by area): the bending at the scale of a few triangles, not of one edge.
 
-Examples
---------
-An icosahedron bends alike at every face, so every face gets its share of the area.
-
->>> t = (1 + 5 ** 0.5) / 2
->>> v = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
-...               [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]])
->>> f = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
-...               [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-...               [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]])
->>> bool(np.allclose(sampling_shares(v, f), 1 / 20))
-True
+Examples: :func:`bending` (an icosahedron, where every face gets its share of the area) and
+:func:`sampling_shares` (a flat half beside a bent half).
 """
 from __future__ import annotations
 
@@ -48,7 +38,8 @@ def bending(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
 
     Examples
     --------
-    On a unit sphere both curvatures are 1: about 2 everywhere.
+    On a unit sphere both curvatures are 1: about 2 everywhere, so every face of an icosahedron gets its share
+    of the area.
 
     >>> t = (1 + 5 ** 0.5) / 2
     >>> v = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
@@ -59,6 +50,8 @@ def bending(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
     >>> k2 = bending(v / np.linalg.norm(v, axis=1, keepdims=True), f)
     >>> bool(np.allclose(k2, k2[0])), round(float(k2[0]), 1)
     (True, 2.0)
+    >>> bool(np.allclose(sampling_shares(v, f), 1 / 20))
+    True
     """
     x = np.asarray(x, np.float64)
     tris = np.asarray(tris, np.int64)
