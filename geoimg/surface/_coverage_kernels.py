@@ -427,7 +427,6 @@ def sample_grid_coverage(u, v, tables, *, zmin, floor, derivatives=True):
 # pixel by the one octant that owns it (:func:`octant_owners`), so that a pixel gets each triangle once.
 
 _VERTS = 16             # room for a clipped polygon: the octant's 3 corners plus one per clip
-_CLIP_ROUNDS = 2        # clippings of a reach polygon: at max|o| = 1, then at the first polygon's largest |o|
 _SLACK = 1e-6           # in units of the edge functions: rounding never drops a pixel
 _W_FLOOR = WMIN / math.sqrt(3.0) * (1.0 - 1e-9) - _SLACK     # w . o > WMIN |o| >= WMIN / sqrt(3)
 
@@ -445,14 +444,38 @@ def _octant(oc):
     return (sx, sy, 1.0), (0.0, -sx * sy, -sx), (-sx * sy, 0.0, -sy), (sx, 0.0, 0.0, sy, sx, sy)
 
 
+def _octant_sides() -> np.ndarray:
+    """Each octant's triangle as the three half-planes ``g0 + ga a + gb b >= 0`` that bound it (8, 3, 3)."""
+    out = np.empty((8, 3, 3))
+    for oc in range(8):
+        sx, sy = (1.0 if oc & 1 else -1.0), (1.0 if oc & 2 else -1.0)
+        if oc < 4:          # sx a >= 0, sy b >= 0, sx a + sy b <= 1
+            out[oc] = [[0.0, sx, 0.0], [0.0, 0.0, sy], [1.0, -sx, -sy]]
+        else:               # sx a <= 1, sy b <= 1, sx a + sy b >= 1
+            out[oc] = [[1.0, -sx, 0.0], [1.0, 0.0, -sy], [-1.0, sx, sy]]
+    return out
+
+
+_OCTANT_SIDES = _octant_sides()
+
+
 @njit(cache=True, inline="always")
 def _clip(pa, pb, m, g0, ga, gb, qa, qb):
-    """The polygon ``(pa, pb)[:m]`` clipped to ``g0 + ga a + gb b >= 0``, into ``(qa, qb)``; returns its size."""
+    """The polygon ``(pa, pb)[:m]`` clipped to ``g0 + ga a + gb b >= 0``, in place (``qa, qb`` room to work);
+    returns its size.
+    """
+    inside = 0
+    for i in range(m):
+        if g0 + ga * pa[i] + gb * pb[i] >= 0.0:
+            inside += 1
+    if inside == m or inside == 0:          # the line misses it: all of it, or nothing
+        return inside
     k = 0
+    first = g0 + ga * pa[0] + gb * pb[0]
+    fi = first
     for i in range(m):
         j = i + 1 if i + 1 < m else 0
-        fi = g0 + ga * pa[i] + gb * pb[i]
-        fj = g0 + ga * pa[j] + gb * pb[j]
+        fj = g0 + ga * pa[j] + gb * pb[j] if j else first
         if fi >= 0.0:
             qa[k] = pa[i]
             qb[k] = pb[i]
@@ -462,40 +485,77 @@ def _clip(pa, pb, m, g0, ga, gb, qa, qb):
             qa[k] = pa[i] + t * (pa[j] - pa[i])
             qb[k] = pb[i] + t * (pb[j] - pb[i])
             k += 1
+        fi = fj
+    for i in range(k):
+        pa[i] = qa[i]
+        pb[i] = qb[i]
     return k
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def _clip_by(pa, pb, m, H, count, qa, qb):
+    """The polygon ``(pa, pb)[:m]`` clipped in place by the first ``count`` half-planes of ``H``; returns its
+    size (0: nothing left).
+    """
+    for e in range(count):
+        if m == 0:
+            return 0
+        m = _clip(pa, pb, m, H[e, 0], H[e, 1], H[e, 2], qa, qb)
+    return m
+
+
+@njit(cache=True, inline="always")
 def _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb):
     """The polygon of octant ``oc`` (in ``(a, b)``, into ``pa, pb``) outside which triangle ``t``'s terms are
     cut off; returns its size (0: none there) and the bound on ``|o|`` it was clipped with (``H`` then holds
-    its half-planes, see :func:`_half_planes`). Clipped twice: with ``max|o| = 1``, then with the largest
+    its half-planes, see :func:`_half_planes`). Found twice: with ``max|o| = 1``, then with the largest
     ``|o|`` over the first polygon (``|o|`` is convex: its largest value is at a corner).
     """
     o0, oa, ob, corners = _octant(oc)
-    big = 1.0
-    m = 0
-    for rounds in range(_CLIP_ROUNDS):
-        _half_planes(t, oc, E, w, zmin, big, H)
-        pa[0], pb[0], pa[1], pb[1], pa[2], pb[2] = corners
-        m = 3
-        for e in range(4):
-            m = _clip(pa, pb, m, H[e, 0], H[e, 1], H[e, 2], qa, qb)
-            for k in range(m):
-                pa[k] = qa[k]
-                pb[k] = qb[k]
-            if m == 0:
-                return 0, big
-        if rounds == _CLIP_ROUNDS - 1:
-            break
-        big = 0.0
-        for k in range(m):
-            x = o0[0] + oa[0] * pa[k] + ob[0] * pb[k]
-            y = o0[1] + oa[1] * pa[k] + ob[1] * pb[k]
-            z = o0[2] + oa[2] * pa[k] + ob[2] * pb[k]
-            big = max(big, math.sqrt(x * x + y * y + z * z))
-        big = min(big * (1.0 + 1e-9), 1.0)
-    return m, big
+    _half_planes(t, oc, E, w, zmin, 1.0, H)
+    m = _reach_in_octant(oc, H, corners, pa, pb, qa, qb)
+    if m == 0:
+        return 0, 1.0
+    big = 0.0
+    for k in range(m):
+        x = o0[0] + oa[0] * pa[k] + ob[0] * pb[k]
+        y = o0[1] + oa[1] * pa[k] + ob[1] * pb[k]
+        z = o0[2] + oa[2] * pa[k] + ob[2] * pb[k]
+        big = max(big, math.sqrt(x * x + y * y + z * z))
+    big = min(big * (1.0 + 1e-9), 1.0)
+    _half_planes(t, oc, E, w, zmin, big, H)
+    return _reach_in_octant(oc, H, corners, pa, pb, qa, qb), big
+
+
+@njit(cache=True, inline="always")
+def _reach_in_octant(oc, H, corners, pa, pb, qa, qb):
+    """The polygon where the four half-planes of ``H`` hold in octant ``oc``'s triangle (``corners``), into
+    ``pa, pb``; returns its size. Where the edges' three half-planes meet in a triangle (most do), that
+    triangle clipped by the octant's sides and the denominator's half-plane, which most of them miss; else
+    the octant's triangle clipped by the four.
+    """
+    if _edges_triangle(H, pa, pb):
+        m = _clip_by(pa, pb, 3, _OCTANT_SIDES[oc], 3, qa, qb)
+        return _clip(pa, pb, m, H[3, 0], H[3, 1], H[3, 2], qa, qb) if m else 0
+    pa[0], pb[0], pa[1], pb[1], pa[2], pb[2] = corners
+    return _clip_by(pa, pb, 3, H, 4, qa, qb)
+
+
+@njit(cache=True, inline="always")
+def _edges_triangle(H, pa, pb):
+    """Whether the three edges' half-planes of ``H`` meet in a triangle, with its corners (where two of their
+    lines cross, by Cramer's rule) into ``pa, pb``: each corner must lie in the third half-plane (else they
+    meet in nothing or in an unbounded region), and within the image's reach (|a|, |b| <= 2).
+    """
+    for k in range(3):
+        e, f = (k + 1) % 3, (k + 2) % 3
+        det = H[e, 1] * H[f, 2] - H[e, 2] * H[f, 1]
+        x = (H[f, 0] * H[e, 2] - H[e, 0] * H[f, 2]) / det
+        y = (H[e, 0] * H[f, 1] - H[f, 0] * H[e, 1]) / det
+        if not (abs(x) <= 2.0 and abs(y) <= 2.0 and H[k, 0] + H[k, 1] * x + H[k, 2] * y >= 0.0):
+            return False
+        pa[k], pb[k] = x, y
+    return True
 
 
 @njit(cache=True, inline="always")
@@ -532,24 +592,40 @@ def _octant_row(oc, i, m):
 
 
 @njit(cache=True, inline="always")
-def _row_span(H, b, half, c0, c1):
-    """The columns ``j0..j1-1`` of columns ``c0..c1-1`` on the row at ``b`` where every half-plane of ``H``
-    holds (rounded outwards by a millionth of a pixel).
+def _column_lines(H, half, L):
+    """The half-planes of ``H`` (in ``(a, b)``) as bounds on the column ``j`` that move linearly with the row
+    ``i``, into ``L`` (4, 3): ``(1, l0, l1)`` for ``j >= l0 + l1 i``, ``(-1, l0, l1)`` for ``j <= l0 + l1 i``, and
+    ``(0, g0, g1)`` where a half-plane does not depend on the column: it holds on the rows where
+    ``g0 + g1 i >= 0``. Divides once per triangle and octant, not once per row.
     """
-    alo, ahi = -np.inf, np.inf
     for e in range(H.shape[0]):
-        g = H[e, 0] + H[e, 2] * b
-        ga = H[e, 1]
-        if ga > 0.0:
-            alo = max(alo, -g / ga)
-        elif ga < 0.0:
-            ahi = min(ahi, -g / ga)
-        elif g < 0.0:
+        g0 = H[e, 0] - H[e, 1] - H[e, 2]        # at a = j / half - 1, b = i / half - 1
+        gj = H[e, 1] / half
+        gi = H[e, 2] / half
+        if gj > 0.0 or gj < 0.0:
+            L[e, 0], L[e, 1], L[e, 2] = (1.0 if gj > 0.0 else -1.0), -g0 / gj, -gi / gj
+        else:
+            L[e, 0], L[e, 1], L[e, 2] = 0.0, g0, gi
+
+
+@njit(cache=True, inline="always")
+def _row_span(L, i, c0, c1):
+    """The columns ``j0..j1-1`` of columns ``c0..c1-1`` on row ``i`` where every bound of
+    :func:`_column_lines` holds (rounded outwards by a millionth of a pixel).
+    """
+    lo, hi = -np.inf, np.inf
+    for e in range(L.shape[0]):
+        x = L[e, 1] + L[e, 2] * i
+        if L[e, 0] > 0.0:
+            lo = max(lo, x)
+        elif L[e, 0] < 0.0:
+            hi = min(hi, x)
+        elif x < 0.0:
             return c0, c0
-    alo, ahi = max(alo, -2.0), min(ahi, 2.0)       # the image spans [-1, 1]
-    if not alo <= ahi:
+    lo, hi = max(lo, c0 - 1.0), min(hi, float(c1))
+    if not lo <= hi:
         return c0, c0
-    return max(c0, int(math.ceil((alo + 1.0) * half - 1e-6))), min(c1, int(math.floor((ahi + 1.0) * half + 1e-6)) + 1)
+    return max(c0, int(math.ceil(lo - 1e-6))), min(c1, int(math.floor(hi + 1e-6)) + 1)
 
 
 @njit(parallel=True, cache=True)
@@ -598,7 +674,7 @@ def _octant_boxes(E, w, zmin, n, near, start, entry, boxes, bigs):
                 slot += 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _grown_corners(t, E, w, zmin):
     """The corners of the chord triangle that holds the central projection of every direction triangle ``t``'s
     terms reach, as ``(ok, G0, G1, G2)`` (``ok`` False where its edges do not fix them). With ``V_k`` its unit
@@ -631,7 +707,7 @@ def _grown_corners(t, E, w, zmin):
             (top * v2[0] - base[0], top * v2[1] - base[1], top * v2[2] - base[2]))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _near_octants(t, E, w, zmin):
     """The octants triangle ``t``'s terms may reach (a superset), as bits: a direction it reaches lies in the
     cone over :func:`_grown_corners`, so on the side of each coordinate plane where all three of them are.
@@ -716,9 +792,9 @@ def _octahedral_kernel(q, E, K, w, entry, boxes, bigs, band, band_ptr, band_slot
                        P, Da, Db, ok):
     """Octahedral images, triangle by triangle and octant by octant: bands of ``band`` rows run in parallel;
     every (triangle, octant) slot a band lists (its entry ``8 t + octant``, its box and its bound on ``|o|``
-    from :func:`_octant_boxes`) adds the triangle's terms over the pixels of
-    its box that the octant owns (:func:`_octant_row`; on each row, only between the columns its half-planes
-    leave: :func:`_row_span`) to the band's running sums, as :func:`_term` gives them. A pixel's triangles come in
+    from :func:`_octant_boxes`) adds the triangle's terms over the pixels of its box that the octant owns
+    (:func:`_octant_row`; on each row, only between the columns its half-planes leave: :func:`_column_lines`,
+    :func:`_row_span`) to the band's running sums, as :func:`_term` gives them. A pixel's triangles come in
     ascending order, as the points kernel sums them: the same points. Derivatives are along the image's
     ``a`` and ``b`` (``Da``, ``Db``): in the pixel's octant ``dq/da = (o_a - q (q . o_a)) / |o|``, and
     ``1 / |o| = |q|_1``, so a triangle's terms need its rows times ``o_a``, ``o_b`` once per entry.
@@ -731,6 +807,7 @@ def _octahedral_kernel(q, E, K, w, entry, boxes, bigs, band, band_ptr, band_slot
         i1 = min(n, i0 + band)
         acc = np.zeros((band, n, 12))
         H = np.empty((4, 3))
+        L = np.empty((4, 3))
         for k in range(band_ptr[b], band_ptr[b + 1]):
             sl = band_slots[k]
             e = entry[sl]
@@ -748,10 +825,11 @@ def _octahedral_kernel(q, E, K, w, entry, boxes, bigs, band, band_ptr, band_slot
             ka0, ka1, ka2 = _along(K, t, 0, oa), _along(K, t, 1, oa), _along(K, t, 2, oa)
             kb0, kb1, kb2 = _along(K, t, 0, ob), _along(K, t, 1, ob), _along(K, t, 2, ob)
             _half_planes(t, oc, E, w, zmin, bigs[sl], H)
+            _column_lines(H, half, L)
             for i in range(max(boxes[sl, 0], i0), min(boxes[sl, 1], i1)):
                 r = i - i0
                 o0, o1 = _octant_row(oc, i, n - 1)
-                j0, j1 = _row_span(H, (i - half) / half, half, max(boxes[sl, 2], o0), min(boxes[sl, 3], o1))
+                j0, j1 = _row_span(L, i, max(boxes[sl, 2], o0), min(boxes[sl, 3], o1))
                 for j in range(j0, j1):
                     p = i * n + j
                     p0, p1, p2 = q[p, 0], q[p, 1], q[p, 2]

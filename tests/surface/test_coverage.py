@@ -318,6 +318,54 @@ def test_octant_rows_partition_the_image_as_its_owners_do(n):
     assert (seen == 1).all()
 
 
+def test_octant_sides_bound_the_octants_triangles():
+    """Each octant's three sides hold (>= 0) on its triangle and vanish at the two corners each passes through."""
+    for oc in range(8):
+        corners = np.array(ck._octant(oc)[3]).reshape(3, 2)
+        g = ck._OCTANT_SIDES[oc][:, :1] + ck._OCTANT_SIDES[oc][:, 1:] @ corners.T       # (sides, corners)
+        assert (g >= 0).all() and ((g == 0).sum(axis=1) == 2).all()
+        centre = corners.mean(axis=0)
+        assert (ck._OCTANT_SIDES[oc][:, 0] + ck._OCTANT_SIDES[oc][:, 1:] @ centre > 0).all()
+
+
+def _polygon_box(pa, pb, m):
+    return np.array([pa[:m].min(), pa[:m].max(), pb[:m].min(), pb[:m].max()]) if m else None
+
+
+def test_the_reach_polygon_from_the_edges_triangle_is_the_octants_triangle_clipped(coarse_spheres):
+    """Where a triangle's edges meet in a triangle, the reach polygon is found by clipping that triangle by the
+    octant's sides (the shortcut); the same polygon as the octant's triangle clipped by the four half-planes,
+    on meshes whose triangles cross octants (and the shortcut is taken on most of them)."""
+    from geoimg.surface._coverage import prefilter_s
+    buf = [np.empty(ck._VERTS) for _ in range(4)]
+    taken = compared = 0
+    for name, mesh, param in coarse_spheres:
+        base = fit_surface(mesh, param, 1.0, weights="coverage")
+        for res in (33, 257):
+            surf = base.with_s(prefilter_s(base, res))
+            E, w, zmin = surf.edges(), surf.tables[2], surf._zmin()
+            near = ck._near_all(E, w, zmin)
+            for t in range(0, len(E), max(1, len(E) // 300)):
+                for oc in np.flatnonzero(np.unpackbits(near[t:t + 1], bitorder="little")):
+                    corners = ck._octant(oc)[3]
+                    for big in (1.0, 0.8):
+                        H = np.empty((4, 3))
+                        ck._half_planes(t, oc, E, w, zmin, big, H)
+                        if not ck._edges_triangle(H, buf[0], buf[1]):
+                            continue
+                        taken += 1
+                        m = ck._reach_in_octant(oc, H, corners, *buf)
+                        shortcut = _polygon_box(buf[0], buf[1], m)
+                        buf[0][:3], buf[1][:3] = corners[0::2], corners[1::2]
+                        m = ck._clip_by(buf[0], buf[1], 3, H, 4, buf[2], buf[3])
+                        clipped = _polygon_box(buf[0], buf[1], m)
+                        assert (shortcut is None) == (clipped is None), (name, t, oc)
+                        if clipped is not None:
+                            compared += 1
+                            np.testing.assert_allclose(shortcut, clipped, rtol=0, atol=1e-12, err_msg=name)
+    assert compared > 500 and taken > compared
+
+
 @pytest.mark.parametrize("res", [33, 129])
 def test_the_planar_image_sums_every_triangle_that_counts_in_order(mountain, res):
     """Planar images, swept triangle by triangle over each one's box, give every pixel the brute-force truncated
