@@ -596,6 +596,8 @@ def _quads_split_twice(tris: np.ndarray, owner: np.ndarray, quad: np.ndarray) ->
     Split through that vertex instead, they give a manifold.
     """
     key = np.sort(tris, axis=1)
+    if len(key) and key[:, 2].max() < 1 << 21:         # one int64 a row: a 1-D sort, not one of rows
+        key = (key[:, 0] << 42) | (key[:, 1] << 21) | key[:, 2]
     _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
     repeated = counts[inverse.ravel()] > 1
     out = np.zeros(len(quad), bool)

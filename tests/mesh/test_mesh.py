@@ -92,3 +92,14 @@ def test_quads_around_a_valence_2_vertex_are_split_through_it(quads):
     assert len(np.unique(np.sort(tris, axis=1), axis=0)) == len(tris) == 14
     assert all(8 in t for t in tris[owner >= 5].tolist())
     assert np.array_equal(owner, np.repeat(np.arange(7), 2))
+
+
+def test_triangles_given_twice_are_found_with_any_vertex_count():
+    """The same repeated triangles are found whether the indices fit one int64 key a row (below 2^21) or
+    not (rows compared whole)."""
+    from geoimg.mesh._mesh import _quads_split_twice
+    tris = np.array([[0, 1, 2], [2, 0, 1], [3, 4, 5], [5, 4, 6], [6, 5, 4], [1, 2, 3], [0, 2, 4], [1, 1 << 20, 9]])
+    owner, quad = np.arange(8), np.array([True, True, True, True, False, True, True, True])
+    small = _quads_split_twice(tris, owner, quad)
+    assert small.tolist() == [True, True, False, True, False, False, False, False]
+    assert np.array_equal(_quads_split_twice(tris + (1 << 22), owner, quad), small)
