@@ -445,14 +445,17 @@ def _octant(oc):
 
 
 def _octant_sides() -> np.ndarray:
-    """Each octant's triangle as the three half-planes ``g0 + ga a + gb b >= 0`` that bound it (8, 3, 3)."""
+    """Each octant's triangle (:func:`_octant`'s corners) as the three half-planes ``g0 + ga a + gb b >= 0``
+    that bound it (8, 3, 3): side ``k`` through corners ``k`` and ``k + 1``, positive towards the third.
+    """
     out = np.empty((8, 3, 3))
     for oc in range(8):
-        sx, sy = (1.0 if oc & 1 else -1.0), (1.0 if oc & 2 else -1.0)
-        if oc < 4:          # sx a >= 0, sy b >= 0, sx a + sy b <= 1
-            out[oc] = [[0.0, sx, 0.0], [0.0, 0.0, sy], [1.0, -sx, -sy]]
-        else:               # sx a <= 1, sy b <= 1, sx a + sy b >= 1
-            out[oc] = [[1.0, -sx, 0.0], [1.0, 0.0, -sy], [-1.0, sx, sy]]
+        c = np.array(_octant(oc)[3]).reshape(3, 2)
+        for k in range(3):
+            p, q, r = c[k], c[(k + 1) % 3], c[(k + 2) % 3]
+            ga, gb = p[1] - q[1], q[0] - p[0]             # normal to the side q - p
+            g0 = -(ga * p[0] + gb * p[1])
+            out[oc, k] = np.array([g0, ga, gb]) * np.sign(g0 + ga * r[0] + gb * r[1])
     return out
 
 
