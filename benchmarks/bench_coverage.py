@@ -98,6 +98,8 @@ def main(argv=None) -> int:
     ap.add_argument("--interleave", type=int, default=0, metavar="N",
                     help="only the terrain grid against the cube on the sphere, N alternating timings each")
     args = ap.parse_args(argv)
+    if args.interleave < 0 or args.repeat < 1 or min(args.res) < 3:
+        ap.error("--interleave must be 0 or more, --repeat 1 or more, and every --res 3 or more")
     warnings.simplefilter("ignore")
     if args.interleave:
         return interleaved(args.res, args.interleave)
