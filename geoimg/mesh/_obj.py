@@ -3,6 +3,7 @@ material's texture, ``\\`` continuations.
 """
 from __future__ import annotations
 
+import re
 import warnings
 from pathlib import Path
 
@@ -10,7 +11,7 @@ import numpy as np
 
 from ..errors import MeshFileError
 from ._appearance import obj_colors, read_mtl_texture
-from ._mesh import Mesh, pad_faces
+from ._mesh import MAX_PADDED_ENTRIES, Mesh, pad_faces
 
 __all__ = ["read_obj", "write_obj"]
 
@@ -24,10 +25,10 @@ def _obj_index(tok: str, count: int) -> int:
     return i - 1
 
 
-def _obj_lines(fh):
+def _obj_lines(lines):
     """The logical lines of an OBJ file: a line that ends with a backslash goes on in the next one."""
     held = ""
-    for line in fh:
+    for line in lines:
         stripped = line.rstrip("\r\n")
         if stripped.rstrip().endswith("\\"):
             held += stripped.rstrip()[:-1] + " "
@@ -38,47 +39,102 @@ def _obj_lines(fh):
         yield held
 
 
+# a corner written with positive indices: v, v/vt, v/vt/vn, v//vn or v/vt/ (ASCII digits only)
+_CORNER = "[0-9]+(?:/[0-9]*(?:/[0-9]*)?)?"
+_CORNERS = re.compile(f"{_CORNER}(?: {_CORNER})*")
+_INDICES = re.compile("([0-9]+)(?:/([0-9]*)(?:/[0-9]*)?)?")
+
+
+def _corners_at_once(rows: list) -> tuple | None:
+    """``(faces, face_vt, sizes)`` of the 'f' lines' corner tokens (a list per line), 0-based and padded with
+    -1, a missing vt -1, when every index is written as a positive number (a file's usual form), parsed at
+    once; None otherwise (relative or zero indices, other forms: :func:`_corners_one_by_one` reads them and
+    says what is wrong).
+    """
+    sizes = np.fromiter(map(len, rows), np.int64, len(rows))
+    if not len(rows) or len(rows) * int(sizes.max()) > MAX_PADDED_ENTRIES:
+        return None
+    joined = " ".join([" ".join(r) for r in rows])
+    if not joined.isascii() or _CORNERS.fullmatch(joined) is None:
+        return None
+    try:
+        if "/" not in joined:                          # vertex indices only
+            v = np.array(joined.split(), np.int64)
+            t = np.zeros_like(v)
+            given = np.zeros(len(v), bool)
+        else:
+            pairs = _INDICES.findall(joined)           # one (v, vt or "") per corner, in order
+            v = np.array([a for a, _ in pairs], np.int64)
+            t = np.array([b or "0" for _, b in pairs], np.int64)
+            given = np.array([b != "" for _, b in pairs])
+    except OverflowError:                              # beyond 64 bits
+        return None
+    if len(v) != int(sizes.sum()) or not (v > 0).all() or (given & (t == 0)).any():
+        return None
+    used = np.arange(int(sizes.max())) < sizes[:, None]
+    faces, face_vt = np.full(used.shape, -1, np.int64), np.full(used.shape, -1, np.int64)
+    faces[used], face_vt[used] = v - 1, t - 1
+    return faces, face_vt, sizes
+
+
+def _corners_one_by_one(rows: list, nv: list, nt: list) -> tuple:
+    """What :func:`_corners_at_once` returns, as lists, for any form: relative indices count back from the
+    ``nv`` vertices and ``nt`` vt lines before each 'f' line; an index 0 is refused.
+    """
+    faces, face_vt = [], []
+    for row, n_v, n_t in zip(rows, nv, nt):
+        fv, ft = [], []
+        for tok in row:
+            sub = tok.split("/")
+            fv.append(_obj_index(sub[0], n_v))
+            ft.append(_obj_index(sub[1], n_t) if len(sub) > 1 and sub[1] else -1)
+        faces.append(fv)
+        face_vt.append(ft)
+    return faces, face_vt, np.array([len(fv) for fv in faces], np.int64)
+
+
 def read_obj(path: Path) -> Mesh:
-    verts, tex, faces, face_vt, libraries, used = [], [], [], [], [], []
+    verts, tex, rows, nv, nt, libraries, used = [], [], [], [], [], [], []
     with open(path, encoding="utf-8-sig", errors="replace") as fh:    # -sig: a byte-order mark is dropped
-        for line in _obj_lines(fh):
-            line = line.lstrip()                                            # indented lines count too
-            if not line or line[0] not in "vfmu":
-                continue
-            parts = line.split()
-            if not parts:
-                continue
-            key = parts[0]
-            if key == "mtllib" and len(parts) > 1:
-                libraries.append(" ".join(parts[1:]))
-            elif key == "usemtl" and len(parts) > 1:
-                used.append(" ".join(parts[1:]))
-            elif key == "v":
-                verts.append(parts[1:8])
-            elif key == "vt":
-                tex.append(parts[1:3])
-            elif key == "f":
-                nv, nt = len(verts), len(tex)
-                fv, ft = [], []
-                for tok in parts[1:]:
-                    sub = tok.split("/")
-                    fv.append(_obj_index(sub[0], nv))
-                    ft.append(_obj_index(sub[1], nt) if len(sub) > 1 and sub[1] else -1)
-                faces.append(fv)
-                face_vt.append(ft)
+        text = fh.read()
+    lines = text.split("\n")
+    for line in _obj_lines(lines) if "\\" in text else lines:
+        line = line.lstrip()                                            # indented lines count too
+        if not line or line[0] not in "vfmu":
+            continue
+        parts = line.split()
+        if not parts:
+            continue
+        key = parts[0]
+        if key == "mtllib" and len(parts) > 1:
+            libraries.append(" ".join(parts[1:]))
+        elif key == "usemtl" and len(parts) > 1:
+            used.append(" ".join(parts[1:]))
+        elif key == "v":
+            verts.append(parts[1:8])
+        elif key == "vt":
+            tex.append(parts[1:3])
+        elif key == "f":
+            rows.append(parts[1:])
+            nv.append(len(verts))
+            nt.append(len(tex))
+    faces, face_vt, sizes = _corners_at_once(rows) or _corners_one_by_one(rows, nv, nt)
     if not verts:
         raise MeshFileError("no vertices ('v' lines) found")
-    if not faces:
+    if not len(sizes):
         raise MeshFileError("no faces ('f' lines) found")
-    short = [i for i, fv in enumerate(faces) if len(fv) < 3]
-    if short:                                 # an 'f' of one or two corners is a point or a line, not a face
-        if len(short) == len(faces):
-            raise MeshFileError(f"no faces: all {len(faces)} 'f' lines have fewer than 3 corners")
+    short = np.flatnonzero(sizes < 3)
+    if len(short):                            # an 'f' of one or two corners is a point or a line, not a face
+        if len(short) == len(sizes):
+            raise MeshFileError(f"no faces: all {len(sizes)} 'f' lines have fewer than 3 corners")
         warnings.warn(f"{path}: left out {len(short)} 'f' lines of fewer than 3 corners (points or lines, not "
                       f"faces; the first is face {short[0] + 1})", stacklevel=4)
-        drop = set(short)
-        faces = [fv for i, fv in enumerate(faces) if i not in drop]
-        face_vt = [ft for i, ft in enumerate(face_vt) if i not in drop]
+        keep = sizes >= 3
+        if isinstance(faces, np.ndarray):
+            faces, face_vt = faces[keep], face_vt[keep]
+        else:
+            faces = [fv for fv, k in zip(faces, keep) if k]
+            face_vt = [ft for ft, k in zip(face_vt, keep) if k]
     if any(len(v) < 3 for v in verts):
         raise MeshFileError("a 'v' line has fewer than 3 coordinates")
     vertices = np.array([v[:3] for v in verts], dtype=np.float64)
