@@ -2,16 +2,27 @@
 ``bash`` and ``python`` blocks, in the page's order, in a fresh folder of its own that holds the package and the
 bundled data (``geoimg``, ``samples``, ``tests/data``) where a clone has them. The set-up commands of the quick
 start (a virtual environment, pip) are left to CI, which runs them; ``geoimg demo``, the first one's last step,
-runs here. ``text`` blocks (the documentation's own build command, which CI runs) are not run."""
+runs here. ``text`` blocks (the documentation's own build command, which CI runs) are not run.
+
+A block of plain ``geoimg`` commands (no pipes, redirections, variables or globs for the shell to expand) runs
+them through :func:`geoimg.cli.main`, the function the ``geoimg`` program calls, in this process: the same
+command, without a new interpreter's imports and kernel loads each time (the program itself is run as a process
+by tests/test_cli.py). Any other block runs in ``bash``, as written."""
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 import re
+import shlex
+import signal
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+
+from geoimg.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 SET_UP = ("python3 -m venv", ". .venv/bin/activate", "pip install", "python -m pytest", "python -m mypy")
@@ -47,6 +58,50 @@ def blocks(text: str) -> list[tuple[str, str]]:
     return found
 
 
+def geoimg_commands(code: str) -> list[list[str]] | None:
+    """The arguments of each command of a ``bash`` block when every command is a plain ``geoimg`` one (what
+    the shell would pass on: quotes removed, comments and line continuations handled); None otherwise."""
+    commands = []
+    for line in code.replace("\\\n", " ").splitlines():
+        unquoted = re.sub(r"'[^']*'|\"[^\"]*\"", "", line).split("#")[0]
+        if not unquoted.strip():
+            continue
+        if re.search(r"[|&;<>()$`*?\[\]{}~=\\]", unquoted):          # for the shell to read: not plain
+            return None
+        argv = shlex.split(line, comments=True)
+        if argv[0] != "geoimg":
+            return None
+        commands.append(argv[1:])
+    return commands
+
+
+def test_plain_geoimg_commands_are_told_from_the_rest():
+    assert geoimg_commands("geoimg demo\ngeoimg image a.obj -o 'b c.exr'   # a comment\n\n# only a comment\n"
+                           "geoimg morph a.obj b.obj \\\n    --frames 3") == [
+        ["demo"], ["image", "a.obj", "-o", "b c.exr"], ["morph", "a.obj", "b.obj", "--frames", "3"]]
+    assert geoimg_commands("geoimg batch d 'x/sp*.obj' -o i") == [["batch", "d", "x/sp*.obj", "-o", "i"]]
+    for shell in ("geoimg info a.exr | head", "geoimg info a.exr > out.txt", "geoimg batch d x/*.obj",
+                  "printf 'a' > p.csv\ngeoimg info p.csv", "geoimg info $HOME/a.exr", "X=1 geoimg info a.exr",
+                  "geoimg info a.exr && geoimg info b.exr", "geoimg info ~/a.exr", "cd x; geoimg info a.exr"):
+        assert geoimg_commands(shell) is None, shell
+
+
+def run_in_process(argv: list[str], cwd: Path) -> tuple[int, str]:
+    """``geoimg ARGV`` run by :func:`geoimg.cli.main` in ``cwd``: its exit status and what it wrote on stderr."""
+    err, here, sigterm = io.StringIO(), Path.cwd(), signal.getsignal(signal.SIGTERM)
+    try:
+        os.chdir(cwd)
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
+            try:
+                status = main(argv)
+            except SystemExit as e:                 # argparse refused the command line
+                status = e.code
+    finally:
+        os.chdir(here)
+        signal.signal(signal.SIGTERM, sigterm)
+    return status, err.getvalue()
+
+
 def test_the_blocks_are_found():
     readme = (ROOT / "README.md").read_text()
     found = blocks(readme)
@@ -69,6 +124,12 @@ def test_every_command_of_a_page_runs_as_written(page, tmp_path):
         (tmp_path / rel).symlink_to(ROOT / rel, target_is_directory=True)
     env = {**os.environ, "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"}
     for k, (lang, code) in enumerate(blocks((ROOT / page).read_text())):
+        commands = geoimg_commands(code) if lang == "bash" else None
+        if commands is not None:
+            for argv in commands:
+                status, err = run_in_process(argv, tmp_path)
+                assert status == 0, f"{page} block {k}: geoimg {shlex.join(argv)} failed:\n{err[-3000:]}"
+            continue
         argv = ["bash", "-euo", "pipefail", "-c", code] if lang == "bash" else [sys.executable, "-c", code]
         run = subprocess.run(argv, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
         assert run.returncode == 0, f"{page} block {k} ({lang}) failed:\n{code}\n{run.stderr[-3000:]}"
