@@ -14,7 +14,7 @@ from geoimg.parametrization._orientation import chord_orientation
 
 def check_disk_map(mesh, single_polygon=False):
     """The disk map of a one-loop mesh folds nothing, puts the loop on the square's sides (or the hull of
-    the map, when the sides bow) and leaves the mesh unchanged."""
+    the map, when the sides bow) and leaves the mesh unchanged; returns the map."""
     before = mesh.vertices.copy()
     p = parametrize(mesh, "disk")
     assert p.flipped_faces == 0 and p.degenerate_faces == 0 and np.allclose(p.extent, 1.0)
@@ -34,11 +34,13 @@ def check_disk_map(mesh, single_polygon=False):
         on_side = np.isclose(uv[loop], 0).any(axis=1) | np.isclose(uv[loop], 1).any(axis=1)
         assert on_side.all()
     assert np.array_equal(mesh.vertices, before)
+    return p
 
 
-def check_disk_surface(mesh):
-    """The surface over a disk map, sampled at 129^2, lies within 1 % of the diagonal of the mesh (RMS)."""
-    surf = geoimg.fit_surface(mesh, parametrize(mesh, "disk"), s=1)
+def check_disk_surface(mesh, param=None):
+    """The surface over a disk map (``param``, made here when not given), sampled at 129^2, lies within 1 %
+    of the diagonal of the mesh (RMS)."""
+    surf = geoimg.fit_surface(mesh, parametrize(mesh, "disk") if param is None else param, s=1)
     img = surf.sample(129)
     quads = img.to_mesh()
     d = point_mesh_distance(quads.vertices, mesh)

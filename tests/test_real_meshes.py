@@ -3,6 +3,8 @@ credited in tests/data/CREDITS.md) always, and the larger ones of ../shared/data
 (Stanford, SMPL, files without a licence) where that folder is beside the checkout. Every test has at least
 one bundled mesh, so a clone on its own runs each of them; ../shared adds rows, it never decides whether a
 test runs."""
+import functools
+
 import numpy as np
 import pytest
 
@@ -34,15 +36,21 @@ def test_surface_converges_to_a_height_field_as_s_shrinks(sliver_rule, name):
     "open_disk/camelhead.off", "open_disk/hemisphere.off", "open_disk/alligator.obj", "polygonal/L.off",
     "polygonal/inspired_mesh_quads_Conjugate.off"))
 def test_disk_maps_of_real_meshes(name):
+    disk_mapped(name)
+
+
+@functools.cache
+def disk_mapped(name):
+    """A real mesh and its disk map, checked (:func:`check_disk_map`) once for the tests that use both."""
     mesh = load_real(name)
-    check_disk_map(mesh, single_polygon=mesh.n_faces == 1)
+    return mesh, check_disk_map(mesh, single_polygon=mesh.n_faces == 1)
 
 
 @pytest.mark.parametrize("name", real_meshes("demosthenes-low-res.obj", "open_disk/camelhead.off"))
 def test_disk_surface_of_a_real_scan(name):
-    mesh = load_real(name)
+    mesh, disk = disk_mapped(name)
     assert parametrize(mesh).method == "disk"
-    check_disk_surface(mesh)
+    check_disk_surface(mesh, disk)
 
 
 @pytest.mark.parametrize("name", real_meshes(
