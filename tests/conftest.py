@@ -4,11 +4,25 @@ tests/test_real_meshes.py runs its checks on the bundled real meshes, and on the
 of ../shared/data too (not bundled: their licences do not allow it) where that folder is beside the
 checkout; the report's header says which.
 """
+import os
+
 import pytest
 
 import geoimg
 
 from helpers import MOUNTAIN, SHARED
+
+def pytest_configure(config):
+    """A worker of pytest-xdist (the suite runs on ``-n auto`` workers, see pyproject.toml) runs its kernels on
+    its share of the cores, and so do the processes its tests start: the workers run side by side, and
+    numba's threads of several processes on the same cores wait on each other."""
+    workers = os.environ.get("PYTEST_XDIST_WORKER_COUNT")
+    if workers:
+        import numba
+        threads = max(1, min(numba.config.NUMBA_NUM_THREADS, (os.cpu_count() or 1) // int(workers)))
+        numba.set_num_threads(threads)
+        os.environ["NUMBA_NUM_THREADS"] = str(threads)
+
 
 def pytest_report_header(config):
     if SHARED.is_dir():

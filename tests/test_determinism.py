@@ -68,13 +68,13 @@ def test_the_balancing_energy_does_not_depend_on_the_threads():
     a /= a.sum()
     cot = rng.random((n_t, 3))
     area = rng.random(n_t) + 0.1
-    results = []
+    results, before = [], numba.get_num_threads()
     for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
         numba.set_num_threads(threads)
         try:
             results.append(bk._terms(s, tris, a, cot, area, 0.7, 0.3, np.empty(n_t)))
         finally:
-            numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+            numba.set_num_threads(before)
     assert results[0] == results[-1]
     e, _ = results[0]
     d = np.empty(n_t)
