@@ -43,6 +43,28 @@ def _obj_lines(lines):
 _CORNER = "[0-9]+(?:/[0-9]*(?:/[0-9]*)?)?"
 _CORNERS = re.compile(f"{_CORNER}(?: {_CORNER})*")
 _INDICES = re.compile("([0-9]+)(?:/([0-9]*)(?:/[0-9]*)?)?")
+# the usual files write every corner alike: (the corners, the separator within one, its numbers, the vt's place)
+_N = "[0-9]{1,18}"                                     # below 2^63
+_ALIKE = [(re.compile(f"{one}(?: {one})*"), sep, per, vt) for one, sep, per, vt in (
+    (_N, "", 1, None), (f"{_N}/{_N}", "/", 2, 1), (f"{_N}/{_N}/{_N}", "/", 3, 1), (f"{_N}//{_N}", "//", 2, None))]
+
+
+def _numbers(joined: str) -> tuple | None:
+    """``(v, vt, given)``: each corner's vertex and vt index as written (1-based; vt 0 where none is
+    ``given``), from the corners joined by single spaces, or None where they are not all numbers.
+    """
+    for corners, sep, per, vt in _ALIKE:
+        if corners.fullmatch(joined):                  # all alike: numbers read by numpy's parser
+            table = np.fromstring(joined.replace(sep, " ") if sep else joined, np.int64, sep=" ").reshape(-1, per)
+            return table[:, 0], table[:, vt] if vt else np.zeros(len(table), np.int64), vt is not None
+    if _CORNERS.fullmatch(joined) is None:
+        return None
+    pairs = _INDICES.findall(joined)                   # one (v, vt or "") per corner, in order
+    try:
+        return (np.array([a for a, _ in pairs], np.int64), np.array([b or "0" for _, b in pairs], np.int64),
+                np.array([b != "" for _, b in pairs]))
+    except OverflowError:                              # beyond 64 bits
+        return None
 
 
 def _corners_at_once(rows: list) -> tuple | None:
@@ -55,20 +77,10 @@ def _corners_at_once(rows: list) -> tuple | None:
     if not len(rows) or len(rows) * int(sizes.max()) > MAX_PADDED_ENTRIES:
         return None
     joined = " ".join([" ".join(r) for r in rows])
-    if not joined.isascii() or _CORNERS.fullmatch(joined) is None:
+    found = _numbers(joined) if joined.isascii() else None
+    if found is None:
         return None
-    try:
-        if "/" not in joined:                          # vertex indices only
-            v = np.array(joined.split(), np.int64)
-            t = np.zeros_like(v)
-            given = np.zeros(len(v), bool)
-        else:
-            pairs = _INDICES.findall(joined)           # one (v, vt or "") per corner, in order
-            v = np.array([a for a, _ in pairs], np.int64)
-            t = np.array([b or "0" for _, b in pairs], np.int64)
-            given = np.array([b != "" for _, b in pairs])
-    except OverflowError:                              # beyond 64 bits
-        return None
+    v, t, given = found
     if len(v) != int(sizes.sum()) or not (v > 0).all() or (given & (t == 0)).any():
         return None
     used = np.arange(int(sizes.max())) < sizes[:, None]
