@@ -14,14 +14,13 @@ from helpers import MOUNTAIN, SHARED
 
 def pytest_configure(config):
     """A worker of pytest-xdist (the suite runs on ``-n auto`` workers, see pyproject.toml) runs its kernels on
-    its share of the cores, and so do the processes its tests start: the workers run side by side, and
-    numba's threads of several processes on the same cores wait on each other."""
+    its share of the cores: the workers run side by side, and numba's threads of several processes on the same
+    cores wait on each other. (Only the number in use is set: ``NUMBA_NUM_THREADS`` must not change once
+    numba has started its threads, or the next compilation fails.)"""
     workers = os.environ.get("PYTEST_XDIST_WORKER_COUNT")
     if workers:
         import numba
-        threads = max(1, min(numba.config.NUMBA_NUM_THREADS, (os.cpu_count() or 1) // int(workers)))
-        numba.set_num_threads(threads)
-        os.environ["NUMBA_NUM_THREADS"] = str(threads)
+        numba.set_num_threads(max(1, min(numba.config.NUMBA_NUM_THREADS, (os.cpu_count() or 1) // int(workers))))
 
 
 def pytest_report_header(config):

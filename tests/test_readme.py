@@ -115,6 +115,21 @@ def test_the_blocks_are_found():
             assert (ROOT / page).parent.joinpath(target).exists(), f"{page}: {target}"
 
 
+def test_ci_runs_the_readme_test_command_and_stops_at_its_first_failing_step():
+    """``.ci/run`` runs the README's test command one step a line under ``set -e``: a step that fails inside an
+    ``a && b && c`` list does not stop a ``set -e`` script (the tests failed and CI went on to build the site)."""
+    steps = [line.strip() for line in (ROOT / ".ci" / "run").read_text().splitlines()
+             if line.strip() and not line.lstrip().startswith("#")]
+    assert steps[0] == "set -euo pipefail"
+    assert not [line for line in steps if re.search(r"&&|\|\||;", line)]
+    quick_start = next(code for _, code in re.findall(r"^```(bash)\n(.*?)^```", (ROOT / "README.md").read_text(),
+                                                       flags=re.S | re.M) if '".[test]"' in code)
+    wanted = [step.strip() for step in quick_start.strip().split("&&")]
+    assert wanted[-2:] == ["python -m pytest -q", "python -m mypy"] and wanted[-3] == 'pip install -e ".[test]"'
+    at = steps.index('python -m pip install -q -e ".[test]"')
+    assert steps[at + 1:at + 3] == wanted[-2:]
+
+
 @pytest.mark.parametrize("page", PAGES)
 def test_every_command_of_a_page_runs_as_written(page, tmp_path):
     pytest.importorskip("moderngl")
