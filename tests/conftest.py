@@ -12,6 +12,7 @@ import geoimg
 
 from helpers import MOUNTAIN, SHARED
 
+
 def pytest_configure(config):
     """A worker of pytest-xdist (the suite runs on ``-n auto`` workers, see pyproject.toml) runs its kernels on
     its share of the cores: the workers run side by side, and numba's threads of several processes on the same
