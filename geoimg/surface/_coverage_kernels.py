@@ -38,6 +38,7 @@ __all__ = ["evaluate_coverage", "sample_grid_coverage", "sample_octahedral_cover
 
 TRUNCATED, EXACT = 0, 1
 WMIN = 0.5          # w . p at or below it: the triangle is skipped (see _add)
+UNDERFLOW_LOG = -800.0  # a log-domain term bounded this far below the largest: exp() gives exactly 0 (below -745.2)
 EXACT_RUN = 16      # points summed exactly without cells go in runs of this many (the parallel loop's items)
 _SQRT1_2 = 1.0 / math.sqrt(2.0)
 _LOG_SQRT_2PI = 0.5 * math.log(2.0 * math.pi)
@@ -178,11 +179,25 @@ def _add_terms(t, z0, z1, z2, p0, p1, p2, t1, t2, E, K, w, zmax, deriv, shift, l
     return True
 
 
+@njit(cache=True, inline="always")
+def _log_weight_bound(t, p, E):
+    """An upper bound on triangle ``t``'s log weight at ``p`` (the sum of its edges' ``log Phi(z)``), from its
+    lowest edge function alone: ``log Phi(z) <= -z^2 / 2 - log 2`` for ``z <= 0`` (``erfc(x) <= exp(-x^2)``),
+    three dot products where the weight itself takes three ``log_ndtr``.
+    """
+    z = min(E[t, 0, 0] * p[0] + E[t, 0, 1] * p[1] + E[t, 0, 2] * p[2],
+            E[t, 1, 0] * p[0] + E[t, 1, 1] * p[1] + E[t, 1, 2] * p[2],
+            E[t, 2, 0] * p[0] + E[t, 2, 1] * p[1] + E[t, 2, 2] * p[2])
+    return -0.5 * z * z if z < 0.0 else 0.0
+
+
 @njit(cache=True)
 def _largest_log_weight(p, cand, E, w, wmin):
     m = -np.inf
     for k in range(cand.shape[0]):
         t = cand[k]
+        if _log_weight_bound(t, p, E) <= m:         # cannot be the largest: the same m, sooner
+            continue
         wp = w[t, 0] * p[0] + w[t, 1] * p[1] + w[t, 2] * p[2]
         if not wp > wmin:
             continue
@@ -209,6 +224,8 @@ def _finish(i, p, t1, t2, E, K, w, zmin, zmax, floor, fallback, deriv, force_exa
             wmin = 0.0
             m = _largest_log_weight(p, fallback, E, w, wmin)
         for k in range(fallback.shape[0]):
+            if _log_weight_bound(fallback[k], p, E) - m < UNDERFLOW_LOG:    # its exp() would be 0: adds nothing
+                continue
             _add(fallback[k], p, t1, t2, E, K, w, zmin, zmax, deriv, m, True, wmin, table, acc)
         status[i] = EXACT
     s = acc[0]

@@ -401,3 +401,31 @@ def test_the_edge_table_is_phi_and_its_slope_is_the_interpolants():
         c, r = ck._edge(x, 8.0, True, ck.TABLE)
         fd = (ck._edge(x + h, 8.0, False, ck.TABLE)[0] - ck._edge(x - h, 8.0, False, ck.TABLE)[0]) / (2 * h)
         assert abs(c * r - fd) < 1e-9        # the differences err by about 1e-16 / h
+
+
+def test_the_exact_sum_leaves_out_only_terms_that_underflow():
+    # far from the mesh (a charts image's gutters) the truncated sum cannot certify a point, which is summed over
+    # every triangle in the log domain; a triangle whose bound lies 800 below the largest log weight is skipped
+    from scipy.special import log_ndtr
+    mesh = load_data("bob_tri.obj")
+    param = parametrize(mesh)
+    surf = fit_surface(mesh, param, 0.01, weights="coverage")
+    E, K, w = surf.edges(), surf.tables[1], surf.tables[2]
+    rng = np.random.default_rng(3)
+    uv = rng.uniform(-0.5, 1.5, (300, 2)) * np.asarray(surf.domain.extent)
+    pts = np.column_stack([surf._uv(uv), np.ones(len(uv))])
+    lf = log_ndtr(np.einsum("tkc,pc->ptk", E, pts)).sum(axis=2)          # (points, triangles)
+    bound = np.array([[ck._log_weight_bound(t, p, E) for t in range(0, len(E), 7)] for p in pts[:40]])
+    assert (bound >= lf[:40, ::7]).all()
+    # the exact sum (over every triangle) against its plain twin in the log domain
+    fb = np.arange(len(E))
+    wp = pts @ w[fb].T
+    L = np.where(wp > ck.WMIN, lf[:, fb], -np.inf)
+    F = np.exp(L - L.max(axis=1, keepdims=True))
+    P = np.einsum("tic,pc->pti", K[fb], pts) / np.where(wp > ck.WMIN, wp, 1.0)[..., None]
+    ref = (F[..., None] * P).sum(axis=1) / F.sum(axis=1)[:, None]
+    got = surf.evaluate(uv, exact=True)
+    diag = np.linalg.norm(np.ptp(mesh.vertices, axis=0))
+    assert np.isfinite(ref).all() and np.abs(got - ref).max() < 1e-9 * diag
+    far = (uv < 0).any(axis=1) | (uv > np.asarray(surf.domain.extent)).any(axis=1)
+    assert far.sum() > 100 and (L.max(axis=1) - L.min(axis=1))[far].max() > 800     # terms that were left out
