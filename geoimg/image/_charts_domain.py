@@ -272,7 +272,7 @@ class ChartsDomain(Domain):
                 out.extend(self._tile_point(tile, [a, b]) for a, b in zip(cuts[:-1], cuts[1:]))
         return out
 
-    def ghosts(self, centres: np.ndarray, reach: np.ndarray) -> list:
+    def ghosts(self, centres: np.ndarray, reach: np.ndarray, size: np.ndarray | None = None) -> list:
         """Across each glued side, the faces near its twin (on another chart), turned and moved rigidly onto
         this side's outside, so the weighted mean at a chart's border sees the surface continue. A copy
         stays within half the gutter of its tile (its centre's distance plus a quarter of its reach, the
@@ -284,6 +284,10 @@ class ChartsDomain(Domain):
             (F, 2) the faces' parametric centres.
         reach : numpy.ndarray
             (F,) how far each face's weights reach.
+        size : numpy.ndarray or None
+            (F,) each face's own size (its enclosing radius): a face within it of a twin piece's end is not
+            copied (its copy would spill beside the next piece). None: no margin (the paper's weights, whose
+            surface at s = 1 needs the copies up to the ends).
 
         Returns
         -------
@@ -304,7 +308,7 @@ class ChartsDomain(Domain):
         for tile in sorted({k for k, _ in pieces}):
             lo, hi = self.tile_points(np.array([tile, tile]), np.array([[0.0, 0.0], [1.0, 1.0]]))
             for idx, R, b in ghost_copies(c, np.minimum(reach, half), [x for k, x in pieces if k == tile],
-                                          self._rims()):
+                                          self._rims(), size):
                 moved = c[idx] @ R.T + b
                 beyond = np.maximum(np.maximum(lo - moved, moved - hi), 0.0).max(axis=1)
                 keep = beyond + 0.25 * reach[idx] <= half

@@ -152,7 +152,7 @@ class CutDomain(Domain):
                 out.append((start + o1, start + o2, tstart + length - o1, tstart + length - o2))
         return out
 
-    def ghosts(self, centres: np.ndarray, reach: np.ndarray) -> list:
+    def ghosts(self, centres: np.ndarray, reach: np.ndarray, size: np.ndarray | None = None) -> list:
         """Across each cut, the faces near its other side, turned and moved rigidly onto this side's
         outside: the weighted mean at a cut then sees the surface continue, as inside. Each face goes
         with the straight piece of a cut nearest to it, if its weights reach that far.
@@ -163,6 +163,10 @@ class CutDomain(Domain):
             (F, 2) the faces' parametric centres.
         reach : numpy.ndarray
             (F,) how far each face's weights reach.
+        size : numpy.ndarray or None
+            (F,) each face's own size (its enclosing radius): a face within it of a twin piece's end is not
+            copied (its copy would spill beside the next piece). None: no margin (the paper's weights, whose
+            surface at s = 1 needs the copies up to the ends).
 
         Returns
         -------
@@ -178,7 +182,7 @@ class CutDomain(Domain):
         pieces = [(perimeter_point([a, b], self.quantum), perimeter_point([ta, tb], self.quantum))
                   for a, b, ta, tb in self._pieces()]
         rims = [perimeter_point([a, b], self.quantum) for a, b in self._rim_pieces()]
-        return ghost_copies(centres, reach, pieces, rims)
+        return ghost_copies(centres, reach, pieces, rims, size)
 
     def _rim_pieces(self):
         """Straight pieces ``(a, b)`` (perimeter positions, quanta) of the mesh's own boundary."""

@@ -521,7 +521,7 @@ class Domain(ABC):
         """
         return grid_normals(pixels, self.orientation)
 
-    def ghosts(self, centres: np.ndarray, reach: np.ndarray) -> list:
+    def ghosts(self, centres: np.ndarray, reach: np.ndarray, size: np.ndarray | None = None) -> list:
         """Faces that a surface over this domain sees beyond the image's edges, as
         ``(face indices, R (2, 2), b (2,))``: copies of those faces (by their parametric ``centres``
         (F, 2)) with parameters ``R uv + b``, for faces whose weights reach an edge within ``reach`` (F,).
@@ -533,6 +533,10 @@ class Domain(ABC):
             (F, 2) the faces' parametric centres.
         reach : numpy.ndarray
             (F,) how far each face's weights reach.
+        size : numpy.ndarray or None
+            (F,) each face's own size (its enclosing radius): a face within it of a twin piece's end is not
+            copied (its copy would spill beside the next piece). None: no margin (the paper's weights, whose
+            surface at s = 1 needs the copies up to the ends).
 
         Returns
         -------

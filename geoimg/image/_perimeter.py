@@ -116,11 +116,13 @@ def _to_segment(points: np.ndarray, p0: np.ndarray, p1: np.ndarray) -> np.ndarra
     return np.linalg.norm(points - (p0 + along[:, None] * d), axis=1)
 
 
-def ghost_copies(centres: np.ndarray, reach: np.ndarray, pieces: list, rims: list) -> list:
+def ghost_copies(centres: np.ndarray, reach: np.ndarray, pieces: list, rims: list,
+                 size: np.ndarray | None = None) -> list:
     """Across each glued straight piece, the faces near its twin, turned and moved rigidly onto this piece's
     outside: ``(face indices, R, b)`` per piece that takes any. Each face goes with the piece whose twin is
-    nearest to it (a face off the twin's ends goes with none: its copy would land beside the perimeter's next
-    stretch), if its ``reach`` gets there; no copy may come within its reach of a ``rim`` (the mesh's own
+    nearest to it (a face off the twin's ends, or within its ``size`` of one, goes with none: its copy would land
+    or spill beside the perimeter's next stretch, where the surface beyond is another part of the mesh), if its
+    ``reach`` gets there; no copy may come within its reach of a ``rim`` (the mesh's own
     boundary: its pixels are on the surface).
 
     Parameters
@@ -133,6 +135,8 @@ def ghost_copies(centres: np.ndarray, reach: np.ndarray, pieces: list, rims: lis
         ``((p0, p1), (q0, q1))`` per piece: its ends and its twin's, ``p0`` glued to ``q0``.
     rims : list
         ``(p0, p1)`` per straight piece of the mesh's own boundary.
+    size : numpy.ndarray or None
+        (F,) each face's own size; None: no margin at the twins' ends.
 
     Returns
     -------
@@ -155,7 +159,8 @@ def ghost_copies(centres: np.ndarray, reach: np.ndarray, pieces: list, rims: lis
         length2 = float(dt @ dt)
         along = (c - q0) @ dt / max(length2, 1e-300)
         dist[k] = np.linalg.norm(c - (q0 + np.clip(along, 0.0, 1.0)[:, None] * dt), axis=1)   # to the twin piece
-        dist[k][(along < 0.0) | (along > 1.0)] = np.inf
+        margin = 0.0 if size is None else size / np.sqrt(max(length2, 1e-300))     # along the twin
+        dist[k][(along < margin) | (along > 1.0 - margin)] = np.inf
         cos, sin = (dt @ ds) / max(length2, 1e-300), (dt[0] * ds[1] - dt[1] * ds[0]) / max(length2, 1e-300)
         R = np.array([[cos, -sin], [sin, cos]])
         maps.append((R, p0 - R @ q0))

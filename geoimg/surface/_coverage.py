@@ -363,7 +363,7 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
     polygons = coords[tris] if planar else None
     if planar:        # faces a cut glues across the square's sides continue beyond them, as copies
         d = enclosing_circle_radius(coords[tris])
-        ghosts = domain.ghosts(coords[tris].mean(axis=1), 4.0 * d + 8.0 * s * float(d.mean()))
+        ghosts = domain.ghosts(coords[tris].mean(axis=1), 4.0 * d + 8.0 * s * float(d.mean()), d)
         if ghosts:
             tri_mesh, coords, _ = _with_ghosts(tri_mesh, coords, np.arange(len(tris)), ghosts)
             tris = tri_mesh.faces

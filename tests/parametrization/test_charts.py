@@ -317,13 +317,11 @@ def test_the_starved_share_of_charts_is_of_the_image_they_share():
     assert p.info["starved_share"] == pytest.approx(want, abs=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason="known defect: ghost copies from two sides meet outside a chart's corner")
 def test_a_narrow_surface_agrees_with_itself_across_glued_sides():
-    # The surface at a chart's border sees copies of the twin's faces beyond it (ghosts). Which copies a fit makes
-    # depends on its width: at s = 1 none of the plate's are kept, at s = 1e-4 (the mesh resampled as it is)
-    # 243, and near two corners those from the two sides disagree: two glued pairs 1.0 and 3.2 units apart
-    # (0.3 % and 0.9 % of the diagonal) before the glue averages them. The default conversion chooses its
-    # copies at s = 1 and does not meet it; a user's --s 1e-4 with --method charts does.
+    # The surface at a chart's border sees copies of the twin's faces beyond it (ghosts). A face near the end of
+    # a twin piece was copied too, and its copy spilled beside the next piece: on the plate at s = 1e-4 (the
+    # mesh resampled as it is) a copy of its bottom face lay beside its top, two glued pairs 1.0 and 3.2 units
+    # apart (0.3 % and 0.9 % of the diagonal) before the glue averaged them; 2.9e-4 units with the margin.
     mesh = load_data("plate_holes.STL")
     param = geoimg.parametrize(mesh, "charts")
     image = geoimg.fit_surface(mesh, param, 1e-4, weights="coverage").sample(129)

@@ -275,3 +275,16 @@ def test_ghosts_never_reach_the_rim():
     moved = near_twin @ R.T + b
     assert moved[0, 1] < 0 and 0 < moved[0, 0] < 0.5              # outside the square, beside piece 0..2
     assert d.ghosts(np.vstack([inside, near_twin]), np.full(4, 0.3)) == []   # so wide it would reach the rim
+
+
+def test_a_face_within_its_size_of_a_twins_end_is_not_copied():
+    # its copy would spill past the piece's end, beside the next piece, where the surface beyond may be another
+    # part of the mesh (the CAD plate: a copy of its bottom face beside its top); without sizes (the paper's
+    # weights) no margin
+    from geoimg.image._perimeter import ghost_copies
+    one = ((np.array([0.0, 0.0]), np.array([1.0, 0.0])), (np.array([1.0, 1.0]), np.array([0.0, 1.0])))
+    centres = np.array([[0.5, 0.9], [0.97, 0.9], [0.03, 0.9]])    # mid-twin; 0.03 from either end
+    reach = np.full(3, 0.2)
+    assert [k.tolist() for k, R, b in ghost_copies(centres, reach, [one], [], np.full(3, 0.05))] == [[0]]
+    assert [k.tolist() for k, R, b in ghost_copies(centres, reach, [one], [], np.full(3, 0.02))] == [[0, 1, 2]]
+    assert [k.tolist() for k, R, b in ghost_copies(centres, reach, [one], [])] == [[0, 1, 2]]
