@@ -219,12 +219,22 @@ def _direct_start(x, tris, used, vertex_area, lap):
     return s, "conformal", f0
 
 
-def _direct_balanced(xs, t, beta, steps):
-    """A small mesh (every vertex on a triangle) mapped directly, then balanced."""
+def _direct_balanced(xs, t, beta, steps, *, decimated_copy=False):
+    """A small mesh (every vertex on a triangle) mapped directly, then balanced. As a ``decimated_copy``
+    (:func:`_decimated_map`): None where the direct maps fold, and coarse to fine first where
+    :func:`_wants_coarse_to_fine` (kept where that folds nothing).
+    """
     used = np.ones(len(xs), bool)
     va = vertex_areas(xs, t)
     lap = laplacian(cotangent_weights(xs, t))
-    sc, _, _ = _direct_start(xs, t, used, va, lap)
+    sc, start, _ = _direct_start(xs, t, used, va, lap)
+    if decimated_copy:
+        if _fold_count(sc, t):
+            return None
+        if _wants_coarse_to_fine(start, 0):
+            sp, _ = progressive_sphere(xs, t, used, _coarse_map(xs, beta), _relax(xs, beta))
+            if not _fold_count(sp, t):
+                sc = sp
     sc, _, _ = balance(sc, xs, t, lap, va, used, float(beta), steps, None)
     return sc
 
@@ -261,18 +271,7 @@ def _decimated_map(beta):
     open, 10 s lost before the fine mesh's own coarse-to-fine map).
     """
     def run(U, G):
-        used = np.ones(len(U), bool)
-        va = vertex_areas(U, G)
-        lap = laplacian(cotangent_weights(U, G))
-        sc, start, _ = _direct_start(U, G, used, va, lap)
-        if _fold_count(sc, G):
-            return None
-        if _wants_coarse_to_fine(start, 0):
-            sp, _ = progressive_sphere(U, G, used, _coarse_map(U, beta), _relax(U, beta))
-            if not _fold_count(sp, G):
-                sc = sp
-        sc, _, _ = balance(sc, U, G, lap, va, used, float(beta), None, None)
-        return sc
+        return _direct_balanced(U, G, beta, None, decimated_copy=True)
     return run
 
 
