@@ -12,11 +12,10 @@ the gutters (``--meshes``).
 from __future__ import annotations
 
 import argparse
-import json
-import os
-import subprocess
 import sys
 from pathlib import Path
+
+from _trees import check_tree, run_json
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -63,10 +62,7 @@ print(json.dumps(out))
 
 
 def timings(tree: Path, files: list, repeat: int, resolutions: list) -> dict:
-    env = dict(os.environ, PYTHONPATH=str(tree))
-    run = subprocess.run([sys.executable, "-c", TIMER, str(repeat), ",".join(map(str, resolutions)),
-                          *map(str, files)], cwd=tree, env=env, check=True, capture_output=True, text=True)
-    return json.loads(run.stdout)
+    return run_json(tree, TIMER, [repeat, ",".join(map(str, resolutions)), *files])
 
 
 def main(argv=None) -> int:
@@ -78,8 +74,9 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.repeat < 1:
         ap.error("--repeat: at least 1")
-    if args.tree is not None and not (args.tree / "geoimg" / "__init__.py").is_file():
-        ap.error(f"--tree: {args.tree} is not a checkout of geoimg")
+    if min(args.res) < 3:
+        ap.error("--res: at least 3 pixels a side")
+    check_tree(ap, args.tree)
     files = [f.resolve() for f in (args.meshes or MESHES)]
     missing = [str(f) for f in files if not f.is_file()]
     if missing:

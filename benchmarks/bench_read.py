@@ -10,11 +10,10 @@ the bundled ones and, where ``../shared/data`` is beside the checkout, its large
 from __future__ import annotations
 
 import argparse
-import json
-import os
-import subprocess
 import sys
 from pathlib import Path
+
+from _trees import check_tree, run_json
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -43,10 +42,7 @@ print(json.dumps(out))
 
 
 def timings(tree: Path, files: list, repeat: int) -> dict:
-    env = dict(os.environ, PYTHONPATH=str(tree))
-    run = subprocess.run([sys.executable, "-c", TIMER, str(repeat), *map(str, files)], cwd=tree, env=env,
-                         check=True, capture_output=True, text=True)
-    return json.loads(run.stdout)
+    return run_json(tree, TIMER, [repeat, *files])
 
 
 def main(argv=None) -> int:
@@ -56,8 +52,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.repeat < 1:
         ap.error("--repeat: at least 1")
-    if args.tree is not None and not (args.tree / "geoimg" / "__init__.py").is_file():
-        ap.error(f"--tree: {args.tree} is not a checkout of geoimg")
+    check_tree(ap, args.tree)
     files = [f for f in FILES if f.is_file()]
     here = timings(ROOT, files, args.repeat)
     there = timings(args.tree.resolve(), files, args.repeat) if args.tree is not None else None
