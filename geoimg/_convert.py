@@ -21,6 +21,7 @@ from .surface._coverage import prefilter_s
 from .surface._attributes import sample_colors
 from .surface._base import check_backend
 from ._types import Progress
+from ._threads import fixed_order
 
 __all__ = ["mesh_to_image", "mesh_to_images", "measure_fidelity", "poor_reason", "COMPONENT_CHOICES",
            "FIDELITY_SAMPLES", "LIMIT_S", "POOR_PSNR_DB", "POOR_HAUSDORFF"]
@@ -51,6 +52,7 @@ def _load(mesh_or_path, say) -> tuple[Mesh, str]:
     raise InputTypeError(f"mesh_or_path: expected a geoimg.Mesh or a file path, got {type(mesh_or_path).__name__}")
 
 
+@fixed_order
 def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = None, method: str = "auto", *,
                    component: str | int = "all", progress: Progress | None = None, timings: dict | None = None,
                    **options: Any) -> list[GeometryImage]:
@@ -145,6 +147,7 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
     return images
 
 
+@fixed_order
 def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = None, method: str = "auto", *,
                   axis: str | None = None, boundary: str = "square", balance: str = DEFAULT_DISK_BALANCE,
                   weights: str = "coverage", n: int = 10,

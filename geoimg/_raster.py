@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 import OpenImageIO as oiio
 
+import filters
+
 from ._budget import check_memory
 from .errors import ImageFileError
 
@@ -65,6 +67,37 @@ def write_raster(path: Path, data: np.ndarray, names, fmt, attributes=()) -> Non
     out.close()
 
 
+def _refusal(path: Path, reason: str) -> str:
+    """Why OpenImageIO could not open ``path``, in geoimg's words where its words name its own settings: a
+    header that claims more than the file can hold says the size it claims and the memory limit.
+    """
+    claim = re.search(r"claims an? (\d+(?:\.\d+)?) MB image from an? (\d+) byte file", reason)
+    if claim:
+        gib, size = float(claim.group(1)) / 1024, int(claim.group(2))
+        limit = filters.memory_limit() / 2 ** 30
+        over = (f"; it is also over the memory limit of {limit:.1f} GiB ({filters.MEMORY_ENV} raises it)"
+                if gib > limit else "")
+        return (f"{path}: its header declares an image of {gib:.1f} GiB in a file of {size} bytes: a damaged "
+                f"or hostile header, not read{over}")
+    if "limits:" in reason:          # another of OpenImageIO's limits (channels, resolution)
+        reason = "; ".join(part for part in reason.split("; ") if "limits:" not in part and "attribute" not in part)
+        return f"{path}: its header declares more than an image reader accepts ({reason}); not read"
+    return f"{path}: cannot be read as an image ({reason})"
+
+
+def _open_unlimited(name: str):
+    """``ImageInput.open`` without OpenImageIO's own size limit (its refusal names an attribute of a library
+    the user never called): the header's size is checked against geoimg's memory limit right after, in
+    geoimg's words. The library's setting is restored.
+    """
+    before = oiio.get_int_attribute("limits:imagesize_MB", 0)
+    oiio.attribute("limits:imagesize_MB", 1 << 30)
+    try:
+        return oiio.ImageInput.open(name)
+    finally:
+        oiio.attribute("limits:imagesize_MB", before)
+
+
 def read_raster(path, attributes=(), what: str = "image", *, integers: str | None = None):
     """Pixels (H, W, C) float32 of any image OpenImageIO reads (integer formats scaled to [0, 1]), the
     channel names and the values of the named attributes (None where absent). With ``integers`` (a
@@ -80,9 +113,9 @@ def read_raster(path, attributes=(), what: str = "image", *, integers: str | Non
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"no {what} file at {path}")
-    inp = oiio.ImageInput.open(_oiio_name(path))
+    inp = _open_unlimited(_oiio_name(path))
     if inp is None:
-        raise ImageFileError(f"{path}: cannot be read as an image ({_error(oiio)})")
+        raise ImageFileError(_refusal(path, _error(oiio)))
     try:
         spec = inp.spec()
         if integers and spec.format.basetype not in (oiio.FLOAT, oiio.HALF, oiio.DOUBLE):

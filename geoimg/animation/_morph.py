@@ -30,6 +30,7 @@ from ..mesh import Mesh, grid_triangles, suggest_landmarks
 from ..parametrization import grid_directions, parametrize, sphere_to_square
 from ..parametrization._warp import warp_sphere
 from .._types import Progress
+from .._threads import fixed_order
 
 __all__ = ["morph", "Morph", "EASINGS", "ALIGNMENTS"]
 
@@ -439,6 +440,7 @@ class Morph:
             yield self.frame(float(t))
 
 
+@fixed_order
 def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: ArrayLike | None = None, lag: float = 0.5,
           align: str = "similarity", rotate: bool = True, resolution: int = DEFAULT_RESOLUTION,
           resample: bool = False, landmarks: Any = None, progress: Progress | None = None) -> Morph:

@@ -171,6 +171,10 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
         return _from_channels(path, data, ["R", "G", "B", "A"][: data.shape[2]], record.get("metadata", {}),
                               record.get("domain"), assume)
     data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"), integers=floats)
+    for name, value in zip(("geoimg:metadata", "geoimg:domain"), attrs):
+        if value is not None and not isinstance(value, str):
+            raise ImageFileError(f"{path}: its {name} attribute is not text but {type(value).__name__} "
+                                 f"{str(value)[:60]}")
     meta = _parsed_metadata(path, attrs[0]) if attrs[0] is not None else None if attrs[1] is None else {}
     return _from_channels(path, data, names, meta, attrs[1], assume)
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,7 @@ __all__ = ["write_npz", "read_npz", "read_npy", "NPZ_ARRAYS"]
 
 NPZ_ARRAYS = ("positions", "mask", "normals", "metadata", "colors")
 _SHAPES = {"positions": 3, "normals": 3, "mask": 2, "metadata": 0, "colors": 3}
+DAMAGED_ZIP = (zlib.error, EOFError, OSError, NotImplementedError, RuntimeError)   # what zipfile raises besides
 _KINDS = {"positions": "f", "normals": "f", "mask": "b", "metadata": "U", "colors": "f"}
 
 
@@ -75,10 +77,12 @@ def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, di
         raise
     except ValueError as e:                         # a corrupt .npy header
         raise ImageFileError(f"{path}: {e}") from None
+    except DAMAGED_ZIP as e:                        # a member that does not inflate, an unknown compression ...
+        raise ImageFileError(f"{path}: a damaged .npz archive ({type(e).__name__}: {e})") from None
     try:
         with np.load(path, allow_pickle=False) as data:
             arrays = {name: data[name] for name in names}
-    except (ValueError, OSError, zipfile.BadZipFile, EOFError) as e:
+    except (ValueError, zipfile.BadZipFile, *DAMAGED_ZIP) as e:
         raise ImageFileError(f"{path}: cannot be read ({e})") from None
     record = {}
     if "metadata" in arrays:

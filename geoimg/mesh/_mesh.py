@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+import mapbox_earcut
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -18,6 +19,7 @@ __all__ = ["Mesh", "pad_faces", "reverse_corners"]
 
 
 MAX_PADDED_ENTRIES = 200_000_000     # the padded (F, K) face table: 1.6 GB
+LARGE_POLYGON = 64                   # polygons of more corners are split in near-linear time (no Python ears)
 
 
 def pad_faces(faces: Any) -> np.ndarray:
@@ -457,6 +459,11 @@ class Mesh:
             ears = _ear_clip(_plane_coordinates(self.vertices[f[face, :k]]))
             if ears is not None:
                 corners[start[np.searchsorted(owner, face)] + np.arange(k - 2)] = ears
+        for face in np.flatnonzero(self.face_sizes > LARGE_POLYGON).tolist():
+            k = int(self.face_sizes[face])
+            split = _large_polygon_corners(self.vertices[f[face, :k]])
+            if split is not None:
+                corners[start[np.searchsorted(owner, face)] + np.arange(k - 2)] = split
         t = f[owner[:, None], corners]
         for _ in range(4 if quad.any() else 0):   # two quads on both edges of a valence-2 vertex: through it
             twice = _quads_split_twice(t, owner, quad)
@@ -468,28 +475,17 @@ class Mesh:
         return t, owner, corners
 
     def _reflex_faces(self) -> np.ndarray:
-        """Faces of 5 corners or more (quads keep their diagonal) that a fan from the first corner would not
-        split well, in the plane that fits them best (Newell's normal): with a reflex corner (turning against
-        it by more than rounding), or a corner on a line next to the first one (a fan triangle of zero area);
-        only faces within 5 % of their size of that plane (a polygon far from flat keeps its fan).
+        """Faces of 5 to :data:`LARGE_POLYGON` corners (quads keep their diagonal; larger polygons are split
+        by :func:`_large_polygon_corners`) that a fan from the first corner would not split well, in the plane
+        that fits them best: with a reflex corner, or a corner on a line next to the first one (a fan
+        triangle of zero area); only faces flat enough to have that plane (see :func:`_polygon_shapes`).
         """
         out = np.zeros(self.n_faces, bool)
-        for k in np.unique(self.face_sizes[self.face_sizes >= 5]).tolist():
-            rows = np.flatnonzero(self.face_sizes == k)
-            p = self.vertices[self.faces[rows, :k]]                     # (R, k, 3)
-            nxt = np.roll(p, -1, axis=1)
-            normal = np.cross(p, nxt).sum(axis=1)                     # Newell: twice the vector area
-            edge = nxt - p
-            turn = np.einsum("rkc,rc->rk", np.cross(edge, np.roll(edge, -1, axis=1)), normal)
-            scale = np.einsum("rkc,rkc->rk", edge, edge) * np.linalg.norm(normal, axis=1)[:, None]
-            flat = np.abs(turn) <= 1e-12 * scale          # a corner on a line: the fan's triangle there is flat
-            flat_at_fan = flat[:, 0] | flat[:, k - 2]     # corners 1 and k - 1 (turn i is at corner i + 1)
-            # a polygon far from flat has no plane to clip it in: it keeps its fan
-            unit = normal / np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
-            q = p - p.mean(axis=1, keepdims=True)
-            height = np.abs(np.einsum("rkc,rc->rk", q, unit)).max(axis=1)
-            flat_enough = height <= 0.05 * np.linalg.norm(q, axis=2).max(axis=1)
-            out[rows] = ((turn < -1e-12 * scale).any(axis=1) | flat_at_fan) & flat_enough
+        sizes = self.face_sizes
+        for k in np.unique(sizes[(sizes >= 5) & (sizes <= LARGE_POLYGON)]).tolist():
+            rows = np.flatnonzero(sizes == k)
+            reflex, flat_at_fan, flat_enough = _polygon_shapes(self.vertices[self.faces[rows, :k]])
+            out[rows] = (reflex | flat_at_fan) & flat_enough
         return out
 
     def vertex_normals(self) -> np.ndarray:
@@ -573,6 +569,64 @@ class Mesh:
             raise MeshError(f"mesh: coordinates of size {scale:.3g} are beyond what geometry images (float32) "
                             "and the surface's arithmetic hold; scale the mesh first")
         return scale
+
+
+def _polygon_shapes(p: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For polygons ``p`` (R, k, 3), in the plane that fits each best (Newell's normal): whether it has a
+    reflex corner (turning against the normal by more than rounding), whether corner 1 or k - 1 lies on a
+    line with its neighbours (a fan from corner 0 would have a flat triangle there), and whether it is flat
+    enough to have such a plane (within 5 % of its size: a polygon far from flat keeps its fan).
+    """
+    k = p.shape[1]
+    nxt = np.roll(p, -1, axis=1)
+    normal = np.cross(p, nxt).sum(axis=1)                     # Newell: twice the vector area
+    edge = nxt - p
+    turn = np.einsum("rkc,rc->rk", np.cross(edge, np.roll(edge, -1, axis=1)), normal)
+    scale = np.einsum("rkc,rkc->rk", edge, edge) * np.linalg.norm(normal, axis=1)[:, None]
+    flat = np.abs(turn) <= 1e-12 * scale          # a corner on a line: the fan's triangle there is flat
+    flat_at_fan = flat[:, 0] | flat[:, k - 2]     # corners 1 and k - 1 (turn i is at corner i + 1)
+    unit = normal / np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+    q = p - p.mean(axis=1, keepdims=True)
+    height = np.abs(np.einsum("rkc,rc->rk", q, unit)).max(axis=1)
+    flat_enough = height <= 0.05 * np.linalg.norm(q, axis=2).max(axis=1)
+    return (turn < -1e-12 * scale).any(axis=1), flat_at_fan, flat_enough
+
+
+def _halving(k: int) -> np.ndarray:
+    """Triangles (k - 2, 3) of corner positions that split a convex k-gon by halving: the triangle of
+    corners 0, k/3 and 2k/3, then each run of corners between two of them at its middle, and so on; every
+    triangle spans a run of corners, and the runs halve at each level (log k levels, linear time).
+
+    Examples
+    --------
+    >>> _halving(6).tolist()
+    [[0, 2, 4], [0, 1, 2], [2, 3, 4], [4, 5, 0]]
+    """
+    a = np.array([0, k // 3, 2 * k // 3])
+    b = np.array([k // 3, 2 * k // 3, k])
+    out = [np.array([[0, k // 3, 2 * k // 3]])]
+    while len(a):
+        keep = b - a > 1
+        a, b = a[keep], b[keep]
+        m = (a + b) // 2
+        out.append(np.stack([a, m, b], axis=1))
+        a, b = np.concatenate([a, m]), np.concatenate([m, b])
+    return np.concatenate(out)[: k - 2] % k
+
+
+def _large_polygon_corners(p: np.ndarray) -> np.ndarray | None:
+    """Triangles (k - 2, 3) of corner positions that split a polygon of more than :data:`LARGE_POLYGON`
+    corners ``p`` (k, 3) in linear or near-linear time: a flat one with a reflex corner by ear clipping in
+    its plane (``mapbox_earcut``), any other (convex, or far from flat) by :func:`_halving` (a fan's
+    triangles would all meet at its first corner, each as long as the polygon is wide); None for a flat
+    polygon that crosses itself, and the caller keeps its fan.
+    """
+    reflex, _, flat_enough = _polygon_shapes(p[None])
+    k = len(p)
+    if not (reflex[0] and flat_enough[0]):
+        return _halving(k)
+    tris = np.asarray(mapbox_earcut.triangulate_float64(_plane_coordinates(p), np.array([k], np.uint32)))
+    return tris.reshape(-1, 3).astype(np.int64) if tris.size == 3 * (k - 2) else None
 
 
 def _plane_coordinates(p: np.ndarray) -> np.ndarray:

@@ -23,10 +23,16 @@ from ..errors import MeshError
 from ._mesh import Mesh, reverse_corners
 from ._topology import corner_fans
 
+SOUP_SHARE = 0.05      # a mesh with more than this share of its edges shared by 3 faces or more is refused ...
+SOUP_EDGES = 100       # ... when they are at least this many
+MAX_PIECES = 1000      # a mesh of more separate pieces is refused (each would be mapped on its own)
+
 __all__ = [
     "Repair",
     "drop_degenerate_faces",
+    "drop_inner_walls",
     "drop_duplicate_faces",
+    "refuse_face_soup",
     "split_fans",
     "orient_faces",
     "split_components",
@@ -119,6 +125,99 @@ def drop_degenerate_faces(mesh: Mesh) -> tuple[Mesh, int]:
     if not keep.any():
         raise MeshError(f"mesh: all {mesh.n_faces} faces have zero area")
     return mesh.derived(f[keep], face_source=np.flatnonzero(keep)), int((~keep).sum())
+
+
+def _winding_keys(f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each face's corners as a set (sorted, padding last) and its winding as seen from its smallest corner
+    (True where the corner after it is smaller than the one before it).
+    """
+    valid = f >= 0
+    key = np.sort(np.where(valid, f, np.iinfo(np.int64).max), axis=1)
+    sizes = valid.sum(axis=1)
+    rows = np.arange(len(f))
+    first = np.argmin(np.where(valid, f, np.iinfo(np.int64).max), axis=1)
+    after = f[rows, (first + 1) % np.maximum(sizes, 1)]
+    before = f[rows, (first - 1) % np.maximum(sizes, 1)]
+    return key, after < before
+
+
+def drop_inner_walls(mesh: Mesh) -> tuple[Mesh, int]:
+    """The outer surface of the faces of a volume mesh: faces stored exactly twice with opposite windings
+    (the wall between two cells, once for each) left out, both copies, where that leaves a surface and
+    fewer edges shared by more than two faces than keeping one copy of each would. Returns the mesh and
+    how many faces were left out (0, and the mesh as it is, for any other mesh: a two-sided sheet keeps
+    its faces for :func:`drop_duplicate_faces`).
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    mesh : Mesh
+        The outer surface (the input is left as it is).
+    count : int
+        How many faces were left out.
+
+    Examples
+    --------
+    Two unit cubes side by side, each with its six faces: the wall between them is stored twice.
+
+    >>> import itertools
+    >>> v = [[x, y, z] for x, y, z in itertools.product(range(3), range(2), range(2))]
+    >>> def cube(o):
+    ...     c = [o + i for i in (0, 1, 2, 3, 4, 5, 6, 7)]
+    ...     return [[c[0], c[1], c[3], c[2]], [c[4], c[6], c[7], c[5]], [c[0], c[4], c[5], c[1]],
+    ...             [c[2], c[3], c[7], c[6]], [c[0], c[2], c[6], c[4]], [c[1], c[5], c[7], c[3]]]
+    >>> outer, dropped = drop_inner_walls(Mesh(v, cube(0) + cube(4)))
+    >>> outer.n_faces, dropped
+    (10, 2)
+    """
+    f = mesh.faces
+    key, winding = _winding_keys(f)
+    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    twice = counts[inverse] == 2
+    if not twice.any():
+        return mesh, 0
+    ups = np.bincount(inverse[twice], winding[twice].astype(np.int64), minlength=len(counts))
+    wall = twice & (ups[inverse] == 1)                    # the two copies run opposite ways
+    if not wall.any() or wall.all():
+        return mesh, 0
+    outer = mesh.derived(f[~wall], face_source=np.flatnonzero(~wall))
+    one_copy, _ = drop_duplicate_faces(mesh)
+    if (_edge_face_counts(outer)[4] > 2).sum() >= (_edge_face_counts(one_copy)[4] > 2).sum():
+        return mesh, 0
+    return outer, int(wall.sum())
+
+
+def refuse_face_soup(mesh: Mesh) -> None:
+    """Refuse, in one line that says what the file is, a mesh of which more than :data:`SOUP_SHARE` of the
+    edges (and at least :data:`SOUP_EDGES`) are shared by three faces or more: the faces of a volume mesh
+    stored once each, or a soup of faces, not a surface. Separating each such edge would leave thousands
+    of pieces, each mapped on its own.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Raises
+    ------
+    MeshError
+        For such a mesh.
+
+    Examples
+    --------
+    >>> refuse_face_soup(Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]))     # a surface: nothing said
+    """
+    counts = _edge_face_counts(mesh)[4]
+    shared = int((counts > 2).sum())
+    if shared >= SOUP_EDGES and shared > SOUP_SHARE * len(counts):
+        raise MeshError(f"mesh: {shared} of its {len(counts)} edges are shared by 3 to {int(counts.max())} faces: "
+                        "not a surface but the faces of a volume mesh or a soup of faces; geoimg needs a "
+                        "surface (export the volume's outer surface, or its boundary faces)")
 
 
 def drop_duplicate_faces(mesh: Mesh) -> tuple[Mesh, int]:
@@ -261,7 +360,8 @@ def orient_faces(mesh: Mesh) -> tuple[Mesh, int]:
 
 def split_components(mesh: Mesh) -> list[tuple[Mesh, np.ndarray]]:
     """One mesh per connected piece (faces joined by shared vertices), largest first (by face count),
-    each with the indices of its vertices in ``mesh``; unreferenced vertices are dropped.
+    each with the indices of its vertices in ``mesh``; unreferenced vertices are dropped. A mesh of more
+    than :data:`MAX_PIECES` pieces is refused (:class:`~geoimg.errors.MeshError`).
 
     Parameters
     ----------
@@ -288,12 +388,19 @@ def split_components(mesh: Mesh) -> list[tuple[Mesh, np.ndarray]]:
     _, label = connected_components(sparse.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n)),
                                     directed=False)
     face_label = label[mesh.n_vertices:]
+    labels, sizes = np.unique(face_label, return_counts=True)
+    if len(labels) > MAX_PIECES:
+        raise MeshError(f"mesh: {len(labels)} separate pieces (the largest of {int(sizes.max())} faces), more than "
+                        f"the {MAX_PIECES} geoimg converts one by one: a soup of faces rather than a surface; "
+                        "join its pieces (weld its vertices) first")
+    order = np.argsort(face_label, kind="stable")           # each piece's faces together, in their order
+    ends = np.cumsum(sizes)
     pieces = []
-    for lab in np.unique(face_label):
-        chosen = np.flatnonzero(face_label == lab)
+    remap = np.zeros(mesh.n_vertices, np.int64)     # one table for all pieces: each writes only its own vertices
+    for end, size in zip(ends.tolist(), sizes.tolist()):
+        chosen = order[end - size:end]
         faces = f[chosen]
         used = np.unique(faces[faces >= 0])
-        remap = np.full(mesh.n_vertices, -1, np.int64)
         remap[used] = np.arange(len(used))
         faces = np.where(faces >= 0, remap[np.where(faces >= 0, faces, 0)], -1)
         pieces.append((mesh.derived(faces, vertex_source=used, face_source=chosen), used))
@@ -333,10 +440,16 @@ def repair(mesh: Mesh) -> list[Repair]:
     mesh, dropped = drop_degenerate_faces(mesh)
     if dropped:
         warnings.warn(f"repair: left out {dropped} faces of zero area", stacklevel=2)
+    mesh, walls = drop_inner_walls(mesh)
+    if walls:
+        warnings.warn(f"repair: the faces of a volume mesh: left out the {walls} faces stored twice with opposite "
+                      f"windings (walls between its cells), keeping the outer surface ({mesh.n_faces} faces)",
+                      stacklevel=2)
     mesh, doubled = drop_duplicate_faces(mesh)
     if doubled:
         warnings.warn(f"repair: left out {doubled} faces that repeat another face's corners (a surface stored "
                       "twice, or two-sided)", stacklevel=2)
+    refuse_face_soup(mesh)
     split, source, pinches, edges = split_fans(mesh)
     if pinches:
         warnings.warn(f"repair: split {pinches} pinch vertices (faces meeting in separate fans) into one vertex "

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 from PIL import Image
 
+from .._quiet import library_logs
 from ..errors import MeshFileError
 from ._appearance import split_corners
 from ._mesh import Mesh
@@ -51,7 +52,8 @@ def read_with_trimesh(path: Path) -> Mesh:
         check_gltf(path)
     import trimesh          # STL and GLB alone: its import costs half a second that OBJ, OFF and PLY never need
     try:
-        loaded: Any = trimesh.load(str(path), process=False, force="mesh")
+        with library_logs("trimesh", about=f"reading {path.name}"):      # its logged tracebacks look like crashes
+            loaded: Any = trimesh.load(str(path), process=False, force="mesh")
     except ImportError as e:
         raise MeshFileError(f"cannot be read as {path.suffix[1:].upper()}: trimesh needs the package {e.name} for "
                             f"this file (pip install {e.name})") from None

@@ -260,7 +260,10 @@ def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sw
     made = 0
     for _ in range(sweeps):
         _areas(s, tris, planar, area)
-        lam = 1.0 / area.sum()
+        total = area.sum()
+        if not total > 0.0:            # every triangle flat or turned over: no areas to balance
+            break
+        lam = 1.0 / total
         for i in range(n):
             mine = ring[ring_ptr[i]:ring_ptr[i + 1]]
             if not moves[i] or len(mine) == 0:

@@ -23,6 +23,7 @@ from ._disk import disk_coords, resampling_error
 from ._laplacian import planar_cross, starved_share, triangle_areas
 from ._sphere import sphere_coords
 from .._types import Progress
+from .._threads import fixed_order
 
 __all__ = ["Parametrization", "parametrize", "signed_face_areas", "PARAMETRIZATION_METHODS", "AXES"]
 
@@ -169,6 +170,7 @@ def _normalize(coords: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, tuple,
     return out, extent, {"offset": lo.tolist(), "scale": float(size)}
 
 
+@fixed_order
 def parametrize(mesh: Mesh, method: str = "auto", *, axis: str | None = None, boundary: str = "square",
                 balance: str = DEFAULT_DISK_BALANCE, progress: Progress | None = None) -> Parametrization:
     """Parametrize a mesh over a planar rectangle or the sphere.
@@ -405,6 +407,14 @@ def _outline_gap(mesh: Mesh, coords: np.ndarray, topo) -> float:
     return float(max(0.0, 1.0 - inside / hull)) if hull > 0 else 0.0
 
 
+def _has_interior_vertex(mesh: Mesh) -> bool:
+    """Whether some vertex of the mesh lies off its boundary loops (a polygon split into triangles has none)."""
+    on_rim = np.zeros(mesh.n_vertices, bool)
+    for loop in boundary_loops(mesh):
+        on_rim[loop] = True
+    return bool((mesh.referenced_vertices() & ~on_rim).any())
+
+
 def _auto(mesh: Mesh, axis: str | None, boundary: str, balance: str, progress) -> Parametrization:
     tried = []
     topo = topology(mesh)
@@ -417,9 +427,10 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, balance: str, progress) -
             except ParametrizationError as e:
                 tried.append(f"{method}: {e}")
                 continue
-        if p.flipped_faces == 0 and p.degenerate_faces == 0:
+        inner = _has_interior_vertex(mesh)    # without one, a disk map pins every vertex to the square's rim
+        if p.flipped_faces == 0 and (p.degenerate_faces == 0 or not inner):
             gap = _outline_gap(mesh, p.coords, topo)
-            if gap <= MAX_OUTLINE_GAP:
+            if gap <= MAX_OUTLINE_GAP or not inner:
                 return p
             tried.append(f"{method}: its outline leaves {100 * gap:.0f} % of its convex hull empty (narrow parts "
                          "would come apart in the image's mask)")

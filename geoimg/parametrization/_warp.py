@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import InputError
 from ._orientation import chord_orientation
+from .._threads import fixed_order
 
 __all__ = ["warp_sphere", "best_rotation", "WARP_TOLERANCE"]
 
@@ -80,6 +81,7 @@ def _area_log_rms(before: np.ndarray, after: np.ndarray) -> float:
     return float(np.sqrt(np.average(log ** 2, weights=before[keep])))
 
 
+@fixed_order
 def warp_sphere(points: ArrayLike, tris: ArrayLike, sources: ArrayLike, targets: ArrayLike, *,
                 tol: float = WARP_TOLERANCE, max_steps: int = MAX_STEPS) -> tuple[np.ndarray, dict]:
     """Warp the sphere so that the landmark directions ``sources`` land on ``targets``, carrying ``points``

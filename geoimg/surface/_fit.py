@@ -14,6 +14,7 @@ from ._face_maps import SLIVER_RULES
 from ._planar import fit_planar_surface
 from ._smoothness import SmoothnessMap
 from ._sphere import fit_sphere_surface
+from .._threads import fixed_order
 
 __all__ = ["fit_surface", "WEIGHTS", "check_s_range"]
 
@@ -73,6 +74,7 @@ def _parametrized_mesh(mesh: Mesh, param: Parametrization) -> Mesh:
     return Mesh(blend(mesh.vertices), made.faces, colors=blend(mesh.colors))
 
 
+@fixed_order
 def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: str = "gaussian", n: int = 10,
                 tol: float = 1e-10, sliver_rule: str = "robust") -> Surface:
     """Fit the weighted-mean surface of a parametrized mesh.

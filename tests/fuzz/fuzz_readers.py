@@ -1,0 +1,142 @@
+"""Coverage-guided fuzzing of geoimg's file readers with atheris (libFuzzer for Python).
+
+One harness per format: ``python tests/fuzz/fuzz_readers.py FORMAT [libFuzzer options] [CORPUS ...]``,
+FORMAT one of :data:`FORMATS`. Each input is written to a file of that format's suffix and read by
+:func:`geoimg.load_mesh` or :func:`geoimg.load_image`; the seeds are made from the bundled meshes by
+geoimg's own writers (``--seeds DIR`` writes them and stops). A clean :class:`geoimg.GeoimgError` (or a
+file read well) is a pass; anything else is a finding: another exception, a library's log record with a
+traceback, a crash, a hang past ``-timeout``, memory past ``-rss_limit_mb``. Findings land in
+``crash-*`` / ``timeout-*`` / ``oom-*`` files in the working folder: each one becomes a regression test in
+``tests/data/fuzz`` (read by ``tests/test_fuzz.py``).
+
+The readers run under a 1 GiB memory budget (``GEOIMG_MAX_MEMORY``), so that a header that claims a huge
+image is refused by geoimg before anything is allocated.
+
+Examples
+--------
+A minute in all for the CI (``tests/test_fuzz.py``), ten minutes a format for the record
+(``benchmarks/bench_fuzz.py``)::
+
+    python tests/fuzz/fuzz_readers.py obj -max_total_time=600 -rss_limit_mb=3072 -timeout=20 corpus/obj
+"""
+from __future__ import annotations
+
+import logging
+import os
+import sys
+import tempfile
+import warnings
+from pathlib import Path
+
+os.environ.setdefault("GEOIMG_MAX_MEMORY", "1G")
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / "tests" / "data"
+FORMATS = ("obj", "off", "ply", "stl", "glb", "gltf", "exr", "npz", "npy", "tif")
+IMAGES = ("exr", "npz", "npy", "tif")
+
+
+def write_seeds(fmt: str, folder: Path) -> list[Path]:
+    """Small valid files of format ``fmt`` in ``folder``, made from the bundled meshes: a quad, a polygon
+    mesh, a textured or coloured mesh, a binary and an ASCII variant where the format has both."""
+    import numpy as np
+
+    import geoimg
+
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if fmt in IMAGES:
+            mountain = geoimg.load_mesh(ROOT / "geoimg" / "data" / "mountain.obj")
+            for res in (5, 9):
+                img = geoimg.mesh_to_image(mountain, res, fidelity=False)
+                written.append(geoimg.save_image(img, folder / f"mountain{res}.{fmt}", overwrite=True))
+            sphere = geoimg.mesh_to_image(geoimg.load_mesh(DATA / "sphere.obj"), 9, fidelity=False)
+            written.append(geoimg.save_image(sphere, folder / f"sphere.{fmt}", overwrite=True))
+            return written
+        quad = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+        polygons = geoimg.load_mesh(DATA / "polygonfaces.obj")
+        cube = geoimg.load_mesh(DATA / "cube_no_bottom.obj")
+        coloured = geoimg.Mesh(cube.vertices, cube.faces, colors=np.linspace(0, 1, 3 * cube.n_vertices)
+                               .reshape(-1, 3))
+        for name, mesh in (("quad", quad), ("polygons", polygons), ("cube", cube), ("coloured", coloured)):
+            try:
+                written.append(geoimg.save_mesh(mesh, folder / f"{name}.{fmt}", overwrite=True))
+            except geoimg.GeoimgError:
+                pass
+        if fmt == "stl":
+            for name in ("multibody.stl", "angle_block.STL"):
+                (folder / name.lower()).write_bytes((DATA / name).read_bytes())
+                written.append(folder / name.lower())
+        if fmt == "ply":
+            text = ("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                    "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n")
+            (folder / "ascii.ply").write_text(text)
+            written.append(folder / "ascii.ply")
+        if fmt == "obj":
+            text = ("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+                    "f 1/1/1 2/2/1 3/3/1 4/4/1\nf -4 -2 -1\n")
+            (folder / "uv.obj").write_text(text)
+            written.append(folder / "uv.obj")
+    return written
+
+
+def make_target(fmt: str):
+    """The function that libFuzzer calls with each input: read it as a ``fmt`` file; raise on a finding."""
+    import geoimg
+
+    read = geoimg.load_image if fmt in IMAGES else geoimg.load_mesh
+    folder = Path(tempfile.mkdtemp(prefix=f"geoimg-fuzz-{fmt}-"))
+    path = folder / f"input.{fmt}"
+    logged: list[logging.LogRecord] = []
+
+    class Traceback(logging.Handler):            # a library's logged traceback looks like a crash to a user
+        def emit(self, record: logging.LogRecord) -> None:
+            if record.exc_info or record.levelno >= logging.ERROR:
+                logged.append(record)
+
+    logging.getLogger().addHandler(Traceback())
+    logging.lastResort = None
+
+    def one_input(data: bytes) -> None:
+        path.write_bytes(data)
+        logged.clear()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                read(path)
+            except geoimg.GeoimgError:
+                pass
+        if logged:
+            record = logged[0]
+            raise RuntimeError(f"a library logged {logging.getLevelName(record.levelno)} {record.name}: "
+                               f"{record.getMessage()} (traceback: {bool(record.exc_info)})")
+
+    return one_input
+
+
+def main(argv: list[str]) -> None:
+    if len(argv) < 2 or argv[1] not in FORMATS:
+        sys.exit(f"usage: {argv[0]} FORMAT [libFuzzer options] [CORPUS ...] | --seeds DIR; FORMAT one of "
+                 f"{', '.join(FORMATS)}")
+    fmt = argv[1]
+    if len(argv) == 4 and argv[2] == "--seeds":
+        print("\n".join(str(p) for p in write_seeds(fmt, Path(argv[3]))))
+        return
+    import atheris
+
+    with atheris.instrument_imports(include=["geoimg"]):     # geoimg's code guides the search, not numpy's
+        import geoimg  # noqa: F401
+        from geoimg.image import _io as _image_io  # noqa: F401   (the readers, imported here to be instrumented)
+        from geoimg.mesh import _io as _mesh_io  # noqa: F401
+        from geoimg.mesh import _obj, _off, _ply, _trimesh_io, _weld  # noqa: F401
+        from geoimg import _raster  # noqa: F401
+        from geoimg.image import _npz  # noqa: F401
+    atheris.Setup([argv[0]] + argv[2:], make_target(fmt))
+    atheris.Fuzz()
+
+
+if __name__ == "__main__":
+    main(sys.argv)
