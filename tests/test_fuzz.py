@@ -16,7 +16,7 @@ from fuzz_readers import FORMATS, IMAGES, make_target  # noqa: E402
 
 HARNESS = Path(__file__).parent / "fuzz" / "fuzz_readers.py"
 FINDINGS = sorted((Path(__file__).parent / "data" / "fuzz").iterdir())
-SECONDS = 4
+SECONDS = 3
 
 
 @pytest.mark.parametrize("fmt", FORMATS)

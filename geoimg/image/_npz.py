@@ -39,9 +39,15 @@ def write_npz(path: Path, pixels: np.ndarray, mask, normals, record: dict, color
 
 def _header(f) -> tuple[tuple, np.dtype]:
     """(shape, dtype) of the array in an open ``.npy`` stream, read from its header alone (nothing unpacked)."""
-    version = np.lib.format.read_magic(f)
-    read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
-    shape, _, dtype = read(f)
+    try:
+        version = np.lib.format.read_magic(f)
+        read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+        shape, _, dtype = read(f)
+    except ValueError:
+        raise
+    except Exception as e:     # noqa: BLE001 - numpy parses the header's text with tokenize and literal_eval,
+        # which raise TokenError, SyntaxError, MemoryError, RecursionError ... on a damaged one
+        raise ValueError(f"a damaged .npy header ({type(e).__name__}: {e})") from None
     return shape, dtype
 
 

@@ -63,6 +63,10 @@ def _parse_ply_header(data: bytes):
                 raise MeshFileError(f"bad PLY property line {line.strip()!r}")
     if fmt not in ("ascii", "binary_little_endian", "binary_big_endian"):
         raise MeshFileError(f"unknown PLY format {fmt!r}")
+    seen = [el[0] for el in elements]
+    twice = sorted({name for name in seen if seen.count(name) > 1})
+    if twice:                     # a second 'face' element would stand in for the first one's values
+        raise MeshFileError(f"PLY element {twice[0]!r} declared {seen.count(twice[0])} times")
     # every element with data takes at least a byte (binary) or a token (ascii) per property and item:
     # counts that the rest of the file cannot hold are refused before anything is allocated
     room = len(data) - body

@@ -75,12 +75,44 @@ def write_seeds(fmt: str, folder: Path) -> list[Path]:
                     "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n")
             (folder / "ascii.ply").write_text(text)
             written.append(folder / "ascii.ply")
+        if fmt == "gltf":                        # geoimg writes GLB: small glTFs, their buffers inline
+            for name, points, index, code in (
+                    ("triangle", [[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.array([0, 1, 2], np.uint16), 5123),
+                    ("quad", [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], np.array([0, 1, 2, 0, 2, 3], np.uint32),
+                     5125),
+                    ("unindexed", [[0, 0, 0], [1, 0, 0], [0, 1, 1]], None, 0)):
+                written.append(_write_gltf(folder / f"{name}.gltf", np.array(points, np.float32), index, code))
         if fmt == "obj":
             text = ("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
                     "f 1/1/1 2/2/1 3/3/1 4/4/1\nf -4 -2 -1\n")
             (folder / "uv.obj").write_text(text)
             written.append(folder / "uv.obj")
     return written
+
+
+def _write_gltf(path: Path, points, index, code: int) -> Path:
+    """A glTF 2.0 file of one mesh: ``points`` (float32), ``index`` (None: unindexed) of accessor type
+    ``code``, its one buffer inline as a base64 data URI."""
+    import base64
+    import json
+
+    blob = points.tobytes()
+    views = [{"buffer": 0, "byteOffset": 0, "byteLength": len(blob)}]
+    accessors = [{"bufferView": 0, "componentType": 5126, "count": len(points), "type": "VEC3",
+                  "min": points.min(axis=0).tolist(), "max": points.max(axis=0).tolist()}]
+    primitive: dict = {"attributes": {"POSITION": 0}}
+    if index is not None:
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": index.nbytes})
+        accessors.append({"bufferView": 1, "componentType": code, "count": len(index), "type": "SCALAR"})
+        primitive["indices"] = 1
+        blob += index.tobytes()
+    blob += b"\0" * (-len(blob) % 4)
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+           "meshes": [{"primitives": [primitive]}], "bufferViews": views, "accessors": accessors,
+           "buffers": [{"byteLength": len(blob),
+                        "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}]}
+    path.write_text(json.dumps(doc))
+    return path
 
 
 def make_target(fmt: str):
