@@ -3,7 +3,8 @@
 The pipeline, one subpackage per stage: :mod:`geoimg.mesh` (the Mesh type, files, topology) ->
 :mod:`geoimg.parametrization` (planar, disk, sphere) -> :mod:`geoimg.surface` (the weighted-mean
 surface) -> :mod:`geoimg.image` (geometry images, their domains, files, regions) ->
-:mod:`geoimg.animation` (morphs, glTF, pictures). Image operations live in the separate package
+:mod:`geoimg.animation` (morphs, glTF, pictures); :mod:`geoimg.spectrum` (spherical harmonics of closed genus-0
+shapes). Image operations live in the separate package
 :mod:`filters`.
 
 >>> import geoimg

@@ -1,7 +1,7 @@
 # The one list of what `geoimg` exports: lazy_loader reads it at import (names are imported when first
 # used) and type checkers read it as the package's interface.
 from . import (animation as animation, batch as batch, cli as cli, errors as errors, image as image, mesh as mesh,
-    parametrization as parametrization, surface as surface)
+    parametrization as parametrization, spectrum as spectrum, surface as surface)
 from .errors import (GeoimgError as GeoimgError, ImageError as ImageError, ImageFileError as ImageFileError,
     InputError as InputError, InputTypeError as InputTypeError, MeshError as MeshError,
     MeshFileError as MeshFileError, MissingDependency as MissingDependency,
@@ -14,4 +14,5 @@ from .image import (ChartsDomain as ChartsDomain, CutDomain as CutDomain, Domain
 from .surface import (Surface as Surface, fit_surface as fit_surface)
 from ._convert import (mesh_to_image as mesh_to_image, mesh_to_images as mesh_to_images)
 from ._options import ConversionOptions as ConversionOptions
+from .spectrum import (Harmonics as Harmonics, harmonics as harmonics, load_harmonics as load_harmonics)
 __version__: str

@@ -7,12 +7,13 @@ from __future__ import annotations
 import os
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 import filters
-from ._convert import COMPONENT_CHOICES, mesh_to_image, mesh_to_images
+from ._convert import COMPONENT_CHOICES, measure_fidelity, mesh_to_image, mesh_to_images
 from ._options import ConversionOptions
 from ._atomic import check_writable, write_all
 from ._budget import check_memory
@@ -24,6 +25,8 @@ from .errors import InputError
 from .image import (IMAGE_FORMATS, grid_normals, image_curvature, image_region,
                     load_image, load_mask, save_colormap, save_normal_map, save_scalar, uv_region)
 from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh, suggest_landmarks, topology
+from .spectrum import harmonics
+from .spectrum._transform import check_lmax
 
 SAMPLE_MESH = Path(__file__).resolve().parent / "data" / "mountain.obj"    # package data: works from a wheel
 DEMO_MARKER = ".geoimg-demo"
@@ -134,6 +137,44 @@ def cmd_image(args) -> int:
                   f"valid pixels; to the mesh: PSNR {m['psnr_db']:.1f} dB, Hausdorff {100 * m['hausdorff']:.2g} % "
                   f"of the diagonal ({m['weights']} weights, s = {m['s']:.3g}); the map{stages}: L2 stretch "
                   f"{m['map_stretch']:.3g}, {100 * m['starved']:.2g} % of the surface starved")
+    return 0
+
+
+def cmd_harmonics(args) -> int:
+    check_lmax(args.lmax)                                       # before any work or file
+    _check_outputs(args.force, (args.output, (".npz",), "the coefficients"),
+                   (args.mesh, MESH_FORMATS, "the rebuilt mesh"), (args.image, IMAGE_FORMATS, "the rebuilt image"))
+    progress = Progress(args.quiet, always=args.progress)
+    h = harmonics(args.input, args.lmax, resolution=args.res, progress=progress)
+    jobs: list = [(args.output, lambda tmp: h.save(tmp, overwrite=True))]
+    rebuilt = None
+    if args.mesh or args.image:
+        progress("rebuilding the shape from the coefficients")
+        rebuilt = h.to_image(args.res)
+        source = Path(args.input)
+        if source.suffix.lower() not in IMAGE_FORMATS:          # a mesh: measured as geoimg image measures
+            progress("measuring the rebuilt shape against the mesh")
+            with warnings.catch_warnings():     # a low degree is far from the mesh by design: the line says how far
+                warnings.simplefilter("ignore")
+                measure_fidelity(rebuilt, load_mesh(source))
+        if args.image:
+            jobs += rebuilt.save_jobs(args.image, "geoimg")
+        if args.mesh:
+            jobs += mesh_file_jobs(rebuilt.to_mesh(), args.mesh)
+    write_all(jobs, overwrite=args.force)
+    if not args.quiet:
+        m = h.metadata
+        made = f" from a {m['resolution']} x {m['resolution']} octahedral image"
+        if "psnr_db" in m:
+            made += f" (its PSNR to the mesh {m['psnr_db']:.1f} dB)"
+        print(f"wrote {args.output}: coefficients of x, y, z to degree {h.lmax}{made}")
+        if rebuilt is not None and "psnr_db" in rebuilt.metadata:
+            r = rebuilt.metadata
+            print(f"rebuilt at degree {h.lmax}, {rebuilt.shape[0]} x {rebuilt.shape[0]}: to the mesh: PSNR "
+                  f"{r['psnr_db']:.1f} dB, Hausdorff {100 * r['hausdorff']:.2g} % of the diagonal")
+        for path in (args.image, args.mesh):
+            if path:
+                print(f"wrote {path}")
     return 0
 
 

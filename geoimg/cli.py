@@ -1,6 +1,6 @@
 """The ``geoimg`` command line: ``image``, ``mesh``, ``filter``, ``curvature``, ``render``, ``morph``, ``batch``,
-``landmarks``, ``info`` and ``demo``. The parser needs only the option vocabularies (:mod:`geoimg._choices`);
-the commands themselves are in :mod:`geoimg._commands`, imported when one runs.
+``landmarks``, ``harmonics``, ``info`` and ``demo``. The parser needs only the option vocabularies
+(:mod:`geoimg._choices`); the commands themselves are in :mod:`geoimg._commands`, imported when one runs.
 """
 from __future__ import annotations
 
@@ -101,6 +101,10 @@ EXAMPLES = {
         "geoimg batch 'scans/*.ply' -o out --res 129 --zarr data.zarr",
     ],
     "info": ["geoimg info spot.exr", "geoimg info scan.ply"],
+    "harmonics": [
+        "geoimg harmonics spot.obj --lmax 32 -o spot_sh.npz --mesh spot_l32.obj",
+        "geoimg harmonics spot.exr --lmax 16 -o sh.npz --image spot_l16.exr --res 257",
+    ],
     "landmarks": [
         "geoimg landmarks spot.obj -o spot_points.csv --picture spot_points.png",
         "geoimg landmarks armadillo.obj -o points.csv --count 12 --azimuth 180",
@@ -512,6 +516,23 @@ COMMANDS: dict[str, Command] = {
                 help="exactly --count: after the extremities, the points farthest from those picked",
             ),
             arg("--picture", default=None, help="also draw them numbered on a render (.png)"),
+            arg("--force", action="store_true", help="overwrite existing files"),
+        ],
+    ),
+    "harmonics": Command(
+        "spherical harmonics of a closed genus-0 shape (coefficients of x, y, z)",
+        ("common",),
+        [
+            arg("input", help=f"a closed genus-0 mesh, or an octahedral geometry image ({_IMAGES})"),
+            arg("--lmax", type=int, required=True, help="the largest degree L (1 to 1024)"),
+            arg("-o", "--output", required=True,
+                help="output .npz: coeffs (3, 2, L + 1, L + 1; real, 4pi-normalized, as pyshtools), invariants "
+                "(L + 1) and metadata"),
+            arg("--mesh", default=None, help="also write the shape rebuilt from the coefficients as a quad mesh"),
+            arg("--image", default=None, help=f"also write it as an octahedral geometry image ({_IMAGES})"),
+            arg("--res", type=_positive(int), default=None,
+                help="side of the image analysed (for a mesh) and rebuilt (default: the smallest 2^k + 1 of at "
+                "least max(257, 8 L))"),
             arg("--force", action="store_true", help="overwrite existing files"),
         ],
     ),

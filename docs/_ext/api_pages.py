@@ -9,7 +9,7 @@ import inspect
 from pathlib import Path
 
 PACKAGES = ["geoimg", "geoimg.mesh", "geoimg.parametrization", "geoimg.surface", "geoimg.image",
-            "geoimg.animation", "geoimg.batch", "geoimg.errors", "filters"]
+            "geoimg.animation", "geoimg.spectrum", "geoimg.batch", "geoimg.errors", "filters"]
 
 
 def _exports(package: str) -> dict[str, object]:
