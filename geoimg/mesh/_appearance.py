@@ -112,6 +112,14 @@ def _is_number(token: str) -> bool:
     return True
 
 
+def _is_file(path: Path) -> bool:
+    """Whether ``path`` is a file; False for a name the system cannot even look up (too long, a NUL byte)."""
+    try:
+        return path.is_file()
+    except (OSError, ValueError):
+        return False
+
+
 def read_mtl_texture(obj_path: Path, libraries: list, used: list) -> np.ndarray | None:
     """The one diffuse texture (``map_Kd``) that the OBJ's used materials name, or None (with a warning
     when they name several, or when the library or image cannot be read).
@@ -119,11 +127,16 @@ def read_mtl_texture(obj_path: Path, libraries: list, used: list) -> np.ndarray 
     maps = {}
     for lib in libraries:
         mtl = obj_path.parent / lib
-        if not mtl.is_file():
-            warnings.warn(f"{obj_path}: material library {lib} not found; textures not read", stacklevel=5)
+        try:
+            text = mtl.read_text(encoding="utf-8-sig", errors="replace") if _is_file(mtl) else None
+        except OSError:                     # a folder of that name, no permission ...
+            text = None
+        if text is None:
+            warnings.warn(f"{obj_path}: material library {lib!r} not found or not readable; textures not read",
+                          stacklevel=5)
             return None
         current = None
-        for line in mtl.read_text(encoding="utf-8-sig", errors="replace").splitlines():
+        for line in text.splitlines():
             parts = line.split()
             if len(parts) >= 2 and parts[0] == "newmtl":
                 current = " ".join(parts[1:])
@@ -143,12 +156,12 @@ def texture_beside(mesh_path: Path, file: Path) -> np.ndarray | None:
     """The texture ``file`` that the mesh file ``mesh_path`` names, or None with a warning when it is not
     there or cannot be read (the mesh is read without it).
     """
-    if not file.is_file():
-        warnings.warn(f"{mesh_path}: texture {file.name} not found; not read", stacklevel=6)
+    if not _is_file(file):
+        warnings.warn(f"{mesh_path}: texture {file.name!r} not found; not read", stacklevel=6)
         return None
     try:
         return read_texture(file)
-    except GeoimgError as e:
+    except (GeoimgError, OSError) as e:
         warnings.warn(f"{mesh_path}: texture {file.name} cannot be read ({e}); not read", stacklevel=6)
         return None
 

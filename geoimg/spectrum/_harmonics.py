@@ -47,6 +47,16 @@ def default_resolution(lmax: int) -> int:
     """The octahedral image's side that does not limit degree ``lmax``: the smallest ``2^k + 1`` of at least
     ``max(257, 8 lmax)``.
 
+    Parameters
+    ----------
+    lmax : int
+        The largest degree, L.
+
+    Returns
+    -------
+    int
+        The side.
+
     Examples
     --------
     >>> default_resolution(16), default_resolution(64), default_resolution(256)
@@ -92,11 +102,32 @@ class Harmonics:
 
     @property
     def lmax(self) -> int:
-        """The largest degree, L."""
+        """The largest degree, L.
+
+        Returns
+        -------
+        int
+            L.
+
+        Examples
+        --------
+        >>> Harmonics(np.zeros((3, 2, 5, 5))).lmax
+        4
+        """
         return self.coeffs.shape[2] - 1
 
     def truncated(self, lmax: int) -> Harmonics:
         """The coefficients up to degree ``lmax`` (at most :attr:`lmax`).
+
+        Parameters
+        ----------
+        lmax : int
+            The new largest degree.
+
+        Returns
+        -------
+        Harmonics
+            A copy, truncated.
 
         Examples
         --------
@@ -113,6 +144,11 @@ class Harmonics:
         power of degree ``l`` summed over x, y and z (a turn of the shape mixes them orthogonally, a turn of
         the sphere keeps each one's power per degree).
 
+        Returns
+        -------
+        numpy.ndarray
+            (L + 1) non-negative numbers.
+
         Examples
         --------
         >>> c = np.zeros((3, 2, 2, 2)); c[0, 0, 1, 1] = c[1, 1, 1, 1] = c[2, 0, 1, 0] = 3 ** -0.5
@@ -125,6 +161,18 @@ class Harmonics:
         """The octahedral geometry image of the shape up to degree ``lmax`` (default: all), ``resolution``
         pixels a side (default :func:`default_resolution`); glued pixels share their direction, and so their
         value.
+
+        Parameters
+        ----------
+        resolution : int, optional
+            The image's side (odd).
+        lmax : int, optional
+            Rebuild up to this degree only.
+
+        Returns
+        -------
+        GeometryImage
+            An octahedral image, its metadata naming the source and the degree.
 
         Examples
         --------
@@ -147,6 +195,18 @@ class Harmonics:
         """Write ``coeffs`` (3, 2, L + 1, L + 1), ``invariants`` (L + 1) and the metadata (JSON text) to a
         ``.npz`` file, atomically.
 
+        Parameters
+        ----------
+        path : path-like
+            A ``.npz`` file.
+        overwrite : bool, default False
+            Replace an existing file.
+
+        Returns
+        -------
+        pathlib.Path
+            The file written.
+
         Examples
         --------
         >>> import pathlib, tempfile
@@ -168,6 +228,16 @@ class Harmonics:
 
 def load_harmonics(path: Any) -> Harmonics:
     """The :class:`Harmonics` of a ``.npz`` file written by :meth:`Harmonics.save`.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``.npz`` file.
+
+    Returns
+    -------
+    Harmonics
+        Its coefficients and metadata.
 
     Raises
     ------

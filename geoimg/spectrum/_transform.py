@@ -44,6 +44,16 @@ def check_lmax(lmax) -> int:
 def grid_shape(lmax: int) -> tuple[int, int]:
     """Rows and columns of the analysis grid for degree ``lmax``: ``(2 L + 2, 4 L + 4)``.
 
+    Parameters
+    ----------
+    lmax : int
+        The largest degree, L.
+
+    Returns
+    -------
+    tuple of int
+        (rows, columns).
+
     Examples
     --------
     >>> grid_shape(16)
@@ -62,6 +72,16 @@ def grid_directions(lmax: int) -> np.ndarray:
     """Unit directions (rows, columns, 3) of the analysis grid of degree ``lmax`` (rows from north to south,
     columns at longitudes ``2 pi k / columns``).
 
+    Parameters
+    ----------
+    lmax : int
+        The largest degree, L.
+
+    Returns
+    -------
+    numpy.ndarray
+        (2 L + 2, 4 L + 4, 3) unit directions.
+
     Examples
     --------
     >>> grid_directions(2).shape
@@ -78,6 +98,18 @@ def grid_directions(lmax: int) -> np.ndarray:
 def analyze(values: np.ndarray, lmax: int) -> np.ndarray:
     """Coefficients (K, 2, L + 1, L + 1) of ``K`` functions sampled on :func:`grid_directions` (``values``
     of shape (rows, columns, K)).
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        (rows, columns, K) samples on :func:`grid_directions` of ``lmax``.
+    lmax : int
+        The largest degree, L.
+
+    Returns
+    -------
+    numpy.ndarray
+        (K, 2, L + 1, L + 1) cosine and sine coefficients.
 
     Examples
     --------
@@ -107,6 +139,18 @@ def synthesize(coeffs: np.ndarray, directions: np.ndarray) -> np.ndarray:
     """Values (N, K) at unit ``directions`` (N, 3) of the functions whose coefficients are ``coeffs``
     (K, 2, L + 1, L + 1).
 
+    Parameters
+    ----------
+    coeffs : numpy.ndarray
+        (K, 2, L + 1, L + 1) cosine and sine coefficients.
+    directions : numpy.ndarray
+        (N, 3) directions, not zero (normalized here).
+
+    Returns
+    -------
+    numpy.ndarray
+        (N, K) values.
+
     Examples
     --------
     >>> c = np.zeros((1, 2, 2, 2)); c[0, 0, 1, 1] = 1.0 / 3 ** 0.5        # x = P_11 cos(phi) / sqrt(3)
@@ -129,6 +173,16 @@ def synthesize(coeffs: np.ndarray, directions: np.ndarray) -> np.ndarray:
 def degree_power(coeffs: np.ndarray) -> np.ndarray:
     """The power per degree, ``sum_m C_lm^2 + S_lm^2`` (..., L + 1), of coefficients (..., 2, L + 1, L + 1):
     unchanged when the sphere is turned under the function.
+
+    Parameters
+    ----------
+    coeffs : numpy.ndarray
+        (..., 2, L + 1, L + 1) coefficients.
+
+    Returns
+    -------
+    numpy.ndarray
+        (..., L + 1) power per degree.
 
     Examples
     --------
