@@ -39,7 +39,7 @@ def psnr(mesh, other) -> float:
 
 
 def anchor(mesh: geoimg.Mesh, lmax: int, voxels: int = 128):
-    """aicsshparam's reconstruction at ``lmax`` of ``mesh`` voxelized, in the mesh's units."""
+    """The anchor's (aicsshparam's) reconstruction at ``lmax`` of ``mesh`` voxelized, in the mesh's units."""
     import trimesh
     from aicsshparam import shparam, shtools
     from vtk.util import numpy_support

@@ -132,8 +132,7 @@ def read_mtl_texture(obj_path: Path, libraries: list, used: list) -> np.ndarray 
         except OSError:                     # a folder of that name, no permission ...
             text = None
         if text is None:
-            warnings.warn(f"{obj_path}: material library {lib!r} not found or not readable; textures not read",
-                          stacklevel=5)
+            warnings.warn(f"{obj_path}: material library {lib} not found; textures not read", stacklevel=5)
             return None
         current = None
         for line in text.splitlines():
@@ -157,7 +156,7 @@ def texture_beside(mesh_path: Path, file: Path) -> np.ndarray | None:
     there or cannot be read (the mesh is read without it).
     """
     if not _is_file(file):
-        warnings.warn(f"{mesh_path}: texture {file.name!r} not found; not read", stacklevel=6)
+        warnings.warn(f"{mesh_path}: texture {file.name} not found; not read", stacklevel=6)
         return None
     try:
         return read_texture(file)

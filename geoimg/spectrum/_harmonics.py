@@ -31,6 +31,7 @@ from .._atomic import atomic_path
 from .._budget import check_memory
 from .._convert import mesh_to_image
 from .._threads import fixed_order
+from .._types import Progress
 from ..errors import ImageError, ImageFileError, InputTypeError, MeshError
 from ..image import GeometryImage, OctahedralDomain, load_image
 from ..mesh import Mesh, load_mesh, topology
@@ -283,7 +284,8 @@ def load_harmonics(path: Any) -> Harmonics:
         raise ImageFileError(f"{path}: {e}") from None
 
 
-def _sphere_image(source: Any, lmax: int, resolution: int | None, progress) -> tuple[GeometryImage, Mesh | None]:
+def _sphere_image(source: Any, lmax: int, resolution: int | None,
+                  progress: Progress | None) -> tuple[GeometryImage, Mesh | None]:
     """The octahedral image to analyse, and the mesh it was made of (None for an image)."""
     if isinstance(source, (str, Path)) and Path(source).suffix.lower() in IMAGE_SUFFIXES:
         source = load_image(source)
@@ -310,7 +312,8 @@ def _sphere_image(source: Any, lmax: int, resolution: int | None, progress) -> t
 
 
 @fixed_order
-def harmonics(source: Any, lmax: int, *, resolution: int | None = None, progress=None) -> Harmonics:
+def harmonics(source: Any, lmax: int, *, resolution: int | None = None,
+              progress: Progress | None = None) -> Harmonics:
     """The spherical-harmonic coefficients of x, y and z up to degree ``lmax`` of a closed genus-0 mesh (or
     mesh file), over its area-balanced sphere map, or of an octahedral geometry image (or image file).
 
