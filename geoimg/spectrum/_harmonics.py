@@ -158,6 +158,59 @@ class Harmonics:
         """
         return np.sqrt(degree_power(self.coeffs).sum(axis=0))
 
+    def normalized(self, *, scale: bool = False) -> Harmonics:
+        """The coefficients in the first-order ellipsoid's frame, as SPHARM-PDM normalizes them: the shape
+        moved to its centre (degree 0 set to 0), turned so that the degree-1 ellipsoid's axes lie along x,
+        y and z (longest first), and its sphere turned so that the ellipsoid's axes are the sphere's; with
+        ``scale``, shrunk so that the ellipsoid's longest semi-axis is 1. Shapes normalized alike can be
+        compared coefficient by coefficient. The axes' signs, which the ellipsoid leaves open, are chosen so
+        that the shape's third moment along the first two axes is not negative (the third axis follows, so
+        that the turn is a rotation).
+
+        Parameters
+        ----------
+        scale : bool, default False
+            Also divide by the longest semi-axis.
+
+        Returns
+        -------
+        Harmonics
+            With ``metadata["normalization"]``: the object rotation, the sphere rotation and the scale.
+
+        Examples
+        --------
+        >>> c = np.zeros((3, 2, 3, 3)); c[0, 0, 1, 0] = 2.0; c[1, 1, 1, 1] = 1.0; c[2, 0, 1, 1] = -0.5
+        >>> n = Harmonics(c).normalized().coeffs
+        >>> (np.sqrt(3) * np.array([n[0, 0, 1, 1], n[1, 1, 1, 1], n[2, 0, 1, 0]])).round(6).tolist()  # semi-axes
+        [3.464102, 1.732051, 0.866025]
+        """
+        c = self.coeffs
+        a = np.sqrt(3.0) * np.stack([c[:, 0, 1, 1], c[:, 1, 1, 1], c[:, 0, 1, 0]], axis=1)   # x(d) = A d + ...
+        u, sigma, vt = np.linalg.svd(a)
+        v = vt.T
+        if np.linalg.det(u) < 0:                         # proper rotations: flip the third axis of both
+            u[:, 2] *= -1
+        if np.linalg.det(v) < 0:
+            v[:, 2] *= -1
+        lmax = self.lmax
+        d = grid_directions(lmax).reshape(-1, 3)
+        centred = c.copy()
+        centred[:, :, 0, 0] = 0.0
+        values = synthesize(centred, d @ v.T) @ u                  # x'(d) = U^T x(V d)
+        moment = (values ** 3).mean(axis=0)
+        flip = np.ones(3)
+        for k in (0, 1):
+            if moment[k] < 0:
+                flip[k], flip[2] = -flip[k], -flip[2]
+        if (flip < 0).any():                                       # turn the sphere too: synthesize again
+            u, v = u * flip, v * flip
+            values = synthesize(centred, d @ v.T) @ u
+        size = float(sigma[0]) if scale and sigma[0] > 0 else 1.0
+        coeffs = analyze((values / size).reshape(grid_shape(lmax) + (3,)), lmax)
+        record = {"object_rotation": u.T.round(12).tolist(), "sphere_rotation": v.round(12).tolist(),
+                  "scale": size}
+        return Harmonics(coeffs, {**self.metadata, "normalization": record})
+
     def to_image(self, resolution: int | None = None, lmax: int | None = None) -> GeometryImage:
         """The octahedral geometry image of the shape up to degree ``lmax`` (default: all), ``resolution``
         pixels a side (default :func:`default_resolution`); glued pixels share their direction, and so their

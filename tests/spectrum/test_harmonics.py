@@ -162,3 +162,21 @@ def test_bad_command_lines_are_one_line_and_leave_nothing(tmp_path, capsys, argv
 def test_a_torus_is_refused_by_the_command(tmp_path, capsys):
     assert main(["harmonics", str(DATA / "torus.obj"), "--lmax", "4", "-o", str(tmp_path / "t.npz")]) == 2
     assert "genus 1" in capsys.readouterr().err and list(tmp_path.iterdir()) == []
+
+
+def test_normalized_coefficients_of_a_turned_copy_agree(spot):
+    """SPHARM's first-order-ellipsoid frame: Spot and a turned, moved copy give the same coefficients
+    (measured 0.34 % of their norm apart to degree 16; the two sphere maps differ a little)."""
+    mesh, h = spot
+    turn = Rotation.from_euler("xyz", [-60, 20, 110], degrees=True).as_matrix()
+    other = harmonics(geoimg.Mesh(mesh.vertices @ turn.T + [1.0, 2.0, -0.5], mesh.faces), 16)
+    a, b = h.normalized().coeffs, other.normalized().coeffs
+    assert np.linalg.norm(a - b) / np.linalg.norm(a) < 0.01
+    assert np.abs(a[:, :, 0, 0]).max() < 1e-9                       # centred
+    raw = np.linalg.norm(h.coeffs - other.coeffs) / np.linalg.norm(h.coeffs)
+    assert raw > 0.3                                                # they were not alike before
+    scaled = h.normalized(scale=True)
+    semi = np.sqrt(3) * np.array([scaled.coeffs[0, 0, 1, 1], scaled.coeffs[1, 1, 1, 1], scaled.coeffs[2, 0, 1, 0]])
+    assert semi[0] == pytest.approx(1.0) and semi[0] >= semi[1] >= semi[2] > 0
+    record = scaled.metadata["normalization"]
+    assert np.allclose(np.array(record["object_rotation"]) @ np.array(record["object_rotation"]).T, np.eye(3))
