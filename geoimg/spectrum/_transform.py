@@ -171,8 +171,8 @@ def synthesize(coeffs: np.ndarray, directions: np.ndarray) -> np.ndarray:
 
 
 def degree_power(coeffs: np.ndarray) -> np.ndarray:
-    """The power per degree, ``sum_m C_lm^2 + S_lm^2`` (..., L + 1), of coefficients (..., 2, L + 1, L + 1):
-    unchanged when the sphere is turned under the function.
+    """The power per degree of coefficients (..., 2, L + 1, L + 1), unchanged when the sphere is turned
+    under the function: (..., L + 1), the sum over m of the squares of the cosine and sine coefficients.
 
     Parameters
     ----------
