@@ -72,6 +72,11 @@ FILTER_STEPS: dict[str, tuple[str, tuple[type, ...], str | tuple[str, ...], str]
     "unsharp": ("unsharp_mask", (float, float), ("SIGMA", "AMOUNT"), "unsharp masking"),
     "lowpass": ("lowpass", (float,), "CUTOFF", "Fourier low-pass, CUTOFF cycles per pixel (0.5 = Nyquist)"),
     "bandpass": ("bandpass", (float, float), ("LOW", "HIGH"), "Fourier band-pass (the detail between two cutoffs)"),
+    # through the sphere's harmonics (geoimg.spectrum): octahedral images only, the same in every direction
+    "heat": ("spectrum.heat_smooth", (float,), "T",
+             "heat-kernel smoothing on the sphere for time T, through the spherical harmonics (octahedral images)"),
+    "bandlimit": ("spectrum.band_limit", (int,), "L",
+                  "keep the sphere's harmonics up to degree L: an isotropic low-pass (octahedral images)"),
 }
 
 POOR_PSNR_DB = 30.0          # an image below this PSNR, or with a Hausdorff distance above POOR_HAUSDORFF of

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import filters
 
+from . import spectrum
 from ._choices import FILTER_STEPS
 from .errors import InputError
 from .image import GeometryImage
@@ -61,6 +62,14 @@ def apply_steps(image: GeometryImage, steps, *, mode: str | None = None, nsr: fl
     """
     out = image
     for name, values in check_steps(steps):
+        where, _, function = FILTER_STEPS[name][0].rpartition(".")
+        if where == "spectrum":                 # a filter of the image through its harmonics, not of its array
+            if mask is not None:
+                raise InputError(f"--{name} filters the whole sphere; it takes no region")
+            done = list(out.metadata.get("filters", []))
+            out = getattr(spectrum, function)(out, *values)
+            out.metadata["filters"] = done + [f"{function}({', '.join(map(str, values))})"]
+            continue
         op = getattr(filters, FILTER_STEPS[name][0])
         kwargs: dict = {}
         if mode:

@@ -78,3 +78,22 @@ def test_bad_filters_are_refused():
         band_emphasis(ball, 5, 2, 2.0)
     with pytest.raises(geoimg.InputError, match="lmax"):
         band_limit(ball, 0)
+
+
+def test_the_filter_command_takes_spectral_steps(tmp_path, capsys):
+    from geoimg.cli import main
+    ball, _ = _bump([0, 0, 1])
+    geoimg.save_image(ball, tmp_path / "b.exr")
+    assert main(["filter", str(tmp_path / "b.exr"), "-o", str(tmp_path / "h.exr"), "--heat", "0.002",
+                 "--bandlimit", "24"]) == 0
+    out = geoimg.load_image(tmp_path / "h.exr")
+    assert out.metadata["filters"] == ["heat_smooth(0.002)", "band_limit(24)"]
+    assert np.linalg.norm(out.pixels[N // 2, N // 2]) < 1.19
+    capsys.readouterr()
+    assert main(["filter", str(tmp_path / "b.exr"), "-o", str(tmp_path / "r.exr"), "--heat", "0.01",
+                 "--uv-region", "0.5", "0.5", "0.2"]) == 2
+    assert "takes no region" in capsys.readouterr().err and not (tmp_path / "r.exr").exists()
+    flat = geoimg.GeometryImage(np.zeros((9, 9, 3), np.float32))
+    geoimg.save_image(flat, tmp_path / "f.exr")
+    assert main(["filter", str(tmp_path / "f.exr"), "-o", str(tmp_path / "g.exr"), "--heat", "0.01"]) == 2
+    assert "octahedral" in capsys.readouterr().err and not (tmp_path / "g.exr").exists()
