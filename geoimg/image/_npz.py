@@ -20,6 +20,7 @@ __all__ = ["write_npz", "read_npz", "read_npy", "NPZ_ARRAYS"]
 
 NPZ_ARRAYS = ("positions", "mask", "normals", "metadata", "colors")
 _SHAPES = {"positions": 3, "normals": 3, "mask": 2, "metadata": 0, "colors": 3}
+MAX_DIMENSION = 1 << 31   # no geometry image has a side, or channels, beyond this
 DAMAGED_ZIP = (zlib.error, EOFError, OSError, NotImplementedError, RuntimeError)   # what zipfile raises besides
 _KINDS = {"positions": "f", "normals": "f", "mask": "b", "metadata": "U", "colors": "f"}
 
@@ -48,6 +49,8 @@ def _header(f) -> tuple[tuple, np.dtype]:
     except Exception as e:     # noqa: BLE001 - numpy parses the header's text with tokenize and literal_eval,
         # which raise TokenError, SyntaxError, MemoryError, RecursionError ... on a damaged one
         raise ValueError(f"a damaged .npy header ({type(e).__name__}: {e})") from None
+    if any(d > MAX_DIMENSION for d in shape):       # numpy's reader overflows on such a size, even with a 0 beside it
+        raise ValueError(f"a .npy header declaring shape {shape}: a size beyond {MAX_DIMENSION}")
     return shape, dtype
 
 
@@ -122,5 +125,5 @@ def read_npy(path) -> np.ndarray:
     check_memory(float(np.prod(shape, dtype=np.float64)) * dtype.itemsize, str(path))
     try:
         return np.load(path, allow_pickle=False)
-    except (ValueError, OSError, EOFError) as e:
+    except (ValueError, OSError, EOFError, OverflowError) as e:
         raise ImageFileError(f"{path}: cannot be read ({e})") from None
