@@ -19,6 +19,7 @@ from .errors import ImageFileError
 __all__ = ["read_raster", "write_raster", "FLOAT", "UINT16", "UINT8"]
 
 FLOAT, UINT16, UINT8 = oiio.FLOAT, oiio.UINT16, oiio.UINT8
+ERROR_LINES = 3        # of OpenImageIO's messages about one file, the first this many are shown
 
 
 def _error(source) -> str:
@@ -29,12 +30,14 @@ def _error(source) -> str:
         text = source.geterror()
     except UnicodeDecodeError:
         return "an error message that is not valid UTF-8"
-    lines: list[str] = []
+    lines: dict[str, None] = {}                  # in order, each once (a damaged file can give one per scanline)
     for line in text.splitlines():
         line = re.sub(r"^EXR Error \([^)]*\):\s*", "", line.strip())
-        if line and line not in lines:
-            lines.append(line)
-    return "; ".join(lines) or "no reason given"
+        if line:
+            lines[line] = None
+    shown = list(lines)[:ERROR_LINES]
+    more = f"; and {len(lines) - len(shown)} more messages" if len(lines) > len(shown) else ""
+    return "; ".join(shown) + more if shown else "no reason given"
 
 
 def _oiio_name(path) -> str:
