@@ -12,26 +12,24 @@ import pytest
 import geoimg
 
 sys.path.insert(0, str(Path(__file__).parent / "fuzz"))
-from fuzz_readers import FORMATS, IMAGES, make_target  # noqa: E402
+from fuzz_readers import FORMATS, IMAGES, make_target, write_seeds  # noqa: E402
 
 HARNESS = Path(__file__).parent / "fuzz" / "fuzz_readers.py"
 FINDINGS = sorted((Path(__file__).parent / "data" / "fuzz").iterdir())
-SECONDS = 3
+SECONDS = 2
 
 
 @pytest.mark.parametrize("fmt", FORMATS)
 def test_a_short_fuzzing_run_finds_nothing(tmp_path, fmt):
     pytest.importorskip("atheris")
     corpus = tmp_path / "corpus"
-    subprocess.run([sys.executable, str(HARNESS), fmt, "--seeds", str(corpus)], check=True, capture_output=True,
-                   timeout=300)
-    assert len(list(corpus.iterdir())) >= 3
+    write_seeds(fmt, corpus)                          # here: one process fewer than the harness would start
     done = subprocess.run([sys.executable, str(HARNESS), fmt, f"-max_total_time={SECONDS}", "-rss_limit_mb=3072",
                            "-timeout=30", str(corpus)], cwd=tmp_path, capture_output=True, text=True,
                           errors="replace", timeout=600)
     found = sorted(p.name for p in tmp_path.iterdir() if p.name.split("-")[0] in ("crash", "timeout", "oom"))
     assert done.returncode == 0 and found == [], (found, done.stderr[-3000:])
-    assert "Done " in done.stderr
+    assert "Done " in done.stderr and len(list(corpus.iterdir())) >= 3
 
 
 @pytest.mark.parametrize("finding", FINDINGS, ids=[p.name for p in FINDINGS])

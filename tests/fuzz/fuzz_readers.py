@@ -3,7 +3,8 @@
 One harness per format: ``python tests/fuzz/fuzz_readers.py FORMAT [libFuzzer options] [CORPUS ...]``,
 FORMAT one of :data:`FORMATS`. Each input is written to a file of that format's suffix and read by
 :func:`geoimg.load_mesh` or :func:`geoimg.load_image`; the seeds are made from the bundled meshes by
-geoimg's own writers (``--seeds DIR`` writes them and stops). A clean :class:`geoimg.GeoimgError` (or a
+geoimg's own writers (``--seeds DIR`` writes them and stops; an empty or missing corpus folder is filled
+with them before the run). A clean :class:`geoimg.GeoimgError` (or a
 file read well) is a pass; anything else is a finding: another exception, a library's log record with a
 traceback, a crash, a hang past ``-timeout``, memory past ``-rss_limit_mb``. Findings land in
 ``crash-*`` / ``timeout-*`` / ``oom-*`` files in the working folder: each one becomes a regression test in
@@ -23,6 +24,7 @@ from __future__ import annotations
 
 import logging
 import os
+import subprocess
 import sys
 import tempfile
 import warnings
@@ -157,6 +159,11 @@ def main(argv: list[str]) -> None:
     if len(argv) == 4 and argv[2] == "--seeds":
         print("\n".join(str(p) for p in write_seeds(fmt, Path(argv[3]))))
         return
+    corpora = [a for a in argv[2:] if not a.startswith("-")]
+    if corpora and (not Path(corpora[0]).exists() or not any(Path(corpora[0]).iterdir())):
+        # an empty corpus starts from the seeds, written by another process: numba cannot compile the
+        # kernels that seeding runs once atheris has instrumented geoimg's bytecode
+        subprocess.run([sys.executable, __file__, fmt, "--seeds", corpora[0]], check=True, capture_output=True)
     import atheris
 
     with atheris.instrument_imports(include=["geoimg"]):     # geoimg's code guides the search, not numpy's

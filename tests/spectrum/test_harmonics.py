@@ -83,11 +83,17 @@ def test_reconstructions_converge_with_the_degree(spot):
     assert geoimg.mesh.topology(m).closed and geoimg.mesh.topology(m).genus == 0
 
 
-def test_invariants_of_a_turned_copy_agree_within_two_percent(spot):
-    mesh, h = spot
+@pytest.fixture(scope="module")
+def turned(spot):
+    """The harmonics of Spot turned and moved (its own sphere map: not exactly the turned map)."""
+    mesh, _ = spot
     turn = Rotation.from_euler("xyz", [40, -25, 70], degrees=True).as_matrix()
-    turned = geoimg.Mesh(mesh.vertices @ turn.T + [0.3, -0.2, 0.1], mesh.faces)
-    other = harmonics(turned, 16)
+    return harmonics(geoimg.Mesh(mesh.vertices @ turn.T + [1.0, 2.0, -0.5], mesh.faces), 16)
+
+
+def test_invariants_of_a_turned_copy_agree_within_two_percent(spot, turned):
+    mesh, h = spot
+    other = turned
     a, b = h.invariants()[1:], other.invariants()[1:]
     big = a > 1e-3 * a.max()                      # degrees that carry the shape (not rounding)
     assert np.abs(b[big] - a[big]).max() / a.max() < 0.02
@@ -164,12 +170,11 @@ def test_a_torus_is_refused_by_the_command(tmp_path, capsys):
     assert "genus 1" in capsys.readouterr().err and list(tmp_path.iterdir()) == []
 
 
-def test_normalized_coefficients_of_a_turned_copy_agree(spot):
+def test_normalized_coefficients_of_a_turned_copy_agree(spot, turned):
     """SPHARM's first-order-ellipsoid frame: Spot and a turned, moved copy give the same coefficients
     (measured 0.34 % of their norm apart to degree 16; the two sphere maps differ a little)."""
     mesh, h = spot
-    turn = Rotation.from_euler("xyz", [-60, 20, 110], degrees=True).as_matrix()
-    other = harmonics(geoimg.Mesh(mesh.vertices @ turn.T + [1.0, 2.0, -0.5], mesh.faces), 16)
+    other = turned
     a, b = h.normalized().coeffs, other.normalized().coeffs
     assert np.linalg.norm(a - b) / np.linalg.norm(a) < 0.01
     assert np.abs(a[:, :, 0, 0]).max() < 1e-9                       # centred
