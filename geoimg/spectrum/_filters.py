@@ -40,7 +40,7 @@ def _default_lmax(image: GeometryImage, lmax: int | None) -> int:
 def spectral_filter(image: GeometryImage, gain: Callable[[np.ndarray], np.ndarray] | np.ndarray,
                     lmax: int | None = None) -> GeometryImage:
     """The octahedral ``image`` with each degree ``l`` of its harmonics (up to ``lmax``) scaled by ``gain``:
-    an array of ``lmax + 1`` numbers, or a function of the degrees ``0 .. lmax``.
+    an array of ``lmax + 1`` numbers, or a function of the degrees (0 to ``lmax``).
 
     Parameters
     ----------
