@@ -16,7 +16,7 @@ import numpy as np
 from .._budget import check_memory
 from ..errors import ImageFileError
 
-__all__ = ["write_npz", "read_npz", "read_npy", "NPZ_ARRAYS"]
+__all__ = ["write_npz", "read_npz", "read_npy", "read_arrays", "NPZ_ARRAYS"]
 
 NPZ_ARRAYS = ("positions", "mask", "normals", "metadata", "colors")
 _SHAPES = {"positions": 3, "normals": 3, "mask": 2, "metadata": 0, "colors": 3}
@@ -54,31 +54,33 @@ def _header(f) -> tuple[tuple, np.dtype]:
     return shape, dtype
 
 
-def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict, np.ndarray | None]:
-    """``(positions, mask, normals, record, colors)`` of a file written by :func:`write_npz`, each array's header
-    checked (kind, dimensions, the memory it would take) before it is read.
+def read_arrays(path, kinds: dict[str, tuple[str, int]], required: str, what: str) -> dict[str, np.ndarray]:
+    """The arrays of a ``.npz`` archive whose members are named in ``kinds`` (``name -> (dtype kind,
+    dimensions)``), ``required`` among them, each member's header checked (kind, dimensions, the memory it
+    would take) before anything is read; no pickles. ``what`` names such a file in the errors.
 
     Raises
     ------
     ImageFileError
-        Not a zip archive of arrays, pickled objects, a missing or unknown member, wrong kinds or shapes,
-        metadata that is not a JSON object.
+        Not a zip archive of arrays, pickled objects, a missing or unknown member, wrong kinds or dimensions.
     """
     path = Path(path)
     try:
         with zipfile.ZipFile(path) as archive:
             names = {n[:-4] for n in archive.namelist() if n.endswith(".npy")}
-            unknown = sorted(set(archive.namelist()) - {n + ".npy" for n in NPZ_ARRAYS})
-            if unknown or "positions" not in names:
-                raise ImageFileError(f"{path}: not a geoimg .npz geometry image (members: "
-                                     f"{', '.join(sorted(archive.namelist())) or 'none'}; expected positions and "
-                                     "optionally mask, normals, metadata)")
+            unknown = sorted(set(archive.namelist()) - {n + ".npy" for n in kinds})
+            if unknown or required not in names:
+                others = ", ".join(n for n in kinds if n != required)
+                raise ImageFileError(f"{path}: not a {what} (members: "
+                                     f"{', '.join(sorted(archive.namelist())) or 'none'}; expected {required} and "
+                                     f"optionally {others})")
             for name in names:
                 with archive.open(name + ".npy") as f:
                     shape, dtype = _header(f)
-                if dtype.kind != _KINDS[name] or len(shape) != _SHAPES[name]:
+                kind, dims = kinds[name]
+                if dtype.kind != kind or len(shape) != dims:
                     raise ImageFileError(f"{path}: {name} is a {len(shape)}-D {dtype} array; expected "
-                                         f"{_SHAPES[name]}-D of kind {_KINDS[name]!r}")
+                                         f"{dims}-D of kind {kind!r}")
                 check_memory(float(np.prod(shape, dtype=np.float64)) * dtype.itemsize, f"{path}: {name}")
     except zipfile.BadZipFile as e:
         raise ImageFileError(f"{path}: not a .npz archive ({e})") from None
@@ -90,9 +92,24 @@ def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, di
         raise ImageFileError(f"{path}: a damaged .npz archive ({type(e).__name__}: {e})") from None
     try:
         with np.load(path, allow_pickle=False) as data:
-            arrays = {name: data[name] for name in names}
+            return {name: data[name] for name in names}
     except (ValueError, zipfile.BadZipFile, *DAMAGED_ZIP) as e:
         raise ImageFileError(f"{path}: cannot be read ({e})") from None
+
+
+def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict, np.ndarray | None]:
+    """``(positions, mask, normals, record, colors)`` of a file written by :func:`write_npz`, each array's header
+    checked (kind, dimensions, the memory it would take) before it is read (:func:`read_arrays`).
+
+    Raises
+    ------
+    ImageFileError
+        Not a zip archive of arrays, pickled objects, a missing or unknown member, wrong kinds or shapes,
+        metadata that is not a JSON object.
+    """
+    path = Path(path)
+    arrays = read_arrays(path, {name: (_KINDS[name], _SHAPES[name]) for name in NPZ_ARRAYS}, "positions",
+                         "geoimg .npz geometry image")
     record = {}
     if "metadata" in arrays:
         try:

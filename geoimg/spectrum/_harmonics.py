@@ -19,7 +19,6 @@ Examples
 from __future__ import annotations
 
 import json
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -34,6 +33,7 @@ from .._threads import fixed_order
 from .._types import Progress
 from ..errors import ImageError, ImageFileError, InputTypeError, MeshError
 from ..image import GeometryImage, OctahedralDomain, load_image
+from ..image._npz import read_arrays
 from ..mesh import Mesh, load_mesh, topology
 from ..parametrization._octahedral import sphere_to_square
 from ._transform import analyze, check_lmax, degree_power, grid_directions, grid_shape, synthesize
@@ -308,19 +308,10 @@ def load_harmonics(path: Any) -> Harmonics:
     path = Path(path)
     if not path.is_file():
         raise ImageFileError(f"{path}: no such file")
-    if not zipfile.is_zipfile(path):
-        raise ImageFileError(f"{path}: not a .npz archive of harmonics")
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            if "coeffs" not in data.files:
-                raise ImageFileError(f"{path}: not a geoimg harmonics file (members: {', '.join(data.files)}; "
-                                     "expected coeffs)")
-            coeffs = data["coeffs"]          # allow_pickle=False: an array of objects is refused
-            text = str(data["metadata"]) if "metadata" in data.files else "{}"
-    except ImageFileError:
-        raise
-    except Exception as e:   # noqa: BLE001 - zip, zlib and the .npy header parser raise many kinds
-        raise ImageFileError(f"{path}: cannot be read as a .npz archive ({type(e).__name__}: {e})") from None
+    arrays = read_arrays(path, {"coeffs": ("f", 4), "invariants": ("f", 1), "metadata": ("U", 0)}, "coeffs",
+                         "geoimg harmonics file")
+    coeffs = arrays["coeffs"]
+    text = str(arrays["metadata"]) if "metadata" in arrays else "{}"
     try:
         meta = json.loads(text)
     except json.JSONDecodeError:

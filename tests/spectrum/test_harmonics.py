@@ -2,6 +2,7 @@
 functions, no Condon-Shortley phase) against scipy's complex harmonics, exact round trips of band-limited
 functions, reconstructions that converge with the degree, invariants that a turn leaves alone, and every
 bad input refused in one line with nothing written."""
+import io
 import warnings
 import zipfile
 
@@ -132,11 +133,18 @@ def test_bad_inputs_are_refused(tmp_path):
     np.savez(tmp_path / "shape.npz", coeffs=np.zeros((3, 2, 4, 5)))
     np.savez(tmp_path / "nan.npz", coeffs=np.full((3, 2, 4, 4), np.nan))
     np.savez(tmp_path / "objects.npz", coeffs=np.array([None, 1], dtype=object))
-    for name, message in (("junk", "not a .npz archive"), ("other", "cannot be read|not a geoimg harmonics"),
-                          ("shape", "expected float"), ("nan", "NaN"), ("objects", "cannot be read"),
+    for name, message in (("junk", "not a .npz archive"), ("other", "not a geoimg harmonics file"),
+                          ("shape", "expected float"), ("nan", "NaN"), ("objects", "expected 4-D of kind 'f'"),
                           ("missing", "no such file")):
         with pytest.raises(geoimg.ImageFileError, match=message):
             load_harmonics(tmp_path / f"{name}.npz")
+    header = io.BytesIO()                             # a header claiming 480 GB over 16 bytes of data
+    np.lib.format.write_array_header_1_0(header, {"descr": "<f8", "fortran_order": False,
+                                                  "shape": (3, 2, 100000, 100000)})
+    with zipfile.ZipFile(tmp_path / "huge.npz", "w") as z:
+        z.writestr("coeffs.npy", header.getvalue() + bytes(16))
+    with pytest.raises(geoimg.GeoimgError, match="coeffs would need about"):
+        load_harmonics(tmp_path / "huge.npz")
 
 
 def test_the_command_writes_coefficients_and_a_rebuilt_shape(tmp_path, capsys):
