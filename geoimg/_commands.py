@@ -145,18 +145,20 @@ def cmd_harmonics(args) -> int:
     _check_outputs(args.force, (args.output, (".npz",), "the coefficients"),
                    (args.mesh, MESH_FORMATS, "the rebuilt mesh"), (args.image, IMAGE_FORMATS, "the rebuilt image"))
     progress = Progress(args.quiet, always=args.progress)
-    h = harmonics(args.input, args.lmax, resolution=args.res, progress=progress)
+    source = Path(args.input)
+    mesh = None if source.suffix.lower() in IMAGE_FORMATS else load_mesh(source)    # read once: analysed, measured
+    h = harmonics(source if mesh is None else mesh, args.lmax, resolution=args.res, progress=progress)
+    h.metadata["source"] = source.name
     jobs: list = [(args.output, lambda tmp: h.save(tmp, overwrite=True))]
     rebuilt = None
     if args.mesh or args.image:
         progress("rebuilding the shape from the coefficients")
         rebuilt = h.to_image(args.res)
-        source = Path(args.input)
-        if source.suffix.lower() not in IMAGE_FORMATS:          # a mesh: measured as geoimg image measures
+        if mesh is not None:                                    # a mesh: measured as geoimg image measures
             progress("measuring the rebuilt shape against the mesh")
             with warnings.catch_warnings():     # a low degree is far from the mesh by design: the line says how far
                 warnings.simplefilter("ignore")
-                measure_fidelity(rebuilt, load_mesh(source))
+                measure_fidelity(rebuilt, mesh)
         if args.image:
             jobs += rebuilt.save_jobs(args.image, "geoimg")
         if args.mesh:

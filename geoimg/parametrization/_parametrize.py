@@ -427,10 +427,11 @@ def _auto(mesh: Mesh, axis: str | None, boundary: str, balance: str, progress) -
             except ParametrizationError as e:
                 tried.append(f"{method}: {e}")
                 continue
-        inner = _has_interior_vertex(mesh)    # without one, a disk map pins every vertex to the square's rim
-        if p.flipped_faces == 0 and (p.degenerate_faces == 0 or not inner):
+        # a mesh without inner vertices keeps its height field (a disk map pins every vertex to the square's
+        # rim); asked only where a rule needs it, not on every conversion
+        if p.flipped_faces == 0 and (p.degenerate_faces == 0 or not _has_interior_vertex(mesh)):
             gap = _outline_gap(mesh, p.coords, topo)
-            if gap <= MAX_OUTLINE_GAP or not inner:
+            if gap <= MAX_OUTLINE_GAP or not _has_interior_vertex(mesh):
                 return p
             tried.append(f"{method}: its outline leaves {100 * gap:.0f} % of its convex hull empty (narrow parts "
                          "would come apart in the image's mask)")
