@@ -3,6 +3,7 @@ aicsshparam (the radial function of a voxelized shape about its centroid), both 
 against the mesh with the exact metric (two-sided RMS by an AABB tree, PSNR = 20 log10(diagonal / RMS)).
 
     python benchmarks/bench_harmonics.py [--lmax 8 16 32 64] [--anchor 16 32] [--json out.json] [MESH ...]
+    python benchmarks/bench_harmonics.py --speed [MESH]      # L = 64 against the conversion; L = 256 end to end
 
 geoimg: ``geoimg.harmonics(mesh, max L)`` once (its 2^k + 1 image), rebuilt at each L as a 513^2 octahedral
 image. aicsshparam 0.1.11 (bench extra): the mesh voxelized (trimesh, filled) with 128 voxels along its
@@ -78,6 +79,37 @@ def figure(mesh_path: Path, out: Path, degrees=(4, 8, 16, 32, 64)) -> None:
     sheet.save(out)
 
 
+def speed(path: Path) -> None:
+    """The coefficients to L = 64 against ``mesh_to_image`` at the same side (513), twice each, alternating,
+    after a warm-up; then L = 256 end to end: coefficients (a 2049^2 image), the rebuilt image and its PSNR.
+    """
+    mesh = geoimg.load_mesh(path)
+    small = geoimg.load_mesh(ROOT / "tests" / "data" / "spot.obj")
+    harmonics(small, 8, resolution=65)                       # compile and warm up
+    geoimg.mesh_to_image(small, 65, method="sphere")
+    times: dict = {"coefficients": [], "image": []}
+    for _ in range(2):
+        t0 = time.perf_counter()
+        h = harmonics(mesh, 64)
+        times["coefficients"].append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        geoimg.mesh_to_image(mesh, default_resolution(64), method="sphere")
+        times["image"].append(time.perf_counter() - t0)
+    c, i = min(times["coefficients"]), min(times["image"])
+    print(f"| {path.name} | {mesh.n_faces} | L = 64 coefficients {c:.1f} s | mesh_to_image 513^2 {i:.1f} s | "
+          f"ratio {c / i:.2f} | runs {[round(t, 1) for t in times['coefficients']]} / "
+          f"{[round(t, 1) for t in times['image']]} |", flush=True)
+    t0 = time.perf_counter()
+    h = harmonics(small, 256)
+    t_coeffs = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    rebuilt = h.to_image()
+    t_image = time.perf_counter() - t0
+    print(f"| spot.obj | L = 256 | coefficients ({h.metadata['resolution']}^2 image) {t_coeffs:.1f} s | rebuilt "
+          f"{rebuilt.shape[0]}^2 {t_image:.1f} s | PSNR {psnr(small, rebuilt.to_mesh())} dB | image's own PSNR "
+          f"{h.metadata.get('psnr_db')} dB |", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("meshes", nargs="*", type=Path)
@@ -85,7 +117,12 @@ def main() -> None:
     ap.add_argument("--anchor", nargs="*", type=int, default=[8, 16, 32])
     ap.add_argument("--json", type=Path, default=None)
     ap.add_argument("--figure", type=Path, default=None, help="only draw the first mesh rebuilt at L = 4 ... 64")
+    ap.add_argument("--speed", action="store_true", help="only the timings (default mesh: bunny.off, 69.7k faces)")
     args = ap.parse_args()
+    if args.speed:
+        warnings.simplefilter("ignore")
+        speed(args.meshes[0] if args.meshes else SHARED / "bunny.off")
+        return
     if min(args.lmax) < 1 or (args.anchor and min(args.anchor) < 1):
         ap.error("degrees: at least 1")
     warnings.simplefilter("ignore")

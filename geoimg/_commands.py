@@ -433,6 +433,11 @@ def cmd_morph(args) -> int:
         if taken:
             raise FileExistsError(f"{args.frames_dir} already holds {len(taken)} frame files (use --force to "
                                   "replace them)")
+    if args.spectral is not None:
+        check_lmax(args.spectral)                     # before any work
+        if args.landmarks is not None:
+            raise InputError("--spectral and --landmarks: the harmonics' ellipsoids make the correspondence; give "
+                             "one or the other")
     landmarks = args.landmarks if args.landmarks in (None, "auto") else read_landmarks(args.landmarks,
                                                                                       len(args.shapes))
     shapes = []
@@ -440,7 +445,7 @@ def cmd_morph(args) -> int:
         progress(f"loading {f}")
         shapes.append(_load_shape(f, args))
     m = morph(*shapes, frames=args.frames, easing=args.easing, align=args.align, rotate=not args.no_rotate,
-              resolution=args.res, resample=True, landmarks=landmarks, progress=progress)
+              resolution=args.res, resample=True, landmarks=landmarks, spectral=args.spectral, progress=progress)
     if "auto_landmarks" in m.report[0] and not args.quiet:
         print(f"auto landmarks: {len(m.report[0]['auto_landmarks'])} matched (vertex of each key per feature: "
               f"{m.report[0]['auto_landmarks']})")
@@ -477,6 +482,8 @@ def cmd_morph(args) -> int:
         print(f"morph of {len(m.keys)} shapes, {len(m)} frames ({args.easing})")
         for entry in m.report[1:]:
             parts = [f"shape {entry['shape']}: {entry['parametrization']}"]
+            if "sphere_turn_deg" in entry:
+                parts.append(f"sphere turned {entry['sphere_turn_deg']:.1f} deg")
             if "scale" in entry:
                 parts.append(f"scaled by {entry['scale']:.4g}, moved by {np.round(entry['translation'], 6).tolist()}")
             if "rms_before" in entry:
@@ -534,7 +541,7 @@ def cmd_batch(args) -> int:
                    normals=not args.no_normals, colors=not args.no_colors, steps=args.ops or (), mode=args.mode,
                    nsr=args.nsr,
                    quads=args.quads is not None, quads_format=args.quads or "obj", psnr=not args.no_psnr,
-                   min_psnr=args.min_psnr, max_hausdorff=args.max_hausdorff)
+                   min_psnr=args.min_psnr, max_hausdorff=args.max_hausdorff, harmonics=args.harmonics)
     if args.component is not None:
         options["component"] = _component(args.component)
     table = convert_batch(args.inputs, args.output, zarr=args.zarr, manifest=args.manifest, workers=args.workers,
@@ -542,6 +549,9 @@ def cmd_batch(args) -> int:
                           progress=BatchProgress(args.quiet, args.progress_every), **options)
     c = table.attrs["summary"]
     bad = c["poor"] + c["refused"] + c["failed"]
+    spectra = Path(args.output) / "harmonics.csv"
+    if args.harmonics is not None and not args.quiet and spectra.is_file():
+        print(f"coefficient table (normalized, degree {args.harmonics}): {spectra} and .parquet")
     if not args.quiet:
         skipped = f" ({c['skipped']} of these finished by an earlier run)" if c["skipped"] else ""
         print(

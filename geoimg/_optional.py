@@ -8,7 +8,8 @@ from .errors import MissingDependency
 __all__ = ["require", "MissingDependency"]
 
 EXTRAS = {"moderngl": "render", "imageio": "render", "pygltflib": "render", "imageio_ffmpeg": "video",
-          "dask": "batch", "distributed": "batch", "zarr": "batch", "pandas": "batch", "psutil": "batch"}
+          "dask": "batch", "distributed": "batch", "zarr": "batch", "pandas": "batch", "psutil": "batch",
+          "pyarrow": "batch"}
 
 
 def require(module: str, what: str):

@@ -407,6 +407,15 @@ COMMANDS: dict[str, Command] = {
                 "each later key is resampled through a fold-free warp of the sphere that makes them meet "
                 "(default: none, only the best turn of the sphere)",
             ),
+            arg(
+                "--spectral",
+                type=int,
+                default=None,
+                metavar="L",
+                help="blend the shapes' spherical harmonics to degree L (each normalized in its first-order "
+                "ellipsoid's frame) instead of their images: closed genus-0 meshes or octahedral images; the "
+                "ellipsoids make the correspondence (no sphere turn, no landmarks)",
+            ),
             arg("--res", type=_positive(int), default=129, help="pixels per side for meshes (default 129)"),
             arg("--gif", default=None, help="also render an animated GIF"),
             arg("--mp4", default=None, help="also render an MP4 (needs imageio-ffmpeg)"),
@@ -445,6 +454,15 @@ COMMANDS: dict[str, Command] = {
                 default=None,
                 choices=QUAD_FORMATS,
                 help="also write the quad mesh, NAME_quads.obj (or .ply, .off)",
+            ),
+            arg(
+                "--harmonics",
+                type=int,
+                default=None,
+                metavar="L",
+                help="also expand each image in spherical harmonics to degree L: NAME_sh.npz beside it, and a "
+                "table of all (normalized; columns x_shcoeffs_L{l}M{m}{C|S}, ...) in OUTPUT/harmonics.csv and "
+                ".parquet; closed genus-0 inputs only (others refused)",
             ),
             arg("--no-normals", action="store_true", help="leave out the exact normals"),
             arg("--no-psnr", action="store_true", help="do not measure the quad mesh against the input"),

@@ -161,6 +161,9 @@ def test_a_scheduler_address_runs_the_same_tasks(client, inputs, tmp_path):
     (dict(quads_format="stl"), geoimg.InputError, "quads_format"),
     (dict(colour="red"), geoimg.InputTypeError, "colour"),
     (dict(memory_limit="lots"), geoimg.InputError, "memory_limit: expected a size"),
+    (dict(harmonics=0), geoimg.InputError, "lmax"),
+    (dict(harmonics=4, method="heightfield", axis="z"), geoimg.InputError, "harmonics: the spectrum"),
+    (dict(harmonics=4, zarr="s.zarr", resolution=33), geoimg.InputError, "Zarr"),
 ])
 def test_bad_options_are_refused_before_any_work(inputs, tmp_path, kwargs, error, match):
     with pytest.raises(error, match=match):
@@ -388,3 +391,29 @@ def test_numpy_scalars_are_taken_as_the_numbers_they_hold():
                            max_hausdorff=np.float64(0.05), n=np.int32(12))
     plain = ConvertOptions(resolution=65, s=2.0, nsr=float(np.float32(0.01)), min_psnr=40.0, max_hausdorff=0.05, n=12)
     assert given == plain and given.digest() == plain.digest() and type(given.nsr) is float
+
+
+def test_harmonics_table_rows_are_the_normalized_coefficient_files(client, tmp_path):
+    from geoimg.spectrum import coefficient_columns, harmonics_from_row, load_harmonics
+    root = tmp_path / "in"
+    root.mkdir()
+    for name in ("spot_low_resolution.obj", "torus.obj", "sphere.obj"):
+        shutil.copy(data_file(name), root / name)
+    out = tmp_path / "out"
+    table = batch.convert([root], out, client=client, resolution=RES, harmonics=4, psnr=False)
+    status = dict(zip(table["input"].map(lambda p: Path(p).name), table["status"]))
+    assert status == {"sphere.obj": "ok", "spot_low_resolution.obj": "ok", "torus.obj": "refused"}
+    assert "genus-0" in table.loc[table["input"].str.endswith("torus.obj"), "message"].item()
+    assert not (out / "torus_sh.npz").exists() and not (out / "torus.exr").exists()   # refused before converting
+    for kind in ("csv", "parquet"):
+        coeffs = pd.read_csv(out / "harmonics.csv") if kind == "csv" else pd.read_parquet(
+            out / "harmonics.parquet")
+        assert list(coeffs.columns) == ["input", "lmax", "psnr_db"] + coefficient_columns(4)
+        assert [Path(p).name for p in coeffs["input"]] == ["sphere.obj", "spot_low_resolution.obj"]
+        for row in coeffs.to_dict("records"):
+            stem = Path(row["input"]).stem
+            expected = load_harmonics(out / f"{stem}_sh.npz").normalized().coeffs
+            assert np.allclose(harmonics_from_row(row).coeffs, expected, rtol=0, atol=1e-12)
+    first = (out / "harmonics.csv").read_bytes()
+    again = batch.convert([root], out, client=client, resolution=RES, harmonics=4, psnr=False)
+    assert again.attrs["summary"]["skipped"] == 3 and (out / "harmonics.csv").read_bytes() == first

@@ -25,10 +25,12 @@ from .._choices import ALIGNMENTS, EASINGS
 from ..errors import InputError, InputTypeError
 from .._convert import mesh_to_image
 from .._options import ConversionOptions
-from ..image import GeometryImage
+from ..image import GeometryImage, OctahedralDomain
 from ..mesh import Mesh, grid_triangles, suggest_landmarks
 from ..parametrization import grid_directions, parametrize, sphere_to_square
 from ..parametrization._warp import warp_sphere
+from ..spectrum import grid_directions as gauss_legendre_directions, harmonics, synthesize
+from ..spectrum._transform import check_lmax
 from .._types import Progress
 from .._threads import fixed_order
 
@@ -173,6 +175,58 @@ def _as_images(shapes, resolution, progress):
         images.append(mesh_to_image(shape, resolution, parametrization=param, fidelity=False))
         last = (shape, param, k)
     return images, used_param, made
+
+
+SPECTRAL_CHOICE_LMAX = 16    # the degree up to which the ellipsoid frames' 24 turns are compared
+
+
+def _spectral_keys(shapes, lmax: int, resolution: int, progress) -> tuple[list, list]:
+    """The keys rebuilt from their harmonics to degree ``lmax`` with their spheres put in correspondence by
+    the first-order ellipsoids (SPHARM's normalization), each shape left where it stands: pixel ``d`` of key
+    ``k`` is ``x_k(V_k G_k^T d)``, ``V_k`` the sphere turn of its normalization and ``G_k`` the turn of the
+    cube (of 24) that best matches key 0's normalized shape (the ellipsoid's axes leave their order and signs
+    open when two have nearly one length). Blending such images is blending their coefficients. Returns the
+    images and a report entry per key.
+    """
+    raw, unit = [], []
+    for k, shape in enumerate(shapes):
+        if not isinstance(shape, (Mesh, GeometryImage)):
+            raise InputTypeError(f"shapes[{k}]: expected a geoimg.Mesh or GeometryImage, got {type(shape).__name__}")
+        if progress:
+            progress(f"shape {k}: harmonics to degree {lmax}")
+        h = harmonics(shape, lmax, progress=progress)
+        raw.append(h)
+        unit.append(h.normalized(scale=True))
+    low = min(lmax, SPECTRAL_CHOICE_LMAX)
+    probe = gauss_legendre_directions(low).reshape(-1, 3)
+    reference = synthesize(unit[0].truncated(low).coeffs, probe)
+    turns = Rotation.create_group("O").as_matrix()
+    domain = OctahedralDomain()
+    n = domain.round_resolution(resolution)
+    directions = domain.directions(n).reshape(-1, 3)
+    images, entries = [], []
+    for k, (h, u) in enumerate(zip(raw, unit)):
+        g = np.eye(3)
+        if k:
+            c = u.truncated(low).coeffs
+
+            def cost(sphere, shape, c=c):
+                """Key k's normalized shape turned by ``shape`` with its sphere turned by ``sphere``, to key 0's."""
+                return float(((synthesize(c, probe @ sphere) @ shape.T - reference) ** 2).mean())
+
+            g = turns[int(np.argmin([cost(t, t) for t in turns]))]      # the frame's order and signs
+            # then the sphere alone, turned a little further where that matches key 0 better
+            fine = optimize.minimize(lambda r, g=g: cost(Rotation.from_rotvec(r).as_matrix() @ g, g), np.zeros(3),
+                                     method="Nelder-Mead", options={"xatol": 1e-4, "fatol": 1e-12, "maxiter": 300})
+            g = Rotation.from_rotvec(fine.x).as_matrix() @ g
+        v = np.asarray(u.metadata["normalization"]["sphere_rotation"])
+        pixels = synthesize(h.coeffs, directions @ g @ v.T).reshape(n, n, 3)
+        meta = {key: h.metadata[key] for key in ("source", "psnr_db") if key in h.metadata}
+        images.append(GeometryImage(pixels.astype(np.float32), None, domain, metadata=dict(meta, harmonics_lmax=lmax)))
+        turn = Rotation.from_matrix(v @ g.T)
+        entries.append({"harmonics_lmax": lmax, "sphere_turn_deg": float(np.degrees(turn.magnitude())),
+                        "parametrization": f"harmonics to degree {lmax}, spheres matched by the ellipsoids"})
+    return images, entries
 
 
 def _landmark_warps(params, landmarks: np.ndarray, resolution: int) -> list:
@@ -443,7 +497,8 @@ class Morph:
 @fixed_order
 def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: ArrayLike | None = None, lag: float = 0.5,
           align: str = "similarity", rotate: bool = True, resolution: int = DEFAULT_RESOLUTION,
-          resample: bool = False, landmarks: Any = None, progress: Progress | None = None) -> Morph:
+          resample: bool = False, landmarks: Any = None, spectral: int | None = None,
+          progress: Progress | None = None) -> Morph:
     """Morph through two or more shapes.
 
     Parameters
@@ -477,6 +532,13 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
         :func:`geoimg.mesh.suggest_landmarks`.) ``"auto"``: each key's suggested extremities, matched to key
         0's on the rigidly turned spheres (within 40 degrees); the report's ``auto_landmarks`` says which
         were matched.
+    spectral : int, optional
+        Blend the keys' spherical harmonics to this degree instead of their images: each key (a closed
+        genus-0 mesh or an octahedral image) is expanded (:func:`geoimg.harmonics`), its sphere turned into
+        its first-order ellipsoid's frame (:meth:`geoimg.Harmonics.normalized`; of the cube's 24 turns of that
+        frame, the one nearest key 0's), and rebuilt at ``resolution``; ``align`` then moves and scales it as
+        for images. The ellipsoids make the correspondence (``rotate`` is not used); every frame is of degree
+        ``spectral``, so a low degree also smooths. Not with ``landmarks``.
     lag : float, default 0.5
         How far the mask's pixels of weight 1 run ahead, as a share of a segment.
     resolution : int, default 129
@@ -517,7 +579,17 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
     if auto and not all(isinstance(s, Mesh) for s in shapes):
         raise InputError("landmarks='auto': every key must be a mesh (landmarks are suggested on meshes)")
     table = None if landmarks is None or auto else _check_landmarks(landmarks, shapes)   # refused before work
-    images, how, params = _as_images(shapes, resolution, progress)
+    spectral_report: list = [{}] * len(shapes)
+    if spectral is not None:
+        lmax = check_lmax(spectral)
+        if landmarks is not None:
+            raise InputError("spectral: the harmonics' ellipsoids make the correspondence; landmarks are for image "
+                             "morphs (give one or the other)")
+        images, spectral_report = _spectral_keys(shapes, lmax, resolution, progress)
+        how, params = [e.pop("parametrization") for e in spectral_report], []
+        rotate = False                                                 # the ellipsoids matched the spheres
+    else:
+        images, how, params = _as_images(shapes, resolution, progress)
     if auto:
         table = _auto_landmarks(shapes, images, how, params, align, progress)
     warps = None
@@ -543,8 +615,8 @@ def morph(*shapes: Any, frames: int = 30, easing: Any = "smoothstep", mask: Arra
     if mask is not None:
         weights = images[0].domain.symmetric_mask(filters.as_weights(mask, images[0].shape))
     keys, report = _align(images, align, bool(rotate), [h.startswith("shared") for h in how], progress, warps)
-    for entry, h in zip(report, how):
-        entry["parametrization"] = h
+    for entry, h, extra in zip(report, how, spectral_report):
+        entry.update(extra, parametrization=h)
     if auto:
         report[0]["auto_landmarks"] = table.tolist()
     times = np.linspace(0.0, len(keys) - 1, int(frames))

@@ -18,7 +18,8 @@ from ._inputs import find_inputs, output_stems
 from ._manifest import ManifestLog, read_manifest, write_manifest
 from ._options import ConvertOptions
 from ._store import open_store, store_records, write_records
-from ._task import Job, run_job
+from ._spectra import write_table
+from ._task import SPECTRUM_SUFFIX, Job, run_job
 from .._types import PathLike, Progress
 
 __all__ = ["convert", "MANIFEST_NAME"]
@@ -178,7 +179,10 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
         recorded them: a refusal stays a refusal on every rerun.
     **options
         Those of :class:`ConvertOptions`: ``resolution, s, method, axis, boundary, weights, n, tol,
-        sliver_rule, component, normals, steps, mode, nsr, quads, quads_format, psnr, min_psnr, max_hausdorff``.
+        sliver_rule, component, normals, steps, mode, nsr, quads, quads_format, psnr, min_psnr, max_hausdorff,
+        harmonics``. With ``harmonics=L`` each input's coefficients go beside its image (``NAME_sh.npz``) and
+        the batch's table of them, normalized, into ``out/harmonics.csv`` and ``out/harmonics.parquet``
+        (see :func:`geoimg.spectrum.coefficient_columns`).
 
     Returns
     -------
@@ -213,6 +217,10 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
         raise InputTypeError(f"convert: {e}") from None
     if zarr is not None and opts.resolution is None:
         raise InputError("a Zarr store holds same-size images: give the resolution (--res)")
+    if opts.harmonics is not None:
+        require("pyarrow", "the harmonics table's Parquet file")
+        if zarr is not None:
+            raise InputError("harmonics: the coefficient files go beside EXR images, not into a Zarr store")
     if zarr is not None and opts.component == "all":
         raise InputError("a Zarr store holds one image per input: component 'largest' or a piece number")
     if memory_limit not in (None, "auto"):
@@ -246,7 +254,7 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
         jobs.append(Job(key, stem, opts, digest, st.st_size, st.st_mtime_ns, zarr, i, threads))
     names = {str(Path(key).resolve()) for key in keys}
     for stem in stems:
-        if any(str(Path(stem + ext)) in names for ext in (".exr", f"_quads.{opts.quads_format}")):
+        if any(str(Path(stem + ext)) in names for ext in (".exr", f"_quads.{opts.quads_format}", SPECTRUM_SUFFIX)):
             raise FileExistsError(f"{stem}: an output would replace an input; choose another output folder")
     old = {} if force else read_manifest(manifest)
     records: list[dict | None] = [None] * len(jobs)
@@ -286,6 +294,9 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
             write_manifest(manifest, [merged[k] for k in keys if k in merged] +
                            [r for k, r in merged.items() if k not in these])
     say(_counts(rows, len(jobs), skipped, t0))
+    if opts.harmonics is not None:
+        merged = {**old, **rows}
+        write_table(out, [merged[k] for k in keys if k in merged], opts.harmonics)
     table = pandas.read_csv(manifest)                  # one parse for old and new rows: the same types
     present = set(table["input"])
     table = table.set_index("input").reindex([k for k in keys if k in present]).reset_index()

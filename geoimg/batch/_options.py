@@ -13,6 +13,7 @@ from .._convert import POOR_HAUSDORFF, POOR_PSNR_DB
 from .._options import ConversionOptions, check_choice, plain_number
 from .. import __version__
 from .._steps import check_steps
+from ..spectrum._transform import check_lmax
 from ..errors import InputError, InputTypeError
 
 __all__ = ["ConvertOptions", "QUAD_FORMATS"]
@@ -47,6 +48,9 @@ class ConvertOptions(ConversionOptions):
         Below this PSNR (dB) an input is marked ``poor``.
     max_hausdorff : float
         Above this Hausdorff distance (a share of the diagonal) an input is marked ``poor``.
+    harmonics : int or None
+        Also expand each image in spherical harmonics to this degree (``NAME_sh.npz`` beside it; the batch's
+        coefficient table gathers them): closed genus-0 inputs only, others refused; ``method`` auto or sphere.
 
     Raises
     ------
@@ -71,6 +75,7 @@ class ConvertOptions(ConversionOptions):
     psnr: bool = True
     min_psnr: float = POOR_PSNR_DB
     max_hausdorff: float = POOR_HAUSDORFF
+    harmonics: int | None = None
 
     def __post_init__(self):
         super().__post_init__()
@@ -91,6 +96,11 @@ class ConvertOptions(ConversionOptions):
         check_choice("mode", self.mode, filters.PAD_MODES, optional=True)
         check_choice("quads_format", self.quads_format, QUAD_FORMATS)
         object.__setattr__(self, "steps", check_steps(self.steps))
+        if self.harmonics is not None:
+            object.__setattr__(self, "harmonics", check_lmax(self.harmonics))
+            if self.method not in ("auto", "sphere"):
+                raise InputError(f"harmonics: the spectrum is of the sphere map; method {self.method!r} makes none "
+                                 "(use auto or sphere)")
 
     def image_options(self) -> dict:
         """The keyword arguments of :func:`geoimg.mesh_to_images`.

@@ -17,12 +17,17 @@ import numpy as np
 from .._atomic import write_all
 from .._convert import _timed, mesh_to_images, poor_reason
 from .._steps import apply_steps
-from ..errors import GeoimgError
+from ..errors import GeoimgError, MeshError
+from ..image import OctahedralDomain
+from ..spectrum import harmonics
+from ..spectrum._harmonics import require_sphere_topology
 from ..mesh import Mesh, load_mesh, mesh_file_jobs, surface_distance, topology
 from ._options import ConvertOptions
 from ._store import write_item
 
-__all__ = ["Job", "run_job", "warnings_cell", "PSNR_SAMPLES", "WARNINGS_CELL"]
+__all__ = ["Job", "run_job", "warnings_cell", "PSNR_SAMPLES", "WARNINGS_CELL", "SPECTRUM_SUFFIX"]
+
+SPECTRUM_SUFFIX = "_sh.npz"    # an input's harmonics, beside its image
 
 PSNR_SAMPLES = 10000          # area samples on each surface for the quad mesh's distance to the input: ±0.2 dB,
                               # but up to 1.2 dB where the error sits in a few spikes (trimesh's mode5.gltf)
@@ -114,6 +119,19 @@ def _outputs(job: Job, images) -> list[tuple[Path, object]]:
     return jobs
 
 
+def _harmonics(images, lmax: int | None, timings: dict):
+    """The harmonics of a batch input's one octahedral image (None when not asked for)."""
+    if lmax is None:
+        return None
+    if len(images) != 1 or not isinstance(images[0].domain, OctahedralDomain):
+        raise MeshError(f"harmonics need one closed genus-0 piece, mapped onto the sphere; this input gave "
+                        f"{' and '.join(img.domain.kind for img in images)} images")
+    with _timed(timings, "harmonics"):
+        h = harmonics(images[0], lmax)
+    h.metadata["source"] = images[0].metadata.get("source", "")
+    return h
+
+
 def run_job(job: Job) -> dict:
     """Convert one input as ``job`` says and return its manifest row (see :data:`COLUMNS`)."""
     opts = job.options
@@ -129,8 +147,11 @@ def run_job(job: Job) -> dict:
                 mesh = load_mesh(job.input)
             top = topology(mesh)
             row.update(vertices=mesh.n_vertices, faces=mesh.n_faces, topology=top.describe())
+            if opts.harmonics and opts.component == "all":
+                require_sphere_topology(mesh)                   # refused before the conversion
             images = mesh_to_images(mesh, opts.resolution, timings=timings, **{
                 k: v for k, v in opts.image_options().items() if k != "resolution"})
+            spectra = _harmonics(images, opts.harmonics, timings)
             for image in images:
                 image.metadata["source"] = Path(job.input).name
             if opts.steps:
@@ -139,6 +160,8 @@ def run_job(job: Job) -> dict:
             with _timed(timings, "write"):
                 Path(job.stem).parent.mkdir(parents=True, exist_ok=True)
                 outputs = _outputs(job, images)
+                if spectra is not None:
+                    outputs.append((Path(job.stem + SPECTRUM_SUFFIX), lambda tmp: spectra.save(tmp, overwrite=True)))
                 files = write_all(outputs, overwrite=True)             # all of this input's files, or none
                 if job.store is not None:
                     write_item(job.store, job.index, images[0])

@@ -38,7 +38,8 @@ from ..mesh import Mesh, load_mesh, topology
 from ..parametrization._octahedral import sphere_to_square
 from ._transform import analyze, check_lmax, degree_power, grid_directions, grid_shape, synthesize
 
-__all__ = ["Harmonics", "harmonics", "load_harmonics", "default_resolution", "IMAGE_SUFFIXES"]
+__all__ = ["Harmonics", "harmonics", "load_harmonics", "default_resolution", "require_sphere_topology",
+           "IMAGE_SUFFIXES"]
 
 IMAGE_SUFFIXES = (".exr", ".npz", ".npy", ".tif", ".tiff")
 COORDINATES = "xyz"
@@ -328,6 +329,17 @@ def load_harmonics(path: Any) -> Harmonics:
         raise ImageFileError(f"{path}: {e}") from None
 
 
+def require_sphere_topology(mesh: Mesh) -> None:
+    """Refuse, in one line that says what to do, a mesh that is not one closed genus-0 piece (no sphere map)."""
+    topo = topology(mesh)
+    if not (topo.closed and topo.components == 1 and topo.genus == 0):
+        advice = ("take one piece first (geoimg image --component)" if topo.components != 1 else
+                  "close its holes first" if not topo.closed else
+                  "a surface with handles has no map onto the sphere (its cut-open image has no spectrum)")
+        raise MeshError(f"harmonics need a closed genus-0 surface (one piece, no boundary, no handle); this mesh "
+                        f"is {topo.describe()}: {advice}")
+
+
 def _sphere_image(source: Any, lmax: int, resolution: int | None,
                   progress: Progress | None) -> tuple[GeometryImage, Mesh | None]:
     """The octahedral image to analyse, and the mesh it was made of (None for an image)."""
@@ -343,13 +355,7 @@ def _sphere_image(source: Any, lmax: int, resolution: int | None,
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"source: expected a closed genus-0 Mesh, an octahedral GeometryImage or a file, got "
                              f"{type(source).__name__}")
-    topo = topology(mesh)
-    if not (topo.closed and topo.components == 1 and topo.genus == 0):
-        advice = ("take one piece first (geoimg image --component)" if topo.components != 1 else
-                  "close its holes first" if not topo.closed else
-                  "a surface with handles has no map onto the sphere (its cut-open image has no spectrum)")
-        raise MeshError(f"harmonics need a closed genus-0 surface (one piece, no boundary, no handle); this mesh "
-                        f"is {topo.describe()}: {advice}")
+    require_sphere_topology(mesh)
     n = default_resolution(lmax) if resolution is None else int(resolution)
     check_memory(4.0 * n * n * 12, f"a {n} x {n} octahedral image for the harmonics")
     return mesh_to_image(mesh, n, method="sphere", progress=progress), mesh

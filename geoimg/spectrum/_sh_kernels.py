@@ -84,3 +84,23 @@ def synthesize_points(coeffs, x, phi, a, b, out):
                 for deg in range(m, lmax + 1):
                     total += (coeffs[k, 0, deg, m] * c + coeffs[k, 1, deg, m] * s) * p[deg, m]
             out[n, k] = total
+
+
+@njit(cache=True, parallel=True)
+def row_sums(coeffs, x, a, b, out):
+    """``out[j, k, m, 0 | 1] = sum_deg coeffs[k, 0 | 1, deg, m] P_deg,m(x[j])``: each row's Fourier
+    coefficients in longitude (one row a thread: no shared sums).
+    """
+    lmax = coeffs.shape[2] - 1
+    for j in prange(x.shape[0]):
+        p = np.empty((lmax + 1, lmax + 1))
+        legendre_bar(x[j], a, b, p)
+        for k in range(coeffs.shape[0]):
+            for m in range(lmax + 1):
+                sa = 0.0
+                sb = 0.0
+                for deg in range(m, lmax + 1):
+                    sa += coeffs[k, 0, deg, m] * p[deg, m]
+                    sb += coeffs[k, 1, deg, m] * p[deg, m]
+                out[j, k, m, 0] = sa
+                out[j, k, m, 1] = sb

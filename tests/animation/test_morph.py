@@ -431,3 +431,58 @@ def test_gif_frames_share_one_palette_and_read_back_close(tmp_path):
         with pytest.raises(geoimg.InputError, match=message):
             save_animation(**bad)
     assert not (tmp_path / "b.gif").exists()
+
+
+def _turned_and_moved(mesh, degrees=(40.0, -25.0, 70.0), shift=(0.3, -0.2, 0.5)):
+    turn = Rotation.from_euler("xyz", degrees, degrees=True)
+    return geoimg.Mesh(turn.apply(np.array(mesh.vertices)) + np.asarray(shift), mesh.faces)
+
+
+def test_spectral_morph_matches_spheres_by_the_ellipsoids_and_leaves_shapes_in_place():
+    from geoimg.mesh import surface_distance
+    from geoimg.spectrum import harmonics, synthesize
+    a = load_data("spot_low_resolution.obj")
+    h = harmonics(a, 8)
+    own = h.to_image(65)
+    # the same shape with its sphere turned: as image keys they do not correspond; through the ellipsoids they do
+    turn = Rotation.from_euler("xyz", (40.0, -25.0, 70.0), degrees=True).as_matrix()
+    d = own.domain.directions(65).reshape(-1, 3)
+    turned = geoimg.GeometryImage(synthesize(h.coeffs, d @ turn.T).reshape(65, 65, 3).astype(np.float32), None,
+                                  own.domain)
+    m = morph(own, turned, frames=3, easing="linear", spectral=8, resolution=65, align="none")
+    first, mid, last = (f.pixels.astype(np.float64) for f in m.frames())
+    radius = np.linalg.norm(first - first.reshape(-1, 3).mean(axis=0), axis=2).mean()
+    assert np.abs(last - first).max() < 0.01 * radius                  # one shape: the morph stands still
+    assert np.allclose(mid, 0.5 * (first + last), atol=1e-5)          # blending images = blending coefficients
+    assert abs(m.report[1]["sphere_turn_deg"] - m.report[0]["sphere_turn_deg"]) > 1.0
+    plain = morph(own, turned, frames=3, easing="linear", resolution=65, align="none", rotate=False)
+    assert np.abs(plain.frame(1.0).pixels - plain.frame(0.0).pixels).max() > 0.3 * radius
+    # a mesh turned and moved stays where it is (the ellipsoids match the spheres, not the objects)
+    b = _turned_and_moved(a)
+    m = morph(a, b, frames=2, spectral=8, resolution=65, align="none")
+    for key, frame in ((a, m.frame(0.0)), (b, m.frame(1.0))):
+        assert surface_distance(key, frame.to_mesh(), n=20000)["psnr_db"] > 35      # degree 8 of spot: ~41 dB
+    assert m.report[1]["harmonics_lmax"] == 8
+
+
+def test_spectral_morph_needs_spheres_and_no_landmarks(spots, terrain):
+    a = load_data("spot_low_resolution.obj")
+    with pytest.raises(ValueError, match="lmax"):
+        morph(a, a, spectral=0)
+    with pytest.raises(ValueError, match="landmarks"):
+        morph(a, a, spectral=4, landmarks=[(0, 0), (1, 1), (2, 2)])
+    with pytest.raises(ValueError, match="octahedral"):
+        morph(spots[0], terrain, spectral=4)
+    with pytest.raises(ValueError, match="genus-0"):
+        morph(a, load_data("torus.obj"), spectral=4)
+
+
+def test_morph_command_spectral(tmp_path, capsys):
+    a = data_file("spot_low_resolution.obj")
+    out = tmp_path / "frames"
+    assert main(["morph", str(a), str(a), "--spectral", "4", "--frames", "3", "--frames-dir", str(out),
+                 "--res", "33"]) == 0
+    assert len(list(out.glob("frame_*.obj"))) == 3 and "ellipsoid" in capsys.readouterr().out
+    for bad in (["--spectral", "0"], ["--spectral", "4", "--landmarks", "auto"]):
+        assert main(["morph", str(a), str(a), "--frames-dir", str(tmp_path / "no"), *bad]) == 2
+        assert not (tmp_path / "no").exists()

@@ -51,6 +51,33 @@ def test_analysis_inverts_synthesis_for_band_limited_functions(lmax):
     assert np.allclose(np.linalg.norm(d, axis=2), 1.0)
 
 
+@pytest.mark.parametrize("lmax", [3, 24])
+def test_rows_are_synthesized_exactly(lmax):
+    from geoimg.spectrum import synthesize_rows
+    c = _random_coeffs(2, lmax, seed=3)
+    x = np.array([1.0, 0.7, 0.0, -0.3, -1.0])
+    cols = 2 * lmax + 3
+    phi = 2 * np.pi * np.arange(cols) / cols
+    s = np.sqrt(1 - x * x)
+    d = np.stack([s[:, None] * np.cos(phi), s[:, None] * np.sin(phi), np.broadcast_to(x[:, None], (5, cols))], -1)
+    assert np.abs(synthesize_rows(c, x, cols) - synthesize(c, d.reshape(-1, 3)).reshape(5, cols, 2)).max() < 1e-11
+    with pytest.raises(ValueError, match="cannot hold"):
+        synthesize_rows(c, x, 2 * lmax)
+
+
+@pytest.mark.parametrize("lmax, decay, tolerance", [(8, 2, 1e-6), (40, 2, 2e-6), (40, 0, 3e-5)])
+def test_many_points_are_interpolated_within_the_stated_error(lmax, decay, tolerance, monkeypatch):
+    import geoimg.spectrum._transform as transform
+    c = _random_coeffs(3, lmax, seed=5) / (1.0 + np.arange(lmax + 1))[None, None, :, None] ** decay
+    d = np.random.default_rng(2).normal(size=(4000, 3))
+    d = np.vstack([d, [[0, 0, 1], [0, 0, -1], [1e-7, 0, 1], [0.01, -0.02, -1], [1, 0, 0], [0, -1, 1e-9]]])
+    exact = synthesize(c, d)
+    monkeypatch.setattr(transform, "EXACT_TERMS", 0)                   # every call takes the grid's path
+    fast = synthesize(c, d)
+    error = np.abs(fast - exact).max() / np.abs(exact).max()
+    assert 0 < error < tolerance
+
+
 def test_the_unit_sphere_is_degree_one_alone():
     domain = geoimg.OctahedralDomain()
     ball = geoimg.GeometryImage(domain.directions(257).astype(np.float32), None, domain)
