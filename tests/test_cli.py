@@ -82,6 +82,7 @@ def test_boundary_option_for_disk_meshes(tmp_path, capsys):
     assert "reflex" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_balance_option_for_disk_meshes(tmp_path, capsys):
     finger = write(meshes.finger(), tmp_path / "finger.obj")
     flags = ("area", "slim", "none")
@@ -109,6 +110,7 @@ def test_balance_option_for_disk_meshes(tmp_path, capsys):
             assert not (tmp_path / "x.exr").exists()
 
 
+@pytest.mark.slow
 def test_os_errors_are_one_line_and_a_closed_pipe_is_quiet(tmp_path, capsys, monkeypatch):
     folder = tmp_path / "a_folder.exr"
     folder.mkdir()
@@ -250,6 +252,7 @@ def test_outputs_are_checked_before_any_work(tmp_path, monkeypatch, capsys, argv
     assert message in err and ".tmp" not in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_progress_off_a_terminal_only_when_asked(tmp_path, capsys):
     out = tmp_path / "m.exr"
     assert main(["image", str(MOUNTAIN), "-o", str(out), "--res", "16"]) == 0

@@ -16,12 +16,15 @@ from geoimg import cli
 from helpers import DATA
 from meshes import cap, write
 
+pytestmark = pytest.mark.slow           # processes under many thread counts: the full run
+
 RES = 65
 THREAD_VARIABLES = ("NUMBA_NUM_THREADS", "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 HASHES = """
 import hashlib, json, sys, warnings
 import numpy as np
 import geoimg
+
 warnings.simplefilter("ignore")
 out = {}
 for path in sys.argv[1:]:

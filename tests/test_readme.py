@@ -24,6 +24,8 @@ import pytest
 
 from geoimg.cli import main
 
+pytestmark = pytest.mark.slow           # a page, a sample, a batch, a fuzzing run or a real mesh: the full run
+
 ROOT = Path(__file__).resolve().parents[1]
 SET_UP = ("python3 -m venv", ". .venv/bin/activate", "pip install", "python -m pytest", "python -m mypy")
 GUIDES = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "docs" / "guide").glob("*.md"))
@@ -39,6 +41,7 @@ OUTPUTS = {
     "docs/guide/formats.md": ["mountain.npz", "rgba.exr", "approx.obj", "spot.glb"],
     "docs/guide/python.md": ["terrain_quads.obj", "terrain_morph.gif"],
     "docs/guide/resolution.md": ["faithful.exr", "smooth.exr", "paper.exr"],
+    "docs/guide/harmonics.md": ["spot_sh.npz", "spot_l16.obj", "run/harmonics.parquet"],
 }
 
 

@@ -22,6 +22,8 @@ from checks import (
     surface_to_vertices_rms,
 )
 
+pytestmark = pytest.mark.slow           # a page, a sample, a batch, a fuzzing run or a real mesh: the full run
+
 
 @pytest.mark.parametrize("name", real_meshes("mountain.obj", "open_disk/hemisphere.off"))
 @pytest.mark.parametrize("sliver_rule", ["robust", "paper"])

@@ -4,6 +4,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.slow           # a page, a sample, a batch, a fuzzing run or a real mesh: the full run
+
 SAMPLES = Path(__file__).resolve().parents[1] / "samples"
 
 

@@ -293,6 +293,7 @@ def _pixel_of(direction, n):
     return int(round(uv[1] * (n - 1))), int(round(uv[0] * (n - 1)))
 
 
+@pytest.mark.slow
 def test_landmarks_make_features_meet_and_do_better_than_the_rigid_turn():
     from scipy.spatial import cKDTree
     from geoimg.mesh import suggest_landmarks
@@ -367,6 +368,7 @@ def test_morph_command_reads_a_landmarks_file(tmp_path, capsys):
         assert message in capsys.readouterr().err and not (tmp_path / "n.glb").exists()
 
 
+@pytest.mark.slow
 def test_auto_landmarks_pair_the_same_features_and_say_which(tmp_path, capsys):
     a, b = load_data("spot_low_resolution.obj"), geoimg.load_mesh(data_file("spot.obj"))
     m = morph(a, b, frames=2, resolution=65, align="none", landmarks="auto")

@@ -1,7 +1,9 @@
 """Coverage-guided fuzzing of geoimg's file readers with atheris (libFuzzer for Python).
 
 One harness per format: ``python tests/fuzz/fuzz_readers.py FORMAT [libFuzzer options] [CORPUS ...]``,
-FORMAT one of :data:`FORMATS`. Each input is written to a file of that format's suffix and read by
+FORMAT one of :data:`FORMATS`, or ``all``: every format in one process, the first byte of an input choosing
+which (one start-up for the suite's short run instead of ten). Each input is written to a file of that
+format's suffix and read by
 :func:`geoimg.load_mesh` or :func:`geoimg.load_image`; the seeds are made from the bundled meshes by
 geoimg's own writers (``--seeds DIR`` writes them and stops; an empty or missing corpus folder is filled
 with them before the run). A clean :class:`geoimg.GeoimgError` (or a
@@ -15,7 +17,7 @@ image is refused by geoimg before anything is allocated.
 
 Examples
 --------
-A minute in all for the CI (``tests/test_fuzz.py``), ten minutes a format for the record
+Seconds of ``all`` for the CI (``tests/test_fuzz.py``), ten minutes a format for the record
 (``benchmarks/bench_fuzz.py``)::
 
     python tests/fuzz/fuzz_readers.py obj -max_total_time=600 -rss_limit_mb=3072 -timeout=20 corpus/obj
@@ -36,11 +38,23 @@ ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "data"
 FORMATS = ("obj", "off", "ply", "stl", "glb", "gltf", "exr", "npz", "npy", "tif")
 IMAGES = ("exr", "npz", "npy", "tif")
+MIXED = "all"              # every format, the first byte of an input choosing which
 
 
 def write_seeds(fmt: str, folder: Path) -> list[Path]:
     """Small valid files of format ``fmt`` in ``folder``, made from the bundled meshes: a quad, a polygon
-    mesh, a textured or coloured mesh, a binary and an ASCII variant where the format has both."""
+    mesh, a textured or coloured mesh, a binary and an ASCII variant where the format has both. For
+    ``all``: every format's, each behind the byte that chooses its format."""
+    if fmt == MIXED:
+        folder.mkdir(parents=True, exist_ok=True)
+        mixed = []
+        for k, one in enumerate(FORMATS):
+            with tempfile.TemporaryDirectory() as tmp:
+                for seed in write_seeds(one, Path(tmp)):
+                    target = folder / f"{one}-{seed.name}"
+                    target.write_bytes(bytes([k]) + seed.read_bytes())
+                    mixed.append(target)
+        return mixed
     import numpy as np
 
     import geoimg
@@ -118,12 +132,15 @@ def _write_gltf(path: Path, points, index, code: int) -> Path:
 
 
 def make_target(fmt: str):
-    """The function that libFuzzer calls with each input: read it as a ``fmt`` file; raise on a finding."""
+    """The function that libFuzzer calls with each input: read it as a ``fmt`` file (for ``all``, as the
+    format its first byte chooses, from the rest); raise on a finding."""
     import geoimg
 
-    read = geoimg.load_image if fmt in IMAGES else geoimg.load_mesh
-    folder = Path(tempfile.mkdtemp(prefix=f"geoimg-fuzz-{fmt}-"))
-    path = folder / f"input.{fmt}"
+    formats = FORMATS if fmt == MIXED else (fmt,)
+    readers = {}
+    for one in formats:
+        folder = Path(tempfile.mkdtemp(prefix=f"geoimg-fuzz-{one}-"))
+        readers[one] = (folder / f"input.{one}", geoimg.load_image if one in IMAGES else geoimg.load_mesh)
     logged: list[logging.LogRecord] = []
 
     class Traceback(logging.Handler):            # a library's logged traceback looks like a crash to a user
@@ -135,6 +152,13 @@ def make_target(fmt: str):
     logging.lastResort = None
 
     def one_input(data: bytes) -> None:
+        if fmt == MIXED:
+            if not data:
+                return
+            one, data = formats[data[0] % len(formats)], data[1:]
+        else:
+            one = fmt
+        path, read = readers[one]
         path.write_bytes(data)
         logged.clear()
         with warnings.catch_warnings():
@@ -146,15 +170,15 @@ def make_target(fmt: str):
         if logged:
             record = logged[0]
             raise RuntimeError(f"a library logged {logging.getLevelName(record.levelno)} {record.name}: "
-                               f"{record.getMessage()} (traceback: {bool(record.exc_info)})")
+                               f"{record.getMessage()} (traceback: {bool(record.exc_info)}) reading a {one} file")
 
     return one_input
 
 
 def main(argv: list[str]) -> None:
-    if len(argv) < 2 or argv[1] not in FORMATS:
+    if len(argv) < 2 or argv[1] not in FORMATS + (MIXED,):
         sys.exit(f"usage: {argv[0]} FORMAT [libFuzzer options] [CORPUS ...] | --seeds DIR; FORMAT one of "
-                 f"{', '.join(FORMATS)}")
+                 f"{', '.join(FORMATS)}, or {MIXED}")
     fmt = argv[1]
     if len(argv) == 4 and argv[2] == "--seeds":
         print("\n".join(str(p) for p in write_seeds(fmt, Path(argv[3]))))

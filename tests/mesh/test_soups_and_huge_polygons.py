@@ -145,6 +145,7 @@ def test_small_polygons_split_as_before():
     assert poly.triangulate()[0].tolist() == [[0, j, j + 1] for j in range(1, LARGE_POLYGON - 1)]
 
 
+@pytest.mark.slow
 def test_a_100000_corner_polygon_converts(tmp_path):
     k = 100_000
     a = np.linspace(0, 2 * np.pi, k, endpoint=False)

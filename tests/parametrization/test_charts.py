@@ -145,6 +145,7 @@ def test_auto_takes_charts_only_where_one_chart_starves():
     assert _image_error(mesh, charts) > _image_error(mesh, cut)
 
 
+@pytest.mark.slow
 def test_auto_takes_charts_for_a_disk_whose_map_starves_most_of_it():
     # a tube 80 times as long as it is wide, open at one end: the disk map gives its far end almost nothing
     # (76 % of the surface starved; 17.9 dB at 129^2), the charts give every part its share (80.4 dB)
@@ -286,6 +287,7 @@ def test_a_layout_that_would_not_weld_is_refused():
         d.glue((5, 11))
 
 
+@pytest.mark.slow
 def test_points_of_an_image_lie_on_the_mesh():
     mesh = load_data("plate_holes.STL")
     img = geoimg.mesh_to_image(mesh, 129, parametrization=_charts(mesh, charts=4))
@@ -306,6 +308,7 @@ def test_a_mesh_of_few_faces_is_not_split_into_single_triangles():
     assert d["hausdorff_rel"] < 0.01 and d["psnr_db"] > 60
 
 
+@pytest.mark.slow
 def test_the_starved_share_of_charts_is_of_the_image_they_share():
     # the squares differ in size: a triangle's share of the image is its area in the layout, not in its own
     # chart's unit square (the lion statue of odedstein/meshes: 56 % starved by the latter, 0.3 % by the former)
@@ -317,6 +320,7 @@ def test_the_starved_share_of_charts_is_of_the_image_they_share():
     assert p.info["starved_share"] == pytest.approx(want, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_a_narrow_surface_agrees_with_itself_across_glued_sides():
     # The surface at a chart's border sees copies of the twin's faces beyond it (ghosts). A face near the end of
     # a twin piece was copied too, and its copy spilled beside the next piece: on the plate at s = 1e-4 (the

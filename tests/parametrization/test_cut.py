@@ -210,6 +210,7 @@ def test_a_singular_placement_is_a_parametrization_error():
         solve_free(w, np.array([0]), np.zeros((1, 2)), np.array([1, 2, 3]))
 
 
+@pytest.mark.slow
 def test_a_cad_plate_keeps_the_start_that_squeezes_its_fans_less(monkeypatch):
     # trimesh's plate_holes.STL (genus 5, 1,252 triangles in long fans): the mean-value weights squeeze the
     # fans, the area balancing does not undo it; Tutte's uniform weights start wider (measured at 129^2:

@@ -28,6 +28,7 @@ def spikes():
     return mesh
 
 
+@pytest.mark.slow
 def test_a_large_mesh_is_mapped_through_a_coarse_copy(spikes):
     before = spikes.vertices.copy()
     s, info = sphere_coords(spikes)

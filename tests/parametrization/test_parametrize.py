@@ -57,6 +57,7 @@ def test_auto_refuses_what_no_parametrization_takes_and_says_why(make, words):
     assert "heightfield: " in str(err.value)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("make", [lambda: load_data("torus.obj"), lambda: load_data("bob_tri.obj"),
                                   meshes.holey_sphere])
 def test_auto_cuts_open_what_is_neither_a_disk_nor_a_sphere(make):

@@ -188,6 +188,7 @@ def test_simplification_keeps_a_closed_manifold_and_collapses_shortest_edges_fir
     assert np.median(np.diff(lengths) >= 0) == 1       # mostly in order (refusals and new edges aside)
 
 
+@pytest.mark.slow
 def test_coarse_to_fine_placement_matches_the_numpy_reference():
     """Every returning vertex of a coarse-to-fine map lands bit for bit where the numpy reference puts it,
     from a map that is only put back (never relaxed) as from one relaxed on the way; both sides see the

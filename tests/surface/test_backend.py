@@ -75,6 +75,7 @@ def _compare_kernels(simulated: bool, scale: int) -> list:
     return __import__("json").loads(res.stdout.strip().splitlines()[-1])
 
 
+@pytest.mark.slow
 def test_cuda_kernel_matches_the_cpu_kernel():
     """In numba's CUDA simulator everywhere, and where a CUDA GPU is usable (never in CI) on it too, with
     five times the pixels along each side."""

@@ -28,6 +28,7 @@ def ball():
     return mesh, parametrize(mesh)
 
 
+@pytest.mark.slow
 def test_the_plane_surface_tends_to_the_mesh_itself_as_s_falls(mountain):
     """The terrain at random points: the largest distance to the mesh falls monotonically with s, about in
     proportion (only points within a few sigma of an edge move: the crease is rounded over sigma); at its
@@ -403,6 +404,7 @@ def test_the_edge_table_is_phi_and_its_slope_is_the_interpolants():
         assert abs(c * r - fd) < 1e-9        # the differences err by about 1e-16 / h
 
 
+@pytest.mark.slow
 def test_the_exact_sum_leaves_out_only_terms_that_underflow():
     # far from the mesh (a charts image's gutters) the truncated sum cannot certify a point, which is summed over
     # every triangle in the log domain; a triangle whose bound lies 800 below the largest log weight is skipped
