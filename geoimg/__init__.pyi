@@ -14,5 +14,6 @@ from .image import (ChartsDomain as ChartsDomain, CutDomain as CutDomain, Domain
 from .surface import (Surface as Surface, fit_surface as fit_surface)
 from ._convert import (mesh_to_image as mesh_to_image, mesh_to_images as mesh_to_images)
 from ._options import ConversionOptions as ConversionOptions
+from ._compress import (Compressed as Compressed, compress as compress)
 from .spectrum import (Harmonics as Harmonics, harmonics as harmonics, load_harmonics as load_harmonics)
 __version__: str

@@ -12,6 +12,8 @@ __all__ = [
     "COMPONENT_CHOICES",
     "ASSUMABLE_DOMAINS",
     "IMAGE_FORMATS",
+    "COMPRESSED_FORMATS",
+    "READ_IMAGE_FORMATS",
     "EXR_LAYOUTS",
     "PARAMETRIZATION_METHODS",
     "AXES",
@@ -36,6 +38,8 @@ MESH_READ_FORMATS = MESH_FORMATS + (".gltf",)                          # read on
 QUAD_FORMATS = tuple(f.lstrip(".") for f in MESH_FORMATS if f in (".obj", ".ply", ".off"))    # formats that keep quads
 COMPONENT_CHOICES = ("all", "largest")
 IMAGE_FORMATS = (".exr", ".npz", ".tif", ".tiff", ".npy")
+COMPRESSED_FORMATS = (".jp2",)                  # written by geoimg compress, read as any geometry image
+READ_IMAGE_FORMATS = IMAGE_FORMATS + (".png",) + COMPRESSED_FORMATS     # .png: a preview, with --approximate
 EXR_LAYOUTS = ("geoimg", "rgba")      # the mask as channel "mask", or as "A" (alpha) for compositing tools
 ASSUMABLE_DOMAINS = ("planar", "octahedral")     # a cut-open image cannot be read without its recorded layout
 PARAMETRIZATION_METHODS = ("auto", "uv", "heightfield", "disk", "sphere", "cut", "charts")

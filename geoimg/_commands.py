@@ -13,6 +13,8 @@ from pathlib import Path
 import numpy as np
 
 import filters
+from ._choices import COMPRESSED_FORMATS, READ_IMAGE_FORMATS
+from ._compress import compress
 from ._convert import COMPONENT_CHOICES, measure_fidelity, mesh_to_image, mesh_to_images
 from ._options import ConversionOptions
 from ._atomic import check_writable, write_all
@@ -86,7 +88,7 @@ def _read_image(path, args):
 
 def _load_shape(path, args):
     """A mesh file or a geometry image (.exr, .npz, or a preview .png with --approximate)."""
-    return _read_image(path, args) if Path(path).suffix.lower() in IMAGE_FORMATS + (".png",) else load_mesh(path)
+    return _read_image(path, args) if Path(path).suffix.lower() in READ_IMAGE_FORMATS else load_mesh(path)
 
 
 def _numbered(path, k: int, many: bool) -> Path | None:
@@ -180,6 +182,28 @@ def cmd_harmonics(args) -> int:
     return 0
 
 
+def cmd_compress(args) -> int:
+    if (args.bytes is None) == (args.psnr is None):
+        raise InputError("give --bytes N (a budget) or --psnr DB (an error to reach), one of the two")
+    _check_outputs(args.force, (args.output, COMPRESSED_FORMATS, "the compressed image"))
+    progress = Progress(args.quiet, always=args.progress)
+    source = Path(args.input)
+    made = compress(source, args.output, max_bytes=args.bytes, psnr=args.psnr, resolutions=args.res,
+                    overwrite=args.force, progress=progress)
+    if not args.quiet:
+        n = made.image.shape
+        against = "the input image" if source.suffix.lower() in READ_IMAGE_FORMATS else "the mesh"
+        budget = f" (budget {args.bytes})" if args.bytes else ""
+        print(f"wrote {args.output}: {made.nbytes} bytes{budget}, a {n[1]} x {n[0]} {made.image.domain.kind} "
+              f"image, PSNR to {against} {made.psnr_db:.1f} dB")
+        for t in made.tried:
+            what = (f"{t['bytes']} bytes, {t['psnr_db']} dB" if "bytes" in t else
+                    f"needs at least {t['least_bytes']} bytes" if "least_bytes" in t else
+                    f"at best {t['best_psnr_db']} dB")
+            print(f"  {t['resolution']} x {t['resolution']}: {what}")
+    return 0
+
+
 def _component(text: str) -> str | int:
     if text in COMPONENT_CHOICES:
         return text
@@ -231,7 +255,7 @@ def _point(p) -> str:
 
 def cmd_info(args) -> int:
     path = Path(args.file)
-    if path.suffix.lower() in IMAGE_FORMATS + (".png",):
+    if path.suffix.lower() in READ_IMAGE_FORMATS:
         img = _read_image(path, args)
         H, W = img.shape
         print(

@@ -9,7 +9,7 @@ __all__ = ["require", "MissingDependency"]
 
 EXTRAS = {"moderngl": "render", "imageio": "render", "pygltflib": "render", "imageio_ffmpeg": "video",
           "dask": "batch", "distributed": "batch", "zarr": "batch", "pandas": "batch", "psutil": "batch",
-          "pyarrow": "batch"}
+          "pyarrow": "batch", "imagecodecs": "compress"}
 
 
 def require(module: str, what: str):

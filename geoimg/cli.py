@@ -105,6 +105,10 @@ EXAMPLES = {
         "geoimg harmonics spot.obj --lmax 32 -o spot_sh.npz --mesh spot_l32.obj",
         "geoimg harmonics spot.exr --lmax 16 -o sh.npz --image spot_l16.exr --res 257",
     ],
+    "compress": [
+        "geoimg compress bunny.obj -o bunny.jp2 --bytes 4000      # the least error in 4,000 bytes",
+        "geoimg compress spot.obj -o spot.jp2 --psnr 65 --res 129 257   # the fewest bytes for 65 dB",
+    ],
     "landmarks": [
         "geoimg landmarks spot.obj -o spot_points.csv --picture spot_points.png",
         "geoimg landmarks armadillo.obj -o points.csv --count 12 --azimuth 180",
@@ -552,6 +556,20 @@ COMMANDS: dict[str, Command] = {
                 help="side of the image analysed (for a mesh) and rebuilt (default: the smallest 2^k + 1 of at "
                 "least max(257, 8 L))"),
             arg("--force", action="store_true", help="overwrite existing files"),
+        ],
+    ),
+    "compress": Command(
+        "a shape as a JPEG 2000 geometry image: the least error in N bytes",
+        ("common",),
+        [
+            arg("input", help=f"a mesh, or a geometry image ({_IMAGES}: coded at its own size)"),
+            arg("-o", "--output", required=True, help="output .jp2 (read back by geoimg mesh, info, load_image)"),
+            arg("--bytes", type=_positive(int), default=None, metavar="N", help="the budget: at most N bytes"),
+            arg("--psnr", type=_positive(float), default=None, metavar="DB",
+                help="instead: the fewest bytes whose shape is DB dB from the input"),
+            arg("--res", type=_positive(int), nargs="+", default=None, metavar="R",
+                help="the sides to try for a mesh (default 65 129 257 513); the best is kept"),
+            arg("--force", action="store_true", help="overwrite an existing file"),
         ],
     ),
     "info": Command(

@@ -42,6 +42,7 @@ OUTPUTS = {
     "docs/guide/python.md": ["terrain_quads.obj", "terrain_morph.gif"],
     "docs/guide/resolution.md": ["faithful.exr", "smooth.exr", "paper.exr"],
     "docs/guide/harmonics.md": ["spot_sh.npz", "spot_l16.obj", "run/harmonics.parquet"],
+    "docs/guide/compress.md": ["spot.jp2", "spot_from_jp2.obj", "spot55.jp2", "spot_py.jp2"],
 }
 
 

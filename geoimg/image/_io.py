@@ -16,6 +16,7 @@ from ..errors import GeoimgError, ImageFileError, InputError, InputTypeError
 from ._domain import Domain
 from ._image import (COLOR_CHANNELS, IMAGE_FORMATS, NPY_SIDECAR, PREVIEW_LEVELS, TIFF_DESCRIPTION,
                      GeometryImage)
+from ._jp2 import read_jp2
 from ._npz import read_npy, read_npz
 from .._types import PathLike, as_path
 
@@ -120,7 +121,9 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
     geoimg's metadata (an EXR or TIFF from another program, arrays saved by hand) is refused unless ``assume`` names
     its domain (``"planar"`` or
     ``"octahedral"``); it is then read with a warning. A 16-bit PNG preview written by geoimg is read,
-    as approximate geometry (its recorded offset and step), only with ``approximate=True``.
+    as approximate geometry (its recorded offset and step), only with ``approximate=True``. A ``.jp2`` file
+    written by :func:`geoimg.compress` is read through its recorded quantization, its glued pixels welded
+    (needs ``imagecodecs``, the ``compress`` extra).
 
     Raises
     ------
@@ -133,7 +136,8 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
     Parameters
     ----------
     path : path-like
-        An ``.exr``, ``.npz``, ``.tif``/``.tiff`` or ``.npy`` file (or a geoimg ``.png`` preview).
+        An ``.exr``, ``.npz``, ``.tif``/``.tiff`` or ``.npy`` file (or a geoimg ``.png`` preview, or a
+        compressed ``.jp2``).
     assume : {"planar", "octahedral"} or None
         The domain of a file without geoimg's metadata.
     approximate : bool
@@ -161,6 +165,8 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
         return _load_npy(path, assume)
     if suffix == ".png":
         return _load_preview(path, approximate)
+    if suffix == ".jp2":
+        return read_jp2(path)
     floats = "its pixels are integers, not coordinates: a preview or picture cannot become geometry (geometry " \
              "images are float files written by geoimg)"
     if suffix in (".tif", ".tiff"):

@@ -1,0 +1,141 @@
+"""Shapes compressed into JPEG 2000 geometry images: the budget honoured, closed in closed out (the glued
+seams welded after lossy coding moved them apart), files that any reader of geoimg takes, and every bad input
+refused in one line with no file left behind."""
+import numpy as np
+import pytest
+
+import geoimg
+from geoimg.cli import main
+from geoimg.image._jp2 import HEADROOM, decode, encode
+from geoimg.mesh import topology
+
+from helpers import data_file, load_data
+
+pytest.importorskip("imagecodecs")
+
+
+@pytest.fixture(scope="module")
+def spot():
+    return load_data("spot_low_resolution.obj")
+
+
+@pytest.fixture(scope="module")
+def spot_image(spot):
+    return geoimg.mesh_to_image(spot, 33, fidelity=False)
+
+
+def test_lossless_coding_is_within_half_a_step_and_keeps_domain_mask_and_metadata(spot_image, mountain):
+    terrain = geoimg.mesh_to_image(mountain, 17, method="heightfield", axis="y", fidelity=False)
+    masked = geoimg.GeometryImage(terrain.pixels, np.arange(17)[:, None] + np.arange(17)[None] < 25,
+                                  terrain.domain, metadata=dict(terrain.metadata, source="m.obj"))
+    for image in (spot_image, masked):
+        back = decode(encode(image, 0))
+        p = image.pixels.astype(np.float64)
+        step = np.ptp(p[image.valid], axis=0).max() / (65535 - 2 * HEADROOM)
+        glued = image.domain.average_glued(p)                    # what the reader welds (lossless: the same)
+        assert np.abs(back.pixels - glued)[image.valid].max() <= 0.5 * step + 1e-6 * np.abs(p).max()
+        assert back.domain == image.domain and np.array_equal(back.valid, image.valid)
+    assert back.metadata["source"] == "m.obj" and back.metadata["up"] == terrain.metadata["up"]
+
+
+def test_the_budget_is_honoured_and_a_closed_shape_comes_back_closed(spot, tmp_path):
+    path = tmp_path / "spot.jp2"
+    made = geoimg.compress(spot, path, max_bytes=2500, resolutions=(33, 65))
+    assert made.nbytes <= 2500 and path.read_bytes() == made.data
+    assert {t["resolution"] for t in made.tried} == {33, 65} and made.psnr_db > 50
+    assert max(t["psnr_db"] for t in made.tried) == round(made.psnr_db, 2)      # the best candidate kept
+    read = geoimg.load_image(path)
+    assert np.array_equal(read.pixels, made.image.pixels)
+    quads = read.to_mesh()
+    assert topology(quads).closed and topology(quads).genus == 0
+    # lossy coding moved the glued seam pixels apart; the reader welded them again (each group one point)
+    import imagecodecs
+    raw = np.asarray(imagecodecs.jpeg2k_decode(made.data), np.float64)
+    assert not np.array_equal(read.domain.average_glued(raw), raw)             # as decoded: apart
+    assert np.array_equal(read.domain.average_glued(read.pixels.astype(np.float64)), read.pixels)   # as read
+    bigger = geoimg.compress(spot, max_bytes=6000, resolutions=(33, 65))
+    assert bigger.nbytes > made.nbytes and bigger.psnr_db > made.psnr_db
+
+
+def test_a_psnr_target_gives_the_fewest_bytes_that_reach_it(spot):
+    made = geoimg.compress(spot, psnr=55, resolutions=(33,))
+    assert made.psnr_db >= 55
+    lower = geoimg.compress(spot, max_bytes=made.nbytes - 200, resolutions=(33,))
+    assert lower.psnr_db < 55 + 0.5
+
+
+@pytest.mark.slow
+def test_a_cut_open_shape_comes_back_closed():
+    torus = load_data("torus.obj")
+    made = geoimg.compress(torus, max_bytes=3000, resolutions=(33,))
+    quads = made.image.to_mesh()
+    assert made.image.domain.kind == "cut" and topology(quads).closed and topology(quads).genus == 1
+
+
+def test_an_image_is_coded_at_its_own_size_against_its_own_pixels(spot_image):
+    made = geoimg.compress(spot_image, max_bytes=1500)
+    assert made.resolution == 33 and made.nbytes <= 1500 and 40 < made.psnr_db < 200
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({}, "one of the two"),
+    ({"max_bytes": 1000, "psnr": 60}, "one of the two"),
+    ({"max_bytes": 0}, "max_bytes"),
+    ({"max_bytes": True}, "max_bytes"),
+    ({"max_bytes": 1000.5}, "max_bytes"),
+    ({"psnr": float("nan")}, "psnr"),
+    ({"psnr": -3}, "psnr"),
+    ({"max_bytes": 1000, "resolutions": (1,)}, "resolutions"),
+    ({"max_bytes": 1000, "resolutions": ()}, "resolutions"),
+    ({"max_bytes": 100, "resolutions": (33,)}, "the least that works is"),
+    ({"psnr": 150, "resolutions": (17,)}, "reaches 150"),
+])
+def test_bad_targets_are_refused(spot, kwargs, message):
+    with pytest.raises(geoimg.InputError, match=message):
+        geoimg.compress(spot, **kwargs)
+
+
+def test_bad_images_and_paths_are_refused_and_leave_nothing(spot_image, tmp_path):
+    bad = spot_image.pixels.copy()
+    bad[3, 3, 0] = np.nan
+    with pytest.raises(geoimg.ImageError, match="NaN"):
+        geoimg.compress(geoimg.GeometryImage(bad, None, spot_image.domain), max_bytes=2000)
+    with pytest.raises(geoimg.InputError, match="own size"):
+        geoimg.compress(spot_image, max_bytes=2000, resolutions=(65,))
+    with pytest.raises(geoimg.InputError, match=".jp2"):
+        geoimg.compress(spot_image, tmp_path / "x.exr", max_bytes=2000)
+    (tmp_path / "taken.jp2").write_bytes(b"mine")
+    with pytest.raises(FileExistsError):
+        geoimg.compress(spot_image, tmp_path / "taken.jp2", max_bytes=2000)
+    with pytest.raises(geoimg.InputTypeError):
+        geoimg.compress([1, 2, 3], max_bytes=2000)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["taken.jp2"]
+
+
+def test_files_that_are_not_geoimg_jpeg_2000_are_refused_in_one_line(spot_image, tmp_path):
+    import imagecodecs
+    picture = imagecodecs.jpeg2k_encode(np.zeros((16, 16, 3), np.uint8), codecformat="jp2")
+    raw = imagecodecs.jpeg2k_encode(np.zeros((16, 16, 3), np.uint8), codecformat="j2k")
+    good = encode(spot_image, 70)
+    start = good.index(b"uuid") + 4 + 16
+    cases = {"picture.jp2": (picture, "without geoimg's record"), "raw.jp2": (raw, "raw JPEG 2000 codestream"),
+             "cut.jp2": (good[: len(good) * 2 // 3], "truncated or damaged"),
+             "record.jp2": (good[:start] + b"\x00" * 8 + good[start + 8:], "record is damaged"),
+             "empty.jp2": (b"", "not a JP2 file")}
+    for name, (data, message) in cases.items():
+        (tmp_path / name).write_bytes(data)
+        with pytest.raises(geoimg.ImageFileError, match=message):
+            geoimg.load_image(tmp_path / name)
+
+
+def test_the_command_compresses_and_the_other_commands_read_it(tmp_path, capsys):
+    src, out = str(data_file("spot_low_resolution.obj")), tmp_path / "s.jp2"
+    assert main(["compress", src, "-o", str(out), "--bytes", "2500", "--res", "33"]) == 0
+    text = capsys.readouterr().out
+    assert "bytes (budget 2500)" in text and "33 x 33" in text and out.stat().st_size <= 2500
+    assert main(["info", str(out)]) == 0 and "octahedral" in capsys.readouterr().out
+    assert main(["mesh", str(out), "-o", str(tmp_path / "q.obj")]) == 0
+    for argv in (["--bytes", "10", "--res", "33"], ["--res", "33"], ["--bytes", "1000", "--psnr", "50"]):
+        assert main(["compress", src, "-o", str(tmp_path / "no.jp2"), *argv]) == 2
+        assert "error" in capsys.readouterr().err and not (tmp_path / "no.jp2").exists()
+    assert main(["compress", src, "-o", str(tmp_path / "no.png"), "--bytes", "1000"]) == 2
