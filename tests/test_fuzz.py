@@ -19,7 +19,7 @@ pytestmark = pytest.mark.slow           # a page, a sample, a batch, a fuzzing r
 
 HARNESS = Path(__file__).parent / "fuzz" / "fuzz_readers.py"
 FINDINGS = sorted((Path(__file__).parent / "data" / "fuzz").iterdir())
-SECONDS = 12
+SECONDS = 8
 
 
 def test_a_short_fuzzing_run_of_every_format_finds_nothing(tmp_path):

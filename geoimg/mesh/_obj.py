@@ -183,6 +183,42 @@ def _obj_uv(f: np.ndarray, t: np.ndarray, tex: np.ndarray, n: int, path: Path):
     return uv, face_uv
 
 
+ROWS_AT_ONCE = 65536      # rows formatted by one % operation (in C), in blocks to bound the text held
+
+
+def _rows(fh, line: str, values: np.ndarray) -> None:
+    """Each row of ``values`` as ``line % row`` (the text numpy.savetxt writes, formatted in C a block at a
+    time instead of a row at a time)."""
+    values = np.asarray(values, np.float64)
+    for start in range(0, len(values), ROWS_AT_ONCE):
+        block = values[start:start + ROWS_AT_ONCE]
+        fh.write((line * len(block)) % tuple(block.ravel().tolist()))
+
+
+def _faces(fh, mesh: Mesh, vt: np.ndarray | None) -> None:
+    """The ``f`` lines: each corner ``v``, ``v/t``, ``v//n`` or ``v/t/n`` (normals are per vertex, so ``n`` is
+    ``v``), one line per face in order."""
+    one = mesh.faces + 1
+    used = mesh.faces >= 0
+    if vt is not None and mesh.normals is not None:
+        token, parts = "%d/%d/%d", (one, vt, one)
+    elif vt is not None:
+        token, parts = "%d/%d", (one, vt)
+    elif mesh.normals is not None:
+        token, parts = "%d//%d", (one, one)
+    else:
+        token, parts = "%d", (one,)
+    templates = {int(k): "f " + " ".join([token] * int(k)) + "\n" for k in np.unique(mesh.face_sizes)}
+    sizes = mesh.face_sizes.tolist()
+    args = np.stack([p[used] for p in parts], axis=1)             # the corners in face order, row by row
+    ends = np.cumsum(mesh.face_sizes)
+    for start in range(0, len(sizes), ROWS_AT_ONCE):
+        stop = min(start + ROWS_AT_ONCE, len(sizes))
+        lo, hi = (ends[start - 1] if start else 0), ends[stop - 1]
+        text = "".join(templates[k] for k in sizes[start:stop])
+        fh.write(text % tuple(args[lo:hi].ravel().tolist()))
+
+
 def write_obj(mesh: Mesh, tmp: Path, _ext: str, material: str | None = None) -> None:
     """OBJ: ``v`` (with ``r g b`` when the mesh has colours), ``vt`` per vertex or, with ``face_uv``, per
     distinct corner value, ``vn``; ``material`` names the MTL library (written beside) to use.
@@ -192,26 +228,19 @@ def write_obj(mesh: Mesh, tmp: Path, _ext: str, material: str | None = None) -> 
         if material is not None:
             fh.write(f"mtllib {material}.mtl\n")
         if mesh.colors is not None:
-            np.savetxt(fh, np.hstack([mesh.vertices, mesh.colors[:, :3]]), fmt="v %.17g %.17g %.17g %.6g %.6g %.6g")
+            _rows(fh, "v %.17g %.17g %.17g %.6g %.6g %.6g\n", np.hstack([mesh.vertices, mesh.colors[:, :3]]))
         else:
-            np.savetxt(fh, mesh.vertices, fmt="v %.17g %.17g %.17g")
+            _rows(fh, "v %.17g %.17g %.17g\n", mesh.vertices)
         vt: np.ndarray | None = None
         if mesh.face_uv is not None:
             table, inverse = np.unique(mesh.face_uv.reshape(-1, 2), axis=0, return_inverse=True)
-            np.savetxt(fh, table, fmt="vt %.17g %.17g")
+            _rows(fh, "vt %.17g %.17g\n", table)
             vt = inverse.reshape(mesh.faces.shape) + 1
         elif mesh.uv is not None:
-            np.savetxt(fh, mesh.uv, fmt="vt %.17g %.17g")
+            _rows(fh, "vt %.17g %.17g\n", mesh.uv)
             vt = mesh.faces + 1
         if mesh.normals is not None:
-            np.savetxt(fh, mesh.normals, fmt="vn %.9g %.9g %.9g")
+            _rows(fh, "vn %.9g %.9g %.9g\n", mesh.normals)
         if material is not None:
             fh.write("usemtl geoimg\n")
-        one = (mesh.faces + 1).tolist()
-        tok = "{0}/{1}/{0}" if vt is not None and mesh.normals is not None else "{0}/{1}" if vt is not None \
-            else "{0}//{0}" if mesh.normals is not None else "{0}"
-        corners = one if vt is None else vt.tolist()
-        lines = []
-        for row, trow, k in zip(one, corners, mesh.face_sizes.tolist()):
-            lines.append("f " + " ".join(tok.format(i, j) for i, j in zip(row[:k], trow[:k])) + "\n")
-        fh.write("".join(lines))
+        _faces(fh, mesh, vt)

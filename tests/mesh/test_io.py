@@ -23,6 +23,29 @@ def test_polygon_formats_round_trip_exactly(tmp_path, mixed, ext):
     assert np.array_equal(back.vertices, mixed.vertices)  # %.17g text and binary doubles are exact
 
 
+def _obj_text_row_by_row(mesh):
+    """The OBJ text as numpy.savetxt and a loop over the faces write it: the writer, formatting blocks at a
+    time, must write exactly these bytes."""
+    import io
+    fh = io.StringIO()
+    fh.write("# written by geoimg\n")
+    np.savetxt(fh, mesh.vertices, fmt="v %.17g %.17g %.17g")
+    np.savetxt(fh, mesh.uv, fmt="vt %.17g %.17g")
+    np.savetxt(fh, mesh.normals, fmt="vn %.9g %.9g %.9g")
+    for row, k in zip((mesh.faces + 1).tolist(), mesh.face_sizes.tolist()):
+        fh.write("f " + " ".join(f"{i}/{i}/{i}" for i in row[:k]) + "\n")
+    return fh.getvalue()
+
+
+def test_obj_text_is_the_row_by_row_text(tmp_path, mixed, monkeypatch):
+    import geoimg.mesh._obj as obj
+    rng = np.random.default_rng(2)
+    m = Mesh(mixed.vertices, mixed.faces, uv=rng.random((9, 2)), normals=rng.normal(size=(9, 3)))
+    monkeypatch.setattr(obj, "ROWS_AT_ONCE", 2)                 # blocks that end inside the arrays
+    path = save_mesh(m, tmp_path / "m.obj")
+    assert path.read_text() == _obj_text_row_by_row(m)
+
+
 def test_obj_round_trips_uv_and_normals(tmp_path):
     m = Mesh(np.eye(3), [[0, 1, 2]], uv=[[0, 0], [1, 0], [0, 1]], normals=[[0, 0, 1]] * 3)
     back = load_mesh(save_mesh(m, tmp_path / "m.obj"))
