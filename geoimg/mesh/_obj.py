@@ -188,7 +188,8 @@ ROWS_AT_ONCE = 65536      # rows formatted by one % operation (in C), in blocks 
 
 def _rows(fh, line: str, values: np.ndarray) -> None:
     """Each row of ``values`` as ``line % row`` (the text numpy.savetxt writes, formatted in C a block at a
-    time instead of a row at a time)."""
+    time instead of a row at a time).
+    """
     values = np.asarray(values, np.float64)
     for start in range(0, len(values), ROWS_AT_ONCE):
         block = values[start:start + ROWS_AT_ONCE]
@@ -197,9 +198,11 @@ def _rows(fh, line: str, values: np.ndarray) -> None:
 
 def _faces(fh, mesh: Mesh, vt: np.ndarray | None) -> None:
     """The ``f`` lines: each corner ``v``, ``v/t``, ``v//n`` or ``v/t/n`` (normals are per vertex, so ``n`` is
-    ``v``), one line per face in order."""
+    ``v``), one line per face in order.
+    """
     one = mesh.faces + 1
     used = mesh.faces >= 0
+    parts: tuple[np.ndarray, ...]
     if vt is not None and mesh.normals is not None:
         token, parts = "%d/%d/%d", (one, vt, one)
     elif vt is not None:
