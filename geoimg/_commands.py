@@ -28,6 +28,7 @@ from .image import (IMAGE_FORMATS, grid_normals, image_curvature, image_region,
                     load_image, load_mask, save_colormap, save_normal_map, save_scalar, uv_region)
 from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh, suggest_landmarks, topology
 from .spectrum import harmonics
+from .image._curvature import DEFAULT_CURVATURE_SCALE
 from .spectrum._transform import check_lmax
 
 SAMPLE_MESH = Path(__file__).resolve().parent / "data" / "mountain.obj"    # package data: works from a wheel
@@ -286,12 +287,20 @@ def cmd_info(args) -> int:
     return 0
 
 
+def _curvature_title(name: str, image, scale: float) -> str:
+    """The title of a curvature picture: which curvature, at what smoothing scale."""
+    if not scale:
+        return f"{name} curvature, no smoothing"
+    return f"{name} curvature at {100 * scale:g}% of the diagonal"
+
+
 def _demo_pictures(image, stem: Path, progress) -> list:
     """A rendering of the quad mesh, of it mean-filtered, and a mean-curvature map; none when there is
     no headless OpenGL (the reason is printed).
     """
-    written = [save_colormap(image_curvature(image)[1], stem.with_name(stem.name + "_mean_curvature.png"),
-                             image.valid, overwrite=True)]
+    scale = DEFAULT_CURVATURE_SCALE
+    written = [save_colormap(image_curvature(image, scale)[1], stem.with_name(stem.name + "_mean_curvature.png"),
+                             image.valid, overwrite=True, title=_curvature_title("mean", image, scale))]
     try:
         r = Renderer(800, 600)
     except (RenderError, MissingDependency) as e:
@@ -386,13 +395,14 @@ def cmd_curvature(args) -> int:
     if stem.is_dir() or not stem.name or str(args.output).endswith(("/", os.sep)):    # a folder: the input's name
         stem = stem / Path(args.image).stem
     image = _read_image(args.image, args)
-    K, H = image_curvature(image)
+    K, H = image_curvature(image, args.scale)
     jobs: list = []
     for name, values in (("gaussian", K), ("mean", H)):
+        title = _curvature_title(name, image, args.scale)
         jobs.append((stem.with_name(f"{stem.name}_{name}.exr"),
                      lambda tmp, v=values, n=name: save_scalar(v, tmp, n, overwrite=True)))
         jobs.append((stem.with_name(f"{stem.name}_{name}.png"),
-                     lambda tmp, v=values: save_colormap(v, tmp, image.valid, overwrite=True)))
+                     lambda tmp, v=values, t=title: save_colormap(v, tmp, image.valid, overwrite=True, title=t)))
     normals = image.normals if image.normals is not None else grid_normals(image.pixels, image.domain.orientation)
     jobs.append((stem.with_name(f"{stem.name}_normals.png"),
                  lambda tmp: save_normal_map(normals, tmp, image.valid, overwrite=True)))

@@ -364,6 +364,14 @@ COMMANDS: dict[str, Command] = {
                 help="output stem: writes STEM_gaussian.exr/.png, STEM_mean.exr/.png, STEM_normals.png "
                 "(a folder: the input's name in it)",
             ),
+            arg(
+                "--scale",
+                type=float,
+                default=0.01,
+                metavar="FRACTION",
+                help="smooth the surface by a Gaussian of this share of the bounding-box diagonal first, so that "
+                "the maps show features of that size, not the mesh's facets (default 0.01; 0: the grid as it is)",
+            ),
             arg("--force", action="store_true", help="overwrite existing files"),
         ],
     ),

@@ -378,8 +378,9 @@ def diverging_colors(values: np.ndarray, valid: np.ndarray | None = None, scale:
 
 
 def save_colormap(values: np.ndarray, path: PathLike, valid: np.ndarray | None = None, *,
-                  overwrite: bool = False) -> Path:
-    """Write a signed (H, W) map as an 8-bit PNG with :func:`diverging_colors`.
+                  overwrite: bool = False, title: str | None = None) -> Path:
+    """Write a signed (H, W) map as an 8-bit PNG with :func:`diverging_colors`, with ``title`` written in
+    its top left corner when given.
 
     Parameters
     ----------
@@ -391,6 +392,8 @@ def save_colormap(values: np.ndarray, path: PathLike, valid: np.ndarray | None =
         (H, W) booleans: the pixels that hold a value.
     overwrite : bool
         Replace the file if it exists.
+    title : str, optional
+        A line of text drawn on the picture (what it shows, at what scale).
 
     Returns
     -------
@@ -412,6 +415,11 @@ def save_colormap(values: np.ndarray, path: PathLike, valid: np.ndarray | None =
     if path.suffix.lower() != ".png":
         raise ImageFileError(f"{path}: colour maps are PNG; use a .png name")
     rgb = diverging_colors(values, valid)
+    if title:
+        from PIL import Image, ImageDraw
+        picture = Image.fromarray(np.ascontiguousarray(rgb))
+        ImageDraw.Draw(picture).text((4, 4), title, fill=(0, 0, 0), stroke_width=2, stroke_fill=(255, 255, 255))
+        rgb = np.asarray(picture)
     with atomic_path(path, overwrite) as tmp:
         write_raster(tmp, rgb, ["R", "G", "B"], UINT8)
     return path

@@ -156,6 +156,40 @@ def test_grid_and_surface_curvature_agree_on_terrain(mountain_surface):
     assert np.corrcoef(K[inner].ravel(), Kg[inner].ravel())[0, 1] > 0.9
 
 
+def _neighbour_correlation(H):
+    return np.corrcoef(H[2:-2, 2:-3].ravel(), H[2:-2, 3:-2].ravel())[0, 1]
+
+
+def test_curvature_at_a_scale_shows_features_not_facets(mountain):
+    from geoimg.image._curvature import curvature_sigma
+    img = geoimg.mesh_to_image(mountain, 129, fidelity=False)            # faithful: nearly the facets
+    raw = image_curvature(img)[1]
+    at_scale = image_curvature(img, 0.01)[1]
+    # pixel noise has neighbours that barely agree; ridges and valleys a few pixels wide do
+    assert _neighbour_correlation(raw) < 0.7 and _neighbour_correlation(at_scale) > 0.9
+    assert np.array_equal(image_curvature(img, 0.0)[1], raw)
+    # on a sphere the smoothing at a small scale leaves H = -1 and K = 1
+    d = geoimg.OctahedralDomain()
+    ball = geoimg.GeometryImage(d.directions(65).astype(np.float32), None, d)
+    K, H = image_curvature(ball, 0.01)
+    assert abs(np.median(H) + 1) < 0.01 and abs(np.median(K) - 1) < 0.01
+    x, y = np.meshgrid(np.linspace(0, 1, 101), np.linspace(0, 1, 101))
+    assert np.isclose(curvature_sigma(geoimg.GeometryImage(np.stack([x, y, 0 * x], -1)), 0.01), np.sqrt(2))
+    for bad in (-0.1, 0.5, float("nan"), True, "1%"):
+        with pytest.raises(geoimg.InputError, match="scale"):
+            image_curvature(ball, bad)
+
+
+def test_colour_maps_say_what_they_show(tmp_path):
+    from geoimg.image import save_colormap
+    values = np.linspace(-1, 1, 64 * 80).reshape(64, 80)
+    plain = save_colormap(values, tmp_path / "a.png")
+    titled = save_colormap(values, tmp_path / "b.png", title="mean curvature")
+    import imageio.v3 as iio
+    pa, pb = iio.imread(plain), iio.imread(titled)
+    assert pa.shape == pb.shape and (pa != pb).any() and np.array_equal(pa[40:], pb[40:])   # text at the top only
+
+
 # --- command line -----------------------------------------------------------------------------------
 
 def test_cli_filter_and_curvature(tmp_path, spot, capsys):
@@ -176,7 +210,14 @@ def test_cli_filter_and_curvature(tmp_path, spot, capsys):
     inp = oiio.ImageInput.open(str(tmp_path / "c_mean.exr"))
     H_file = np.asarray(inp.read_image(oiio.FLOAT)).reshape(65, 65)
     inp.close()
-    assert np.array_equal(H_file, image_curvature(img)[1].astype(np.float32))
+    assert np.array_equal(H_file, image_curvature(img, 0.01)[1].astype(np.float32))     # the default scale
+    assert main(["curvature", str(src), "-o", str(tmp_path / "r"), "--scale", "0"]) == 0
+    inp = oiio.ImageInput.open(str(tmp_path / "r_mean.exr"))
+    H_raw = np.asarray(inp.read_image(oiio.FLOAT)).reshape(65, 65)
+    inp.close()
+    assert np.array_equal(H_raw, image_curvature(img)[1].astype(np.float32))
+    assert main(["curvature", str(src), "-o", str(tmp_path / "bad"), "--scale", "-1"]) == 2
+    assert not list(tmp_path.glob("bad_*"))
     nmap = oiio.ImageInput.open(str(tmp_path / "c_normals.png"))
     assert nmap.spec().nchannels == 3 and nmap.spec().width == 65
     nmap.close()
