@@ -2,6 +2,7 @@
 imports geoimg), imports sit at the top of modules except for optional dependencies and the command line's
 commands, and every public name a package exports exists, whether imported at once or when first used."""
 import ast
+import re
 import importlib
 import subprocess
 import sys
@@ -155,3 +156,37 @@ def test_ruff_check_is_clean():
     run = subprocess.run([sys.executable, "-m", "ruff", "check", "--no-cache", str(ROOT)], capture_output=True,
                          text=True, cwd=ROOT)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-2000:]
+
+
+DOTTED = re.compile(r"(?<![\w./-])((?:geoimg|filters)(?:\.[A-Za-z_][A-Za-z0-9_]*)+)")
+
+
+def _resolves(name: str) -> bool:
+    """Whether ``name`` is a module, or an attribute reached from the longest importable module of it."""
+    parts = name.split(".")
+    for i in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:i]))
+        except ImportError:
+            continue
+        for attribute in parts[i:]:
+            if not hasattr(obj, attribute):
+                return False
+            obj = getattr(obj, attribute)
+        return True
+    return False
+
+
+def test_every_dotted_name_in_the_docs_and_docstrings_resolves():
+    """A name like geoimg.spectrum.shape_space in a page or a docstring is one a reader can import (the
+    changelog, which is history, is left out)."""
+    pages = [ROOT / "README.md", ROOT / "CONTRIBUTING.md", *sorted((ROOT / "docs").glob("*.md")),
+             *sorted((ROOT / "docs" / "guide").glob("*.md")), *sorted((ROOT / "geoimg").rglob("*.py")),
+             *sorted((ROOT / "filters").rglob("*.py")), *sorted((ROOT / "samples").glob("*.py"))]
+    found: dict[str, set] = {}
+    for page in pages:
+        for match in DOTTED.finditer(page.read_text(encoding="utf-8")):
+            found.setdefault(match.group(1), set()).add(page.relative_to(ROOT).as_posix())
+    assert len(found) > 50                                 # the scan sees the docs' names
+    broken = {name: sorted(where) for name, where in found.items() if not _resolves(name)}
+    assert broken == {}

@@ -8,7 +8,7 @@ import numpy as np
 
 import filters
 from ..errors import ImageError
-from ..parametrization import perimeter_point, twin_positions
+from ..parametrization._cut import perimeter_point, twin_positions
 from ..parametrization._charts import MIN_SCALE, layout_extent, layout_span, tile_points, weld_defects
 
 from ._domain import Domain, grid_normals

@@ -8,8 +8,9 @@ tests a domain's name. A new kind of geometry image is a new subclass, in a modu
 
 Kinds: :class:`~geoimg.PlanarDomain` (``_planar_domain.py``: a parameter rectangle, nothing glued),
 :class:`~geoimg.OctahedralDomain` (``_octahedral_domain.py``: the unit sphere unfolded onto an odd square
-whose sides are glued to themselves) and :class:`~geoimg.CutDomain` (``_cut_domain.py``: a square glued
-along a cut).
+whose sides are glued to themselves), :class:`~geoimg.CutDomain` (``_cut_domain.py``: a square glued
+along a cut) and :class:`~geoimg.ChartsDomain` (``_charts_domain.py``: squares packed in one image, their
+sides glued to each other, the gaps between them masked).
 """
 from __future__ import annotations
 

@@ -8,6 +8,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from PIL import Image, ImageDraw
 
 from .._choices import ASSUMABLE_DOMAINS
 from .._atomic import atomic_path
@@ -416,7 +417,6 @@ def save_colormap(values: np.ndarray, path: PathLike, valid: np.ndarray | None =
         raise ImageFileError(f"{path}: colour maps are PNG; use a .png name")
     rgb = diverging_colors(values, valid)
     if title:
-        from PIL import Image, ImageDraw
         picture = Image.fromarray(np.ascontiguousarray(rgb))
         ImageDraw.Draw(picture).text((4, 4), title, fill=(0, 0, 0), stroke_width=2, stroke_fill=(255, 255, 255))
         rgb = np.asarray(picture)

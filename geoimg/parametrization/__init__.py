@@ -6,22 +6,16 @@ the octahedral map that unfolds the sphere onto a square.
 [[0.0, 0.0, 1.0]]
 """
 from ._parametrize import AXES, PARAMETRIZATION_METHODS, Parametrization, parametrize, signed_face_areas
-from ._cut import QUANTA_PER_SIDE, cut_coords, layout_quanta, perimeter_point, twin_positions
-from ._charts import chart_coords, layout_extent, tile_points
+from ._cut import cut_coords
+from ._charts import chart_coords
 from ._disk import DISK_BALANCES, DISK_BOUNDARIES, disk_coords
 from ._sphere import sphere_coords
 from ._octahedral import area_ratio, grid_directions, sphere_to_square, square_jacobian, square_to_sphere
-from ._stretch import STARVED_SHARE, map_stretch
+from ._stretch import map_stretch
 
 __all__ = [
-    "QUANTA_PER_SIDE",
     "cut_coords",
     "chart_coords",
-    "layout_extent",
-    "tile_points",
-    "layout_quanta",
-    "perimeter_point",
-    "twin_positions",
     "AXES",
     "DISK_BALANCES",
     "DISK_BOUNDARIES",
@@ -30,7 +24,6 @@ __all__ = [
     "parametrize",
     "signed_face_areas",
     "map_stretch",
-    "STARVED_SHARE",
     "disk_coords",
     "sphere_coords",
     "area_ratio",

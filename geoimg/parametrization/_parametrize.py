@@ -2,9 +2,10 @@
 
 Planar methods: ``uv`` (the mesh's own UVs), ``heightfield`` (projection onto the mesh's best-fitting
 plane or onto the plane normal to a named axis) and ``disk`` (one boundary loop onto the square, see
-:mod:`geoimg.disk`). Coordinates are shifted and scaled by one factor so the longer side spans [0, 1];
-the aspect ratio is kept and recorded in ``extent``. ``sphere`` (see :mod:`geoimg.sphere`) maps a
-closed genus-0 mesh onto the unit sphere, for the ``octahedral`` domain.
+:func:`geoimg.parametrization.disk_coords`). Coordinates are shifted and scaled by one factor so the longer
+side spans [0, 1]; the aspect ratio is kept and recorded in ``extent``. ``sphere`` (see
+:func:`geoimg.parametrization.sphere_coords`) maps a closed genus-0 mesh onto the unit sphere, for the
+``octahedral`` domain.
 """
 from __future__ import annotations
 

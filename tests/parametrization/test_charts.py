@@ -7,7 +7,8 @@ import filters
 import geoimg
 from geoimg import ChartsDomain, ImageError, InputError, ParametrizationError
 from geoimg.mesh import point_mesh_distance, surface_distance, topology
-from geoimg.parametrization import chart_coords, layout_extent, tile_points
+from geoimg.parametrization import chart_coords
+from geoimg.parametrization._charts import layout_extent, tile_points
 from geoimg.parametrization._charts import layout_span, pack_squares, segment_charts, weld_defects
 from geoimg.parametrization._laplacian import planar_cross, starved_share, triangle_areas
 from geoimg.parametrization._parametrize import _charts, _image_error, _starved_to_charts

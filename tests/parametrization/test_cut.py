@@ -8,7 +8,8 @@ import filters
 import geoimg
 from geoimg import CutDomain, ImageError, ParametrizationError
 from geoimg.mesh import boundary_loops, surface_distance, topology
-from geoimg.parametrization import cut_coords, perimeter_point
+from geoimg.parametrization import cut_coords
+from geoimg.parametrization._cut import perimeter_point
 
 import meshes
 from helpers import glue_spread, load_data
@@ -187,7 +188,7 @@ def _plate_with_holes(n: int = 30, step: int = 3) -> geoimg.Mesh:
 
 
 def test_a_boundary_of_more_segments_than_the_layout_holds_gets_a_finer_quantum():
-    from geoimg.parametrization import layout_quanta
+    from geoimg.parametrization._cut import layout_quanta
     plate = _plate_with_holes()
     assert topology(plate).boundary_loops == 101
     param = geoimg.parametrize(plate, "cut")
