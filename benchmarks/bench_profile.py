@@ -1,0 +1,96 @@
+"""Where the maps' seconds go (issue 53: profile first): cProfile of one sphere, disk and cut map each,
+after a warm-up (numba compiled), against one linear map of the same mesh in the same run.
+
+    python benchmarks/bench_profile.py [--top 12]
+
+Prints, per map: the wall time, the ratio to the linear map (one sparse cotangent solve: the spherical
+conformal map's first step for the sphere, the harmonic disk map for disks), and the functions that take
+most of it (cumulative seconds and calls).
+"""
+from __future__ import annotations
+
+import argparse
+import cProfile
+import io
+import pstats
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+import geoimg
+from geoimg.mesh import boundary_loops
+from geoimg.parametrization._laplacian import cotangent_weights
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = ROOT.parent / "shared" / "data" / "meshes"
+
+
+def linear_map(mesh: geoimg.Mesh, disk: bool) -> float:
+    """Seconds of one sparse cotangent solve on the mesh: the harmonic disk map (boundary on a circle) or,
+    for a closed mesh, the Laplacian with one vertex pinned (the cheapest map one could return).
+    """
+    tris = mesh.triangulate()[0]
+    t0 = time.perf_counter()
+    w = cotangent_weights(mesh.vertices, tris)
+    L = sp.csr_matrix(w) if not sp.issparse(w) else w.tocsr()
+    n = L.shape[0]
+    L = sp.diags(np.asarray(L.sum(axis=1)).ravel()) - L
+    fixed = np.zeros(n, bool)
+    b = np.zeros((n, 2))
+    if disk:
+        loop = boundary_loops(mesh)[0]
+        angle = 2 * np.pi * np.arange(len(loop)) / len(loop)
+        fixed[loop] = True
+        b[loop] = np.c_[np.cos(angle), np.sin(angle)]
+    else:
+        fixed[0] = True
+    free = ~fixed
+    rhs = -L[free][:, fixed] @ b[fixed]
+    spla.splu(L[free][:, free].tocsc()).solve(rhs)
+    return time.perf_counter() - t0
+
+
+def profile(name: str, mesh: geoimg.Mesh, method: str, top: int) -> None:
+    disk = method == "disk"
+    base = min(linear_map(mesh, disk) for _ in range(3))
+    pr = cProfile.Profile()
+    t0 = time.perf_counter()
+    pr.enable()
+    p = geoimg.parametrize(mesh, method)
+    pr.disable()
+    wall = time.perf_counter() - t0
+    print(f"\n### {name} ({mesh.n_faces} faces), {method} map: {wall:.2f} s, {wall / base:.0f}x one linear map "
+          f"({base:.3f} s); stages: {p.info.get('map_stages', p.info.get('stages', ''))}\n")
+    out = io.StringIO()
+    pstats.Stats(pr, stream=out).sort_stats("cumulative").print_stats(40)
+    rows = [line for line in out.getvalue().splitlines() if "geoimg/" in line or "{" in line]
+    print("| cumulative s | calls | function |\n|---:|---:|---|")
+    for line in rows[:top]:
+        parts = line.split()
+        print(f"| {parts[3]} | {parts[0]} | {' '.join(parts[5:]).split('/work/main/')[-1]} |")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--top", type=int, default=12)
+    args = ap.parse_args()
+    warnings.simplefilter("ignore")
+    warm = geoimg.load_mesh(ROOT / "tests" / "data" / "spot.obj")
+    geoimg.parametrize(warm, "sphere")
+    geoimg.parametrize(geoimg.load_mesh(ROOT / "tests" / "data" / "cube_no_bottom.obj"), "disk")
+    geoimg.parametrize(geoimg.load_mesh(ROOT / "tests" / "data" / "torus.obj"), "cut")
+    for name, path, method in (("bunny.off", SHARED / "closed_genus0" / "bunny.off", "sphere"),
+                               ("armadillo.obj", SHARED / "closed_genus0" / "armadillo.obj", "sphere"),
+                               ("camelhead.off", SHARED / "open_disk" / "camelhead.off", "disk"),
+                               ("mountain.obj", ROOT / "geoimg" / "data" / "mountain.obj", "disk"),
+                               ("bob_tri.obj", ROOT / "tests" / "data" / "bob_tri.obj", "cut")):
+        if path.exists():
+            profile(name, geoimg.load_mesh(path), method, args.top)
+
+
+if __name__ == "__main__":
+    main()
