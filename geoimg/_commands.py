@@ -149,7 +149,7 @@ def cmd_harmonics(args) -> int:
                    (args.mesh, MESH_FORMATS, "the rebuilt mesh"), (args.image, IMAGE_FORMATS, "the rebuilt image"))
     progress = Progress(args.quiet, always=args.progress)
     source = Path(args.input)
-    mesh = None if source.suffix.lower() in IMAGE_FORMATS else load_mesh(source)    # read once: analysed, measured
+    mesh = None if source.suffix.lower() in IMAGE_FORMATS + COMPRESSED_FORMATS else load_mesh(source)   # read once
     h = harmonics(source if mesh is None else mesh, args.lmax, resolution=args.res, progress=progress)
     h.metadata["source"] = source.name
     jobs: list = [(args.output, lambda tmp: h.save(tmp, overwrite=True))]

@@ -139,3 +139,13 @@ def test_the_command_compresses_and_the_other_commands_read_it(tmp_path, capsys)
         assert main(["compress", src, "-o", str(tmp_path / "no.jp2"), *argv]) == 2
         assert "error" in capsys.readouterr().err and not (tmp_path / "no.jp2").exists()
     assert main(["compress", src, "-o", str(tmp_path / "no.png"), "--bytes", "1000"]) == 2
+
+
+def test_a_compressed_octahedral_image_has_harmonics(tmp_path):
+    d = geoimg.OctahedralDomain()
+    ball = geoimg.GeometryImage(d.directions(65).astype(np.float32), None, d)
+    path = tmp_path / "ball.jp2"
+    path.write_bytes(encode(ball, 0))
+    h = geoimg.harmonics(path, 2)
+    assert abs(h.invariants()[1] - 1) < 1e-3 and h.metadata["source"] == "ball.jp2"
+    assert main(["harmonics", str(path), "--lmax", "2", "-o", str(tmp_path / "h.npz")]) == 0

@@ -41,7 +41,7 @@ from ._transform import analyze, check_lmax, degree_power, grid_directions, grid
 __all__ = ["Harmonics", "harmonics", "load_harmonics", "default_resolution", "require_sphere_topology",
            "IMAGE_SUFFIXES"]
 
-IMAGE_SUFFIXES = (".exr", ".npz", ".npy", ".tif", ".tiff")
+IMAGE_SUFFIXES = (".exr", ".npz", ".npy", ".tif", ".tiff", ".jp2")
 COORDINATES = "xyz"
 
 
