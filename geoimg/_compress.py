@@ -28,7 +28,7 @@ from .parametrization import parametrize
 
 __all__ = ["compress", "Compressed", "DEFAULT_RESOLUTIONS"]
 
-DEFAULT_RESOLUTIONS = (65, 129, 257, 513)
+DEFAULT_RESOLUTIONS = (33, 65, 129, 257, 513)
 LEVELS = (20.0, 140.0)         # the coder's PSNR targets searched (dB of its 16-bit range)
 SEARCH_STEPS = 10              # bisection steps of the level: 0.12 dB apart at the end
 SAMPLES = 20_000               # area samples a side for each candidate's error
@@ -116,11 +116,13 @@ def _candidates(source, resolutions, progress) -> tuple[list[GeometryImage], Any
                         for r in sizes):
         raise InputError(f"resolutions: expected sides from 3 to 4097, got {resolutions!r}")
     param = parametrize(source)
-    images = []
+    images: list[GeometryImage] = []
     for r in sorted(set(int(r) for r in sizes)):
         if progress:
             progress(f"converting at {r} x {r}")
-        images.append(mesh_to_image(source, r, parametrization=param, fidelity=False))
+        image = mesh_to_image(source, r, parametrization=param, fidelity=False)
+        if all(image.shape != other.shape for other in images):    # a domain may round two sizes to one
+            images.append(image)
     return images, source
 
 

@@ -576,7 +576,7 @@ COMMANDS: dict[str, Command] = {
             arg("--psnr", type=_positive(float), default=None, metavar="DB",
                 help="instead: the fewest bytes whose shape is DB dB from the input"),
             arg("--res", type=_positive(int), nargs="+", default=None, metavar="R",
-                help="the sides to try for a mesh (default 65 129 257 513); the best is kept"),
+                help="the sides to try for a mesh (default 33 65 129 257 513); the best is kept"),
             arg("--force", action="store_true", help="overwrite an existing file"),
         ],
     ),
