@@ -36,8 +36,8 @@ os.environ.setdefault("GEOIMG_MAX_MEMORY", "1G")
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "data"
-FORMATS = ("obj", "off", "ply", "stl", "glb", "gltf", "exr", "npz", "npy", "tif")
-IMAGES = ("exr", "npz", "npy", "tif")
+FORMATS = ("obj", "off", "ply", "stl", "glb", "gltf", "exr", "npz", "npy", "tif", "jp2")
+IMAGES = ("exr", "npz", "npy", "tif", "jp2")
 MIXED = "all"              # every format, the first byte of an input choosing which
 
 
@@ -64,12 +64,22 @@ def write_seeds(fmt: str, folder: Path) -> list[Path]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if fmt in IMAGES:
+            from geoimg.image._jp2 import encode
+
+            def save(img, path):
+                if fmt != "jp2":
+                    return geoimg.save_image(img, path, overwrite=True)
+                path.write_bytes(encode(img, 60))               # lossy, as geoimg compress writes them
+                return path
+
             mountain = geoimg.load_mesh(ROOT / "geoimg" / "data" / "mountain.obj")
             for res in (5, 9):
                 img = geoimg.mesh_to_image(mountain, res, fidelity=False)
-                written.append(geoimg.save_image(img, folder / f"mountain{res}.{fmt}", overwrite=True))
+                written.append(save(img, folder / f"mountain{res}.{fmt}"))
+            masked = geoimg.GeometryImage(img.pixels, np.arange(9)[:, None] + np.arange(9) < 12, img.domain)
+            written.append(save(masked, folder / f"masked.{fmt}"))
             sphere = geoimg.mesh_to_image(geoimg.load_mesh(DATA / "sphere.obj"), 9, fidelity=False)
-            written.append(geoimg.save_image(sphere, folder / f"sphere.{fmt}", overwrite=True))
+            written.append(save(sphere, folder / f"sphere.{fmt}"))
             return written
         quad = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
         polygons = geoimg.load_mesh(DATA / "polygonfaces.obj")
@@ -196,7 +206,7 @@ def main(argv: list[str]) -> None:
         from geoimg.mesh import _io as _mesh_io  # noqa: F401
         from geoimg.mesh import _obj, _off, _ply, _trimesh_io, _weld  # noqa: F401
         from geoimg import _raster  # noqa: F401
-        from geoimg.image import _npz  # noqa: F401
+        from geoimg.image import _npz, _jp2  # noqa: F401
     atheris.Setup([argv[0]] + argv[2:], make_target(fmt))
     atheris.Fuzz()
 
