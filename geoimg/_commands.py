@@ -190,13 +190,14 @@ def cmd_compress(args) -> int:
     progress = Progress(args.quiet, always=args.progress)
     source = Path(args.input)
     made = compress(source, args.output, max_bytes=args.bytes, psnr=args.psnr, resolutions=args.res,
-                    overwrite=args.force, progress=progress)
+                    colors=args.colors, overwrite=args.force, progress=progress)
     if not args.quiet:
         n = made.image.shape
         against = "the input image" if source.suffix.lower() in READ_IMAGE_FORMATS else "the mesh"
         budget = f" (budget {args.bytes})" if args.bytes else ""
+        tint = ", with its colours" if made.image.colors is not None else ""
         print(f"wrote {args.output}: {made.nbytes} bytes{budget}, a {n[1]} x {n[0]} {made.image.domain.kind} "
-              f"image, PSNR to {against} {made.psnr_db:.1f} dB")
+              f"image{tint}, PSNR to {against} {made.psnr_db:.1f} dB")
         for t in made.tried:
             what = (f"{t['bytes']} bytes, {t['psnr_db']} dB" if "bytes" in t else
                     f"needs at least {t['least_bytes']} bytes" if "least_bytes" in t else

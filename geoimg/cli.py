@@ -577,6 +577,8 @@ COMMANDS: dict[str, Command] = {
                 help="instead: the fewest bytes whose shape is DB dB from the input"),
             arg("--res", type=_positive(int), nargs="+", default=None, metavar="R",
                 help="the sides to try for a mesh (default 33 65 129 257 513); the best is kept"),
+            arg("--colors", action="store_true",
+                help="also code the colours (a textured or coloured mesh's), within the same budget"),
             arg("--force", action="store_true", help="overwrite an existing file"),
         ],
     ),

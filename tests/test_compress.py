@@ -13,6 +13,8 @@ from helpers import data_file, load_data
 
 pytest.importorskip("imagecodecs")
 
+SPOT_TEXTURED = data_file("spot.obj").parents[2] / "samples" / "data" / "spot" / "spot.obj"   # with its texture
+
 
 @pytest.fixture(scope="module")
 def spot():
@@ -150,3 +152,20 @@ def test_a_compressed_octahedral_image_has_harmonics(tmp_path):
     h = geoimg.harmonics(path, 2)
     assert abs(h.invariants()[1] - 1) < 1e-3 and h.metadata["source"] == "ball.jp2"
     assert main(["harmonics", str(path), "--lmax", "2", "-o", str(tmp_path / "h.npz")]) == 0
+
+
+def test_colours_are_coded_when_asked_and_cost_bytes(tmp_path, capsys):
+    from geoimg.image._jp2 import COLOR_TOP
+    textured = geoimg.load_mesh(SPOT_TEXTURED)
+    image = geoimg.mesh_to_image(textured, 33, fidelity=False)
+    assert image.colors is not None
+    back = decode(encode(image, 0, colors=True))
+    assert np.abs(back.colors - image.colors[..., :3]).max() <= 0.5 / COLOR_TOP + 1e-7
+    assert decode(encode(image, 0)).colors is None                       # not asked: not coded
+    assert len(encode(image, 60, colors=True)) > len(encode(image, 60))
+    made = geoimg.compress(textured, max_bytes=6000, resolutions=(33, 65), colors=True)
+    assert made.nbytes <= 6000 and made.image.colors is not None
+    out = tmp_path / "t.jp2"
+    src = str(SPOT_TEXTURED)
+    assert main(["compress", src, "-o", str(out), "--bytes", "6000", "--res", "33", "--colors"]) == 0
+    assert "with its colours" in capsys.readouterr().out and geoimg.load_image(out).colors is not None

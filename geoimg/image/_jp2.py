@@ -39,6 +39,9 @@ RECORD_UUID = bytes.fromhex("9c0e6e2d4a3b4f1ca1d76765_6f696d67".replace("_", "")
 HEADROOM = 2048          # levels left free at both ends: lossy coding overshoots, and some coders wrap past 65535
 TOP = 65535 - 2 * HEADROOM
 LOSSLESS = 0             # the level that asks the coder for reversible coding
+# colours on 12 bits' levels of the 16: at the coder's level for the shape, an error of a few levels of 4095
+# (a fraction of 8-bit colour's step) instead of spending the budget on colour the eye cannot see
+COLOR_TOP = 4095
 # the metadata a compressed file keeps besides the domain's fields (every byte counts at a few kilobytes)
 KEPT = ("source", "parametrization", "up", "component", "components", "harmonics_lmax")
 
@@ -85,18 +88,21 @@ def _quantized(image: GeometryImage) -> tuple[np.ndarray, dict]:
     return q.astype(np.uint16), record
 
 
-def encode(image: GeometryImage, level: float, *, resolutions: int | None = None) -> bytes:
+def encode(image: GeometryImage, level: float, *, resolutions: int | None = None, colors: bool = False) -> bytes:
     """A JP2 file of ``image``: coded to about ``level`` dB of the coder's own PSNR (over the 16-bit range;
     ``0``: reversible, lossless after the quantization), geoimg's record in a box before the codestream.
 
     Parameters
     ----------
     image : GeometryImage
-        The image (X, Y, Z; its mask and metadata are recorded; normals and colours are not coded).
+        The image (X, Y, Z; its mask and metadata are recorded; normals are not coded).
     level : float
         The coder's target PSNR in dB, or 0 for reversible coding.
     resolutions : int, optional
         Wavelet levels (default: as many as the image's size allows, at most 6).
+    colors : bool, default False
+        Also code the image's colours (three more channels, on :data:`COLOR_TOP` levels, at the same level),
+        when it has them.
 
     Returns
     -------
@@ -111,6 +117,10 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
     True
     """
     q, record = _quantized(image)
+    if colors and image.colors is not None:
+        rgb = np.round(np.clip(np.asarray(image.colors[..., :3], np.float64), 0.0, 1.0) * COLOR_TOP).astype(np.uint16)
+        q = np.concatenate([q, rgb], axis=2)
+        record["colors"] = 3
     if resolutions is None:
         resolutions = int(max(1, min(6, np.floor(np.log2(min(q.shape[:2]))))))
     codec = _codec()
@@ -184,9 +194,12 @@ def decode(data: bytes, where: str = "data") -> GeometryImage:
     except Exception as e:                   # imagecodecs' own error type: a truncated or damaged codestream
         raise ImageFileError(f"{where}: the JPEG 2000 codestream cannot be decoded, truncated or damaged "
                              f"({' '.join(str(e).split())[:120]})") from None
-    if q.ndim != 3 or q.shape[2] != 3 or q.dtype != np.uint16:
-        raise ImageFileError(f"{where}: pixels of shape {q.shape} and type {q.dtype}; a geometry image has three "
-                             "16-bit channels")
+    channels = 3 + (3 if record.get("colors") else 0)
+    if q.ndim != 3 or q.shape[2] != channels or q.dtype != np.uint16:
+        raise ImageFileError(f"{where}: pixels of shape {q.shape} and type {q.dtype}; its record asks for "
+                             f"{channels} 16-bit channels")
+    colors = np.clip(q[..., 3:6].astype(np.float32) / COLOR_TOP, 0.0, 1.0) if channels == 6 else None
+    q = q[..., :3]
     meta = dict(record["meta"])
     try:
         step, offset = float(record["step"]), np.asarray(record["offset"], np.float64).reshape(3)
@@ -198,7 +211,7 @@ def decode(data: bytes, where: str = "data") -> GeometryImage:
         pixels = (q.astype(np.float64) - float(record["headroom"])) * step + offset
         pixels = domain.average_glued(pixels)
         meta.update(jpeg2000_bytes=len(data))
-        return GeometryImage(pixels.astype(np.float32), mask, domain, metadata=meta)
+        return GeometryImage(pixels.astype(np.float32), mask, domain, metadata=meta, colors=colors)
     except (TypeError, ValueError, zlib.error) as e:
         raise ImageFileError(f"{where}: geoimg's record does not fit its pixels ({' '.join(str(e).split())[:120]})"
                              ) from None
