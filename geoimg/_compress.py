@@ -20,7 +20,7 @@ from ._choices import READ_IMAGE_FORMATS
 from ._convert import mesh_to_image
 from ._threads import fixed_order
 from ._types import Progress
-from .errors import ImageError, InputError, InputTypeError
+from .errors import InputError, InputTypeError
 from .image import GeometryImage, load_image
 from .image._jp2 import LOSSLESS, decode, encode
 from .mesh import Mesh, load_mesh, surface_distance
@@ -248,7 +248,7 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
             image.metadata["source"] = Path(source).name
     say = progress or (lambda message: None)
     tried: list[dict] = []
-    found: list[tuple] = []
+    found: list[Compressed] = []
     for image in images:
         n = image.shape[0]
         say(f"searching the rate at {n} x {image.shape[1]}")
@@ -268,26 +268,20 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
             level, data, db = got2
             decoded = decode(data)
         tried.append({"resolution": n, "bytes": len(data), "psnr_db": round(db, 2), "level": round(level, 2)})
-        found.append((db, -len(data), n, level, data, decoded) if max_bytes is not None else
-                     (-len(data), db, n, level, data, decoded))
+        found.append(Compressed(data, decoded, n, float(level), float(db)))
     if not found:
         if max_bytes is not None:
-            least = min(t["least_bytes"] for t in tried)
+            smallest = min(tried, key=lambda t: t["least_bytes"])
             raise InputError(f"max_bytes: {max_bytes} bytes hold no geometry image of this shape; the least that "
-                             f"works is {least} bytes (at {min(t['resolution'] for t in tried)} x "
-                             f"{min(t['resolution'] for t in tried)})")
-        best = max(t["best_psnr_db"] for t in tried)
+                             f"works is {smallest['least_bytes']} bytes (at {smallest['resolution']} x "
+                             f"{smallest['resolution']})")
+        best_db = max(t["best_psnr_db"] for t in tried)
         raise InputError(f"psnr: no image of the sizes tried reaches {psnr} dB (the best, lossless, "
-                         f"{best} dB); try a larger resolution")
-    found.sort(key=lambda f: f[:2], reverse=True)
-    first = found[0]
-    db, n, level, data, decoded = (first[0], first[2], first[3], first[4], first[5]) if max_bytes is not None \
-        else (first[1], first[2], first[3], first[4], first[5])
+                         f"{best_db} dB); try a larger resolution")
+    # the least error within the budget, or the fewest bytes that reach the error (ties: the first, smallest side)
+    best = max(found, key=(lambda c: (c.psnr_db, -c.nbytes)) if max_bytes is not None else
+               (lambda c: (-c.nbytes, c.psnr_db)))
     if path is not None:
         with atomic_path(path, overwrite) as tmp:
-            tmp.write_bytes(data)
-    if not math.isfinite(db) and not isinstance(reference, Mesh):
-        db = math.inf
-    if decoded.pixels.size == 0:
-        raise ImageError("the coder returned an empty image")
-    return Compressed(data, decoded, n, float(level), float(db), tried)
+            tmp.write_bytes(best.data)
+    return Compressed(best.data, best.image, best.resolution, best.level, best.psnr_db, tried)
