@@ -13,6 +13,7 @@ __all__ = [
     "ASSUMABLE_DOMAINS",
     "IMAGE_FORMATS",
     "COMPRESSED_FORMATS",
+    "DEFAULT_CURVATURE_SCALE",
     "READ_IMAGE_FORMATS",
     "EXR_LAYOUTS",
     "PARAMETRIZATION_METHODS",
@@ -38,6 +39,7 @@ MESH_READ_FORMATS = MESH_FORMATS + (".gltf",)                          # read on
 QUAD_FORMATS = tuple(f.lstrip(".") for f in MESH_FORMATS if f in (".obj", ".ply", ".off"))    # formats that keep quads
 COMPONENT_CHOICES = ("all", "largest")
 IMAGE_FORMATS = (".exr", ".npz", ".tif", ".tiff", ".npy")
+DEFAULT_CURVATURE_SCALE = 0.01   # of the diagonal: a terrain's ridges and valleys, not its facets
 COMPRESSED_FORMATS = (".jp2",)                  # written by geoimg compress, read as any geometry image
 READ_IMAGE_FORMATS = IMAGE_FORMATS + (".png",) + COMPRESSED_FORMATS     # .png: a preview, with --approximate
 EXR_LAYOUTS = ("geoimg", "rgba")      # the mask as channel "mask", or as "A" (alpha) for compositing tools

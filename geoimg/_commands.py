@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 import filters
-from ._choices import COMPRESSED_FORMATS, READ_IMAGE_FORMATS
+from ._choices import COMPRESSED_FORMATS, DEFAULT_CURVATURE_SCALE, READ_IMAGE_FORMATS
 from ._compress import compress
 from ._convert import COMPONENT_CHOICES, measure_fidelity, mesh_to_image, mesh_to_images
 from ._options import ConversionOptions
@@ -28,7 +28,7 @@ from .image import (IMAGE_FORMATS, grid_normals, image_curvature, image_region,
                     load_image, load_mask, save_colormap, save_normal_map, save_scalar, uv_region)
 from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh, suggest_landmarks, topology
 from .spectrum import harmonics
-from .image._curvature import DEFAULT_CURVATURE_SCALE
+from .spectrum._harmonics import IMAGE_SUFFIXES
 from .spectrum._transform import check_lmax
 
 SAMPLE_MESH = Path(__file__).resolve().parent / "data" / "mountain.obj"    # package data: works from a wheel
@@ -149,7 +149,7 @@ def cmd_harmonics(args) -> int:
                    (args.mesh, MESH_FORMATS, "the rebuilt mesh"), (args.image, IMAGE_FORMATS, "the rebuilt image"))
     progress = Progress(args.quiet, always=args.progress)
     source = Path(args.input)
-    mesh = None if source.suffix.lower() in IMAGE_FORMATS + COMPRESSED_FORMATS else load_mesh(source)   # read once
+    mesh = None if source.suffix.lower() in IMAGE_SUFFIXES else load_mesh(source)   # read once: analysed, measured
     h = harmonics(source if mesh is None else mesh, args.lmax, resolution=args.res, progress=progress)
     h.metadata["source"] = source.name
     jobs: list = [(args.output, lambda tmp: h.save(tmp, overwrite=True))]
@@ -288,7 +288,7 @@ def cmd_info(args) -> int:
     return 0
 
 
-def _curvature_title(name: str, image, scale: float) -> str:
+def _curvature_title(name: str, scale: float) -> str:
     """The title of a curvature picture: which curvature, at what smoothing scale."""
     if not scale:
         return f"{name} curvature, no smoothing"
@@ -301,7 +301,7 @@ def _demo_pictures(image, stem: Path, progress) -> list:
     """
     scale = DEFAULT_CURVATURE_SCALE
     written = [save_colormap(image_curvature(image, scale)[1], stem.with_name(stem.name + "_mean_curvature.png"),
-                             image.valid, overwrite=True, title=_curvature_title("mean", image, scale))]
+                             image.valid, overwrite=True, title=_curvature_title("mean", scale))]
     try:
         r = Renderer(800, 600)
     except (RenderError, MissingDependency) as e:
@@ -399,7 +399,7 @@ def cmd_curvature(args) -> int:
     K, H = image_curvature(image, args.scale)
     jobs: list = []
     for name, values in (("gaussian", K), ("mean", H)):
-        title = _curvature_title(name, image, args.scale)
+        title = _curvature_title(name, args.scale)
         jobs.append((stem.with_name(f"{stem.name}_{name}.exr"),
                      lambda tmp, v=values, n=name: save_scalar(v, tmp, n, overwrite=True)))
         jobs.append((stem.with_name(f"{stem.name}_{name}.png"),

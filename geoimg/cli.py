@@ -23,6 +23,7 @@ from ._choices import (
     ASSUMABLE_DOMAINS,
     AXES,
     BACKENDS,
+    DEFAULT_CURVATURE_SCALE,
     DEFAULT_DISK_BALANCE,
     DISK_BALANCES,
     DISK_BOUNDARIES,
@@ -367,10 +368,11 @@ COMMANDS: dict[str, Command] = {
             arg(
                 "--scale",
                 type=float,
-                default=0.01,
+                default=DEFAULT_CURVATURE_SCALE,
                 metavar="FRACTION",
                 help="smooth the surface by a Gaussian of this share of the bounding-box diagonal first, so that "
-                "the maps show features of that size, not the mesh's facets (default 0.01; 0: the grid as it is)",
+                "the maps show features of that size, not the mesh's facets "
+                f"(default {DEFAULT_CURVATURE_SCALE:g}; 0: the grid as it is)",
             ),
             arg("--force", action="store_true", help="overwrite existing files"),
         ],

@@ -148,7 +148,7 @@ def run_job(job: Job) -> dict:
             top = topology(mesh)
             row.update(vertices=mesh.n_vertices, faces=mesh.n_faces, topology=top.describe())
             if opts.harmonics and opts.component == "all":
-                require_sphere_topology(mesh)                   # refused before the conversion
+                require_sphere_topology(top)                    # refused before the conversion
             images = mesh_to_images(mesh, opts.resolution, timings=timings, **{
                 k: v for k, v in opts.image_options().items() if k != "resolution"})
             spectra = _harmonics(images, opts.harmonics, timings)

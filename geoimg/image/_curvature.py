@@ -15,12 +15,12 @@ import numpy as np
 import filters
 from filters import grid_curvature
 
+from .._choices import DEFAULT_CURVATURE_SCALE
 from ..errors import InputError
 from ._image import GeometryImage
 
 __all__ = ["image_curvature", "curvature_sigma", "DEFAULT_CURVATURE_SCALE", "MAX_CURVATURE_SCALE"]
 
-DEFAULT_CURVATURE_SCALE = 0.01      # of the diagonal: a terrain's ridges and valleys, not its facets
 MAX_CURVATURE_SCALE = 0.25
 
 

@@ -18,7 +18,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..errors import ImageError, InputError
-from ..image import GeometryImage
+from ..image import GeometryImage, OctahedralDomain
 from ._harmonics import Harmonics, harmonics
 from ._transform import check_lmax
 
@@ -71,7 +71,7 @@ def spectral_filter(image: GeometryImage, gain: Callable[[np.ndarray], np.ndarra
     >>> round(float(spectral_filter(ball, np.array([1.0, 0.5, 1.0]), lmax=2).pixels[16, 16, 2]), 1)
     0.5
     """
-    if not isinstance(image, GeometryImage) or image.domain.kind != "octahedral":
+    if not isinstance(image, GeometryImage) or not isinstance(image.domain, OctahedralDomain):
         raise ImageError("spectral filters work on octahedral images (closed genus-0 shapes on the sphere)")
     lmax = _default_lmax(image, lmax)
     degrees = np.arange(lmax + 1, dtype=np.float64)

@@ -27,6 +27,7 @@ import numpy as np
 from scipy.ndimage import map_coordinates
 
 from .._atomic import atomic_path
+from .._choices import COMPRESSED_FORMATS, IMAGE_FORMATS
 from .._budget import check_memory
 from .._convert import mesh_to_image
 from .._threads import fixed_order
@@ -34,14 +35,14 @@ from .._types import Progress
 from ..errors import ImageError, ImageFileError, InputTypeError, MeshError
 from ..image import GeometryImage, OctahedralDomain, load_image
 from ..image._npz import read_arrays
-from ..mesh import Mesh, load_mesh, topology
+from ..mesh import Mesh, Topology, load_mesh, topology
 from ..parametrization._octahedral import sphere_to_square
 from ._transform import analyze, check_lmax, degree_power, grid_directions, grid_shape, synthesize
 
 __all__ = ["Harmonics", "harmonics", "load_harmonics", "default_resolution", "require_sphere_topology",
            "IMAGE_SUFFIXES"]
 
-IMAGE_SUFFIXES = (".exr", ".npz", ".npy", ".tif", ".tiff", ".jp2")
+IMAGE_SUFFIXES = IMAGE_FORMATS + COMPRESSED_FORMATS
 COORDINATES = "xyz"
 
 
@@ -329,9 +330,10 @@ def load_harmonics(path: Any) -> Harmonics:
         raise ImageFileError(f"{path}: {e}") from None
 
 
-def require_sphere_topology(mesh: Mesh) -> None:
-    """Refuse, in one line that says what to do, a mesh that is not one closed genus-0 piece (no sphere map)."""
-    topo = topology(mesh)
+def require_sphere_topology(topo: Topology) -> None:
+    """Refuse, in one line that says what to do, a mesh of topology ``topo`` that is not one closed genus-0
+    piece (no sphere map).
+    """
     if not (topo.closed and topo.components == 1 and topo.genus == 0):
         advice = ("take one piece first (geoimg image --component)" if topo.components != 1 else
                   "close its holes first" if not topo.closed else
@@ -355,7 +357,7 @@ def _sphere_image(source: Any, lmax: int, resolution: int | None,
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"source: expected a closed genus-0 Mesh, an octahedral GeometryImage or a file, got "
                              f"{type(source).__name__}")
-    require_sphere_topology(mesh)
+    require_sphere_topology(topology(mesh))
     n = default_resolution(lmax) if resolution is None else int(resolution)
     check_memory(4.0 * n * n * 12, f"a {n} x {n} octahedral image for the harmonics")
     return mesh_to_image(mesh, n, method="sphere", progress=progress), mesh

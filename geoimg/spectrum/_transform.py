@@ -31,10 +31,9 @@ True
 from __future__ import annotations
 
 import numpy as np
-
-from ..errors import InputError
 from scipy import ndimage
 
+from ..errors import InputError
 from ._sh_kernels import analyze_rows, recursion_tables, row_sums, synthesize_points
 
 __all__ = ["grid_directions", "grid_shape", "analyze", "synthesize", "synthesize_rows", "degree_power", "MAX_LMAX",
