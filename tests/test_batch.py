@@ -417,7 +417,9 @@ def test_harmonics_table_rows_are_the_normalized_coefficient_files(client, tmp_p
         assert [Path(p).name for p in coeffs["input"]] == ["sphere.obj", "spot_low_resolution.obj"]
         for row in coeffs.to_dict("records"):
             stem = Path(row["input"]).stem
-            expected = load_harmonics(out / f"{stem}_sh.npz").normalized().coeffs
+            stored = load_harmonics(out / f"{stem}_sh.npz")
+            assert stored.metadata["source"] == f"{stem}.obj"
+            expected = stored.normalized().coeffs
             assert np.allclose(harmonics_from_row(row).coeffs, expected, rtol=0, atol=1e-12)
     first = (out / "harmonics.csv").read_bytes()
     again = batch.convert([root], out, client=client, resolution=RES, harmonics=4, psnr=False)

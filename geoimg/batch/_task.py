@@ -127,9 +127,7 @@ def _harmonics(images, lmax: int | None, timings: dict):
         raise MeshError(f"harmonics need one closed genus-0 piece, mapped onto the sphere; this input gave "
                         f"{' and '.join(img.domain.kind for img in images)} images")
     with _timed(timings, "harmonics"):
-        h = harmonics(images[0], lmax)
-    h.metadata["source"] = images[0].metadata.get("source", "")
-    return h
+        return harmonics(images[0], lmax)                  # its metadata names the image's source
 
 
 def run_job(job: Job) -> dict:
@@ -151,9 +149,9 @@ def run_job(job: Job) -> dict:
                 require_sphere_topology(top)                    # refused before the conversion
             images = mesh_to_images(mesh, opts.resolution, timings=timings, **{
                 k: v for k, v in opts.image_options().items() if k != "resolution"})
-            spectra = _harmonics(images, opts.harmonics, timings)
             for image in images:
                 image.metadata["source"] = Path(job.input).name
+            spectra = _harmonics(images, opts.harmonics, timings)      # of the shape, before any filter step
             if opts.steps:
                 with _timed(timings, "filter"):
                     images = [apply_steps(img, opts.steps, mode=opts.mode, nsr=opts.nsr) for img in images]
