@@ -221,3 +221,51 @@ def finger(segments: int = 24, rows: int = 30, length: float = 3.0, radius: floa
     tip = len(v) - 1
     f += [[(rings - 1) * segments + i, (rings - 1) * segments + (i + 1) % segments, tip] for i in range(segments)]
     return geoimg.Mesh(np.array(v), f)
+
+
+def outline_sheet(outline, n: int = 600, height=None, seed: int = 0) -> geoimg.Mesh:
+    """A sheet over a closed 2-D ``outline`` ((K, 2) vertices, in order): the outline and ``n`` random points
+    inside it, Delaunay-triangulated (faces of the convex hull outside the outline dropped), lifted by
+    ``height(x, y)`` (flat by default): an irregular TIN whose outline is not a rectangle.
+    """
+    from scipy.spatial import Delaunay
+    from skimage.measure import points_in_poly
+
+    from geoimg.mesh._metrics import nearest_on_segments
+
+    outline = np.asarray(outline, np.float64)
+    rng = np.random.default_rng(seed)
+    lo, hi = outline.min(axis=0), outline.max(axis=0)
+    pts = lo + rng.random((8 * n, 2)) * (hi - lo)
+    segments = np.stack([outline, np.roll(outline, -1, axis=0)], axis=1)
+    edge = np.min(np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1))
+    _, gap, _ = nearest_on_segments(pts, segments, edge)
+    pts = pts[points_in_poly(pts, outline) & (gap > 0.7 * edge)]       # inside, off the outline
+    pts = np.vstack([outline, pts[:n]])
+    tri = Delaunay(pts).simplices
+    tri = tri[points_in_poly(pts[tri].mean(axis=1), outline)]
+    used = np.unique(tri)
+    remap = np.full(len(pts), -1)
+    remap[used] = np.arange(len(used))
+    xy = pts[used]
+    z = np.zeros(len(xy)) if height is None else height(xy[:, 0], xy[:, 1])
+    faces = remap[tri]
+    a, b, c = (xy[faces[:, k]] for k in range(3))
+    ccw = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]) > 0
+    faces[~ccw] = faces[~ccw][:, ::-1]
+    return geoimg.Mesh(np.column_stack([xy, z]), faces)
+
+
+def petal(n: int = 600, seed: int = 0) -> geoimg.Mesh:
+    """A petal: a pointed oval outline (narrow at its base, a notch at its tip), curled up across and along."""
+    t = np.linspace(0.0, 2 * np.pi, 160, endpoint=False)
+    r = 1.0 - 0.12 * np.exp(-((t - np.pi / 2) / 0.12) ** 2)             # the notch at the tip
+    x = 0.45 * np.cos(t) * (1.0 - 0.5 * np.sin(t) ** 2) * r
+    y = 0.5 + 0.5 * np.sin(t) * r
+    return outline_sheet(np.column_stack([x, y]), n, lambda x, y: 0.6 * x ** 2 + 0.15 * y ** 2, seed)
+
+
+def flat_disk(n: int = 600, seed: int = 0) -> geoimg.Mesh:
+    """A flat unit disk, an irregular TIN."""
+    t = np.linspace(0.0, 2 * np.pi, 96, endpoint=False)
+    return outline_sheet(np.column_stack([np.cos(t), np.sin(t)]), n, None, seed)

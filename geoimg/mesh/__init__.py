@@ -18,7 +18,7 @@ from ._repair import (
 )
 from ._weld import Weld, weld_vertices
 from ._terrain import grid_mesh, grid_triangles, load_dem
-from ._metrics import point_mesh_distance, sample_surface, surface_distance
+from ._metrics import boundary_distance, point_mesh_distance, sample_surface, surface_distance
 from ._landmarks import average_geodesic_distance, suggest_landmarks
 
 __all__ = [
@@ -48,6 +48,7 @@ __all__ = [
     "point_mesh_distance",
     "sample_surface",
     "surface_distance",
+    "boundary_distance",
     "average_geodesic_distance",
     "suggest_landmarks",
 ]

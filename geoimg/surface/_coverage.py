@@ -49,6 +49,7 @@ from ._base import Surface
 from ._curvature import planar_curvature, sphere_curvature
 from ._face_maps import enclosing_circle_radius
 from ._planar import MAX_AUTO_RESOLUTION, _with_ghosts
+from ._rim import boundary_segments, snap_rim
 from ._sphere import MAX_AUTO_RESOLUTION as MAX_SPHERE_RESOLUTION
 from ._sphere_kernels import build_cells_3d, tangent_frames
 
@@ -131,6 +132,7 @@ class CoverageSurface(Surface):
     narrow: Any = field(repr=False)         # (T,) each triangle's width over sigma: min(1, median slope / its slope)
     thin: Any = field(repr=False)           # (T,) the inradius of a thin triangle (aspect beyond THIN), else inf
     polygons: Any = field(repr=False, default=None)    # (T, 3, 2) planar triangles, for the mask
+    rim: Any = field(repr=False, default=None)        # (B, 2, 2) the mesh's boundary, that a planar rim snaps to
     weights: str = "coverage"
     n: int = 0
     sliver_rule: str = "exact"
@@ -242,6 +244,10 @@ class PlanarCoverageSurface(PlanarAddressing, CoverageSurface):
             n_exact = int((st == ck.EXACT).sum())
         eps = 0.5 * max(u[1] - u[0], v[1] - v[0])  # within half a pixel of a triangle
         mask = kernels.face_coverage(u, v, self.polygons, np.full(len(self.polygons), 3), eps)
+        if self.rim is not None and self.domain.glue(shape) is None:    # a rim that follows the mesh's outline
+            ii, jj, uv = snap_rim(mask, u, v, self.rim)
+            if len(ii):
+                P[ii, jj], Pu[ii, jj], Pv[ii, jj], _ = self._points(uv, False)
         nrm = kernels.unit_normals(Pu, Pv, self.orientation) if normals else None
         return P, nrm, mask, n_exact, 0
 
@@ -361,6 +367,7 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
     tris = _quads_unfolded(mesh, tris, owner, coords)
     tri_mesh = Mesh(mesh.vertices, tris)
     polygons = coords[tris] if planar else None
+    rim = boundary_segments(tris, coords) if planar else None
     if planar:        # faces a cut glues across the square's sides continue beyond them, as copies
         d = enclosing_circle_radius(coords[tris])
         ghosts = domain.ghosts(coords[tris].mean(axis=1), 4.0 * d + 8.0 * s * float(d.mean()), d)
@@ -388,7 +395,7 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
     tables = tuple(np.ascontiguousarray(a, np.float64) for a in (E, K, w))
     kind = PlanarCoverageSurface if planar else SphereCoverageSurface
     return kind(domain, float(s), float(tol), dbar, tables, np.ascontiguousarray(centres), size, spread,
-                _border_triangles(tris) if planar else np.arange(len(tris)), narrow, thin, polygons)
+                _border_triangles(tris) if planar else np.arange(len(tris)), narrow, thin, polygons, rim)
 
 
 def _orientation(coords: np.ndarray, tris: np.ndarray) -> np.ndarray:

@@ -370,8 +370,10 @@ def test_the_reach_polygon_from_the_edges_triangle_is_the_octants_triangle_clipp
 @pytest.mark.parametrize("res", [33, 129])
 def test_the_planar_image_sums_every_triangle_that_counts_in_order(mountain, res):
     """Planar images, swept triangle by triangle over each one's box, give every pixel the brute-force truncated
-    sum's point to the bit, on the terrain grid and on an irregular mixed mesh."""
+    sum's point to the bit, on the terrain grid and on an irregular mixed mesh (rim pixels off the mesh's
+    boundary at the boundary point they snap to)."""
     from geoimg.surface._coverage import prefilter_s
+    from geoimg.surface._rim import snap_rim
     uv, faces = mixed_mesh(seed=3)
     irregular = geoimg.Mesh(np.column_stack([uv, np.sin(3 * uv[:, 0]) * uv[:, 1]]), faces)
     for mesh, param in ((mountain, parametrize(mountain, "heightfield")),
@@ -381,6 +383,8 @@ def test_the_planar_image_sums_every_triangle_that_counts_in_order(mountain, res
         image = surf.sample(res)
         u, v = surf.domain.pixel_uv(image.pixels.shape[:2])
         uu, vv = np.meshgrid(u, v)
+        rows, cols, to = snap_rim(image.mask, u, v, surf.rim)
+        uu[rows, cols], vv[rows, cols] = to[:, 0], to[:, 1]
         k = uu.size
         points = np.column_stack([uu.ravel(), vv.ravel(), np.ones(k)])
         E, K, w = (surf.edges(),) + tuple(surf.tables[1:])
