@@ -76,7 +76,7 @@ def interleaved(resolutions, runs: int) -> int:
     for res in resolutions:
         cases = []
         for mesh, param in pairs:
-            base = geoimg.fit_surface(mesh, param, 1.0, weights="coverage")
+            base = geoimg.fit_surface(mesh, param, geoimg.CoverageWeights(s=1.0))
             size = base.domain.round_resolution(res)
             cases.append((base.with_s(prefilter_s(base, size)), size, mesh.n_faces))
         best = np.full(2, np.inf)
@@ -120,8 +120,8 @@ def main(argv=None) -> int:
     grid = {}
     for name, mesh, method in cases:
         param = geoimg.parametrize(mesh, method) if isinstance(method, str) else method
-        paper = geoimg.fit_surface(mesh, param, 1.0)
-        base = geoimg.fit_surface(mesh, param, 1.0, weights="coverage")
+        paper = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights())
+        base = geoimg.fit_surface(mesh, param, geoimg.CoverageWeights(s=1.0))
         for res in args.res:
             res = paper.domain.round_resolution(res)
             cover = base.with_s(prefilter_s(base, res))

@@ -24,7 +24,7 @@ import numpy as np
 from scipy.spatial import Delaunay
 
 import geoimg
-from geoimg.surface import _kernels as kernels
+from geoimg.surface import _gaussian_kernels as kernels
 
 
 
@@ -49,7 +49,7 @@ def check(cu, cases) -> list[dict]:
     rows = []
     for seed, (faces, res, s) in enumerate(cases):
         mesh, param = tin(faces, 100 + seed)
-        surf = geoimg.fit_surface(mesh, param, s)
+        surf = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=s))
         args, kw = kernel_args(surf, res)
         a = kernels.sample_grid_gaussian(*args, derivatives=True, **kw)
         b = cu.sample_grid_gaussian_cuda(*args, derivatives=True, **kw)
@@ -153,7 +153,7 @@ def main() -> None:
     import numba
     from numba import cuda
 
-    from geoimg.surface import _cuda_kernels as cu
+    from geoimg.surface import _gaussian_cuda_kernels as cu
     why = cu.cuda_unavailable()
     if why is not None:
         raise SystemExit(f"bench_cuda: {why}; it needs a CUDA GPU (or NUMBA_ENABLE_CUDASIM=1 with --tiny)")

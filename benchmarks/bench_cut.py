@@ -44,7 +44,7 @@ def row(name: str, piece: geoimg.Mesh, n_samples: int) -> str:
     param = geoimg.parametrize(piece)
     t_param = time.perf_counter() - t0
     topo_in = topology(piece)
-    surf = geoimg.fit_surface(piece, param, 1.0)
+    surf = geoimg.fit_surface(piece, param, geoimg.GaussianWeights())
     psnr, spread, topo_out = [], "", None
     for res in (257, 513):
         image = surf.sample(res)

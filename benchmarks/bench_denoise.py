@@ -74,9 +74,11 @@ def run_mesh(name: str, path: Path, res: int) -> list:
         best = {}
         for size in sorted({res, vertex_resolution(noisy, param)}):
             t = time.perf_counter()
-            image = geoimg.mesh_to_image(noisy, size, s=0.5, normals=False, parametrization=param)
+            image = geoimg.mesh_to_image(noisy, size, normals=False, parametrization=param,
+                                         weights=geoimg.CoverageWeights(s=0.5))
             convert = t_param + time.perf_counter() - t
-            floor = geoimg.mesh_to_image(clean, size, s=0.5, normals=False, parametrization=param)
+            floor = geoimg.mesh_to_image(clean, size, normals=False, parametrization=param,
+                                         weights=geoimg.CoverageWeights(s=0.5))
             rows.append((name, f"{size}²: the clean mesh's own image ({image.domain.kind}; the floor)",
                          *score(clean, floor.to_mesh()), 0.0))
             rows.append((name, f"{size}²: the noisy image, not denoised (conversion time)",

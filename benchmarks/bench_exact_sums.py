@@ -41,7 +41,10 @@ for path in paths:
             best = min(best, time.perf_counter() - t)
         digest = hashlib.sha256(img.pixels.tobytes() + img.normals.tobytes()).hexdigest()[:16]
         out[f"{path}|{res}"] = (param.method, mesh.n_faces, best, digest, int(img.metadata["exact_pixels"]))
-    surf = geoimg.fit_surface(mesh, param, 0.05, weights="coverage")
+    try:                                        # typed weights since 2026-12-06; the flat keywords before
+        surf = geoimg.fit_surface(mesh, param, geoimg.CoverageWeights(s=0.05))
+    except AttributeError:
+        surf = geoimg.fit_surface(mesh, param, 0.05, weights="coverage")
     lo, hi = np.zeros(2), np.asarray(surf.domain.extent, float) if param.method != "sphere" else None
     rng = np.random.default_rng(0)
     if hi is None:

@@ -124,7 +124,8 @@ def main(argv=None) -> int:
                 row += [f"{surface_distance(tri_mesh, remesh, args.samples)['psnr_db']:.2f}", f"{md_psnr:.1f}"]
             else:
                 row += ["", ""]
-            linear = geoimg.mesh_to_image(mesh, res, 1e-4, parametrization=param, fidelity=False)
+            linear = geoimg.mesh_to_image(mesh, res, parametrization=param, fidelity=False,
+                                          weights=geoimg.CoverageWeights(s=1e-4))
             row.append(f"{surface_distance(tri_mesh, linear.to_mesh(), args.samples)['psnr_db']:.2f}")
             t_geo = 0.0
             for k in kappas:
@@ -135,8 +136,8 @@ def main(argv=None) -> int:
                 row.append(f"{surface_distance(tri_mesh, img.to_mesh(), args.samples)['psnr_db']:.2f}")
             row.append("prefilter" if img.metadata["s"] > geoimg._convert.LIMIT_S else "as it is")
             try:
-                paper = geoimg.mesh_to_image(mesh, res, 1.0, weights="gaussian", parametrization=param,
-                                             fidelity=False)
+                paper = geoimg.mesh_to_image(mesh, res, parametrization=param, fidelity=False,
+                                             weights=geoimg.GaussianWeights())
                 row.append(f"{surface_distance(tri_mesh, paper.to_mesh(), args.samples)['psnr_db']:.2f}")
             except geoimg.InputError:           # a charts image takes the coverage weights only
                 row.append("n/a")

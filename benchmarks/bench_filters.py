@@ -73,7 +73,7 @@ def seam_and_inverse():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         bunny = geoimg.load_mesh(DATA / "closed_genus0" / "bunny.obj")
-    img = geoimg.fit_surface(bunny, geoimg.parametrize(bunny, "sphere"), s=1).sample(257)
+    img = geoimg.fit_surface(bunny, geoimg.parametrize(bunny, "sphere"), geoimg.GaussianWeights()).sample(257)
     px = img.pixels
     w = weld_index(257).ravel()
     print("\nSeams (bunny.obj, 257^2 octahedral; largest difference between glued pixels before averaging, "
@@ -90,7 +90,8 @@ def seam_and_inverse():
         print(f"| {name} | {np.abs(out - out[w]).max() / np.abs(px).max():.1e} |")
 
     mountain = geoimg.load_mesh(SAMPLE_MESH)
-    surf = geoimg.fit_surface(mountain, geoimg.parametrize(mountain, "heightfield", axis="y"), s=2)
+    surf = geoimg.fit_surface(mountain, geoimg.parametrize(mountain, "heightfield", axis="y"),
+                              geoimg.GaussianWeights(s=2))
     p = surf.sample(257).pixels
     diag = mountain.bounding_box_diagonal()
     print("\nInverse filtering (mountain.obj, 257^2 planar, float32): blur, then undo it. RMS error relative to "
@@ -126,7 +127,7 @@ def versus_mesh_smoothing():
         warnings.simplefilter("ignore")
         mesh = geoimg.load_mesh(DATA / "closed_genus0" / "bunny.obj")
     param = geoimg.parametrize(mesh, "sphere")
-    img = geoimg.fit_surface(mesh, param, s=1).sample(257)
+    img = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights()).sample(257)
     tris, _ = mesh.triangulate()
 
     def volume(m):

@@ -1,5 +1,5 @@
 """Rims that follow the mesh (issue 52): how far a planar image's quad mesh strays from the mesh's boundary,
-with the rim pixels snapped onto the boundary (geoimg.surface._rim, the default) and without (the mask's
+with the rim pixels snapped onto the boundary (geoimg.surface._coverage_rim, the default) and without (the mask's
 staircase, as before), in pixel spacings, on open meshes whose outline is not the image's rectangle.
 
     python benchmarks/bench_rims.py [--res 129] [--picture docs/gallery/rims_petal.png]
@@ -54,7 +54,7 @@ def cases():
 
 
 def image(mesh, param, res, snap: bool):
-    surf = geoimg.fit_surface(mesh, param, weights="coverage")
+    surf = geoimg.fit_surface(mesh, param, geoimg.CoverageWeights(s=1.0))
     surf = surf.with_s(prefilter_s(surf, res))
     if not snap:
         surf = type(surf)(**{**surf.__dict__, "rim": None})
@@ -73,7 +73,7 @@ def main() -> None:
     ap.add_argument("--res", type=int, default=129)
     ap.add_argument("--picture", default=None, help="draw the petal's rim before and after to this PNG")
     args = ap.parse_args()
-    print(f"| mesh | faces | rim | quad -> mesh max / p95 (px) | mesh -> quad max / p95 (px) | PSNR (dB) |")
+    print("| mesh | faces | rim | quad -> mesh max / p95 (px) | mesh -> quad max / p95 (px) | PSNR (dB) |")
     print("|---|---:|---|---|---|---:|")
     for name, mesh, how in cases():
         param = (geoimg.parametrize(mesh, "disk", boundary="keep") if how == "keep"

@@ -22,13 +22,13 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))   # the numpy twins live with the tests
 
 import numpy as np
+import geoimg
 
 DEM = Path(__file__).resolve().parents[2] / "shared" / "data" / "dem" / "jacksboro_fault_dem.npz"
 RES = 256
 
 
 def terrain():
-    import geoimg
 
     z = np.load(DEM)["elevation"][:188, :188].astype(np.float64)
     mesh = geoimg.grid_mesh(z, spacing=(74.5, 92.5))
@@ -39,7 +39,6 @@ def tin(seed: int = 0):
     """A Delaunay TIN of random points over the terrain's window (as many triangles as the grid, about),
     heights bilinear in the DEM.
     """
-    import geoimg
     from scipy.interpolate import RegularGridInterpolator
     from scipy.spatial import Delaunay
 
@@ -55,10 +54,8 @@ def tin(seed: int = 0):
 
 def first_call() -> dict:
     """In a fresh process: time of the first sample (compile or cache load) and of the next one."""
-    import geoimg
-
     mesh, param = terrain()
-    surf = geoimg.fit_surface(mesh, param, 2.0)
+    surf = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=2.0))
     t = time.perf_counter()
     surf.sample(RES, normals=True)
     first = time.perf_counter() - t
@@ -96,12 +93,11 @@ def main(with_tin: bool = False):
 
 def compare(mesh, param, values, row: str = ""):
     """Table rows: the numpy baseline against the numba kernel, for each s in ``values``."""
-    import geoimg
-    from geoimg.surface import _kernels as kernels
+    from geoimg.surface import _gaussian_kernels as kernels
     from reference import sample_grid_numpy   # the plain-numpy twin, in tests/
 
     for s in values:
-        surf = geoimg.fit_surface(mesh, param, s)
+        surf = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=s))
         args = surf._grid_arguments(*surf.grid(RES))
         kernels.sample_grid_gaussian(*args, derivatives=True, log_g_ref=surf.log_g_ref)   # warm-up
         tn = []

@@ -16,7 +16,8 @@ from scipy.interpolate import LinearNDInterpolator
 from scipy.spatial import Delaunay
 
 import geoimg
-from geoimg.surface._face_maps import SLIVER_RATIO, enclosing_circle_radius
+from geoimg.surface._cells import enclosing_circle_radius
+from geoimg.surface._gaussian_face_maps import SLIVER_RATIO
 
 HERE = Path(__file__).resolve().parent
 DEM = HERE.parents[1] / "shared" / "data" / "dem" / "msh_nad83_27_2007-07-05.tif"
@@ -51,7 +52,7 @@ def main():
     shades = {}
     for s in (1.0, 2.0):
         for rule in ("paper", "robust"):
-            surf = geoimg.fit_surface(mesh, param, s, sliver_rule=rule)
+            surf = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=s, sliver_rule=rule))
             img = surf.sample(256)
             P = img.pixels.astype(np.float64)
             ref = tin(P[..., 0], P[..., 1])

@@ -99,7 +99,7 @@ def main(names):
         t_param = time.perf_counter() - t
         t_linear = min(linear_map_time(mesh) for _ in range(3))
         lo, hi, p1, p99 = samples_per_area(mesh, param.coords)
-        surf = geoimg.fit_surface(mesh, param, s=1.0)
+        surf = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights())
         surf.sample(9)   # compile / warm the cells
         for n in SIZES:
             t = time.perf_counter()

@@ -14,7 +14,7 @@ from geoimg.parametrization import area_ratio
 HERE = Path(__file__).resolve().parent
 mesh = geoimg.load_mesh(HERE.parents[1] / "shared" / "data" / "meshes" / "closed_genus0" / "bunny.off")
 param = geoimg.parametrize(mesh, "sphere")
-img = geoimg.fit_surface(mesh, param, s=1.0).sample(257)
+img = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights()).sample(257)
 quads = img.to_mesh()
 fig, ax = plt.subplots(1, 3, figsize=(15, 5))
 p = img.pixels

@@ -9,7 +9,7 @@ shapes). Image operations live in the separate package
 
 >>> import geoimg
 >>> mesh = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 1], [0, 1, 0]], [[0, 1, 2, 3]])
->>> image = geoimg.mesh_to_image(mesh, 8, s=2.0, method="heightfield", axis="z")
+>>> image = geoimg.mesh_to_image(mesh, 8, method="heightfield", axis="z", weights=geoimg.CoverageWeights(s=2.0))
 >>> image.domain.kind, image.to_mesh().n_faces
 ('planar', 49)
 """

@@ -11,7 +11,8 @@ from .parametrization import (Parametrization as Parametrization, parametrize as
 from .image import (ChartsDomain as ChartsDomain, CutDomain as CutDomain, Domain as Domain,
     GeometryImage as GeometryImage, OctahedralDomain as OctahedralDomain, PlanarDomain as PlanarDomain,
     grid_normals as grid_normals, load_image as load_image, save_image as save_image, save_preview as save_preview)
-from .surface import (Surface as Surface, fit_surface as fit_surface)
+from .surface import (Surface as Surface, fit_surface as fit_surface, CoverageWeights as CoverageWeights,
+    GaussianWeights as GaussianWeights)
 from ._convert import (mesh_to_image as mesh_to_image, mesh_to_images as mesh_to_images)
 from ._options import ConversionOptions as ConversionOptions
 from ._compress import (Compressed as Compressed, compress as compress)

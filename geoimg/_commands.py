@@ -4,6 +4,7 @@ so that ``geoimg --help`` starts in a fraction of a second.
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import sys
 import time
@@ -17,6 +18,8 @@ from ._choices import COMPRESSED_FORMATS, DEFAULT_CURVATURE_SCALE, READ_IMAGE_FO
 from ._compress import compress
 from ._convert import COMPONENT_CHOICES, measure_fidelity, mesh_to_image, mesh_to_images
 from ._options import ConversionOptions
+from .batch._options import BatchOptions
+from .surface import CoverageWeights, make_weights
 from ._atomic import check_writable, write_all
 from ._budget import check_memory
 from ._steps import apply_steps
@@ -112,15 +115,25 @@ def _check_outputs(force: bool, *outputs) -> None:
         check_writable(path, force)
 
 
+def _conversion_options(args, cls=ConversionOptions, **values):
+    """The conversion's options from the command line: each field of ``cls`` from the flag of its name (a new
+    option is a field and a flag, nothing here), the weights from ``--weights``, ``--s``, ``--n``, ``--tol``
+    and ``--sliver-rule``, then ``values``.
+    """
+    flags = {f.name: getattr(args, f.name) for f in dataclasses.fields(cls) if hasattr(args, f.name)}
+    flags.pop("component", None)
+    weights = make_weights(args.weights, s=args.s, n=args.n, tol=args.tol, sliver_rule=args.sliver_rule)
+    component = {} if getattr(args, "component", None) is None else {"component": _component(args.component)}
+    return cls(**{**flags, "weights": weights, "resolution": args.res, "colors": not args.no_colors,
+                  **component, **values})
+
+
 def cmd_image(args) -> int:
     _check_outputs(args.force, (args.output, IMAGE_FORMATS, "the geometry image"),
                    (args.preview, (".png",), "the preview"))
     progress = Progress(args.quiet, always=args.progress)
-    component = _component(args.component or "all")
-    options = ConversionOptions(resolution=args.res, s=args.s, method=args.method, component=component,
-                                axis=args.axis, boundary=args.boundary, balance=args.balance, weights=args.weights,
-                                n=args.n, tol=args.tol, sliver_rule=args.sliver_rule, colors=not args.no_colors)
-    images = mesh_to_images(args.mesh, **options.conversion(), backend=args.backend, progress=progress)
+    options = _conversion_options(args)
+    images = mesh_to_images(args.mesh, options=options, backend=args.backend, progress=progress)
     many = len(images) > 1
     outputs = [(img, _numbered(args.output, img.metadata.get("component", 0), many),
                 _numbered(args.preview, img.metadata.get("component", 0), many)) for img in images]
@@ -332,7 +345,7 @@ def cmd_demo(args) -> int:
     progress(f"loading {src}")
     mesh = load_mesh(src)
     t0 = time.perf_counter()
-    image = mesh_to_image(mesh, args.res, args.s, progress=progress)
+    image = mesh_to_image(mesh, args.res, weights=CoverageWeights(s=args.s), progress=progress)
     image.metadata["source"] = src.name
     t1 = time.perf_counter()
     stem = src.stem
@@ -570,15 +583,11 @@ def _duration(seconds: float) -> str:
 
 
 def cmd_batch(args) -> int:
-    options = dict(resolution=args.res, s=args.s, method=args.method, axis=args.axis, boundary=args.boundary,
-                   balance=args.balance,
-                   weights=args.weights, n=args.n, tol=args.tol, sliver_rule=args.sliver_rule,
-                   normals=not args.no_normals, colors=not args.no_colors, steps=args.ops or (), mode=args.mode,
-                   nsr=args.nsr,
-                   quads=args.quads is not None, quads_format=args.quads or "obj", psnr=not args.no_psnr,
-                   min_psnr=args.min_psnr, max_hausdorff=args.max_hausdorff, harmonics=args.harmonics)
-    if args.component is not None:
-        options["component"] = _component(args.component)
+    opts = _conversion_options(args, BatchOptions, normals=not args.no_normals, steps=args.ops or (),
+                               quads=args.quads is not None, quads_format=args.quads or "obj", psnr=not args.no_psnr)
+    options = {f.name: getattr(opts, f.name) for f in dataclasses.fields(opts)}
+    if args.component is None:
+        del options["component"]                # the batch's own default (largest piece, for a Zarr store)
     table = convert_batch(args.inputs, args.output, zarr=args.zarr, manifest=args.manifest, workers=args.workers,
                           memory_limit=args.memory_limit, scheduler=args.scheduler, force=args.force,
                           progress=BatchProgress(args.quiet, args.progress_every), **options)

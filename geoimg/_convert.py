@@ -1,7 +1,7 @@
 """Mesh to geometry image in one call: load, repair, parametrize, fit the weighted-mean surface, sample."""
 from __future__ import annotations
 
-import dataclasses
+import numbers
 import time
 import warnings
 from contextlib import contextmanager
@@ -10,13 +10,13 @@ from typing import Any
 
 import numpy as np
 
-from ._choices import COMPONENT_CHOICES, DEFAULT_DISK_BALANCE, POOR_HAUSDORFF, POOR_PSNR_DB
+from ._choices import COMPONENT_CHOICES, POOR_HAUSDORFF, POOR_PSNR_DB
 from ._options import ConversionOptions
 from .errors import InputTypeError, MeshError, ParametrizationError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair, surface_distance
 from .parametrization import Parametrization, map_stretch, parametrize
-from .surface import fit_surface
+from .surface import CoverageWeights, SmoothnessMap, fit_surface
 from .surface._coverage import prefilter_s
 from .surface._attributes import sample_colors
 from .surface._base import check_backend
@@ -27,7 +27,6 @@ __all__ = ["mesh_to_image", "mesh_to_images", "measure_fidelity", "poor_reason",
            "FIDELITY_SAMPLES", "LIMIT_S", "POOR_PSNR_DB", "POOR_HAUSDORFF"]
 
 FIDELITY_SAMPLES = 20000     # area samples a side for the fidelity every conversion reports (about 0.1 dB)
-CONVERSION_FIELDS = frozenset(f.name for f in dataclasses.fields(ConversionOptions))
 LIMIT_S = 1e-4               # coverage weights this narrow: the mesh resampled as it is (the limit s -> 0)
 
 
@@ -43,6 +42,16 @@ def _timed(timings: dict | None, stage: str):
             timings[stage] = timings.get(stage, 0.0) + time.perf_counter() - t0
 
 
+def _s_in_its_old_place(options, option_values: dict):
+    """``options``, or None with ``option_values["s"]`` set when it is the number (or per-face values) that
+    earlier releases took in its place (deprecated; :meth:`ConversionOptions.create` says so).
+    """
+    if isinstance(options, (numbers.Real, np.ndarray, list, tuple, SmoothnessMap)) and not isinstance(options, bool):
+        option_values["s"] = options
+        return None
+    return options
+
+
 def _load(mesh_or_path, say) -> tuple[Mesh, str]:
     if isinstance(mesh_or_path, Mesh):
         return mesh_or_path, ""
@@ -53,9 +62,9 @@ def _load(mesh_or_path, say) -> tuple[Mesh, str]:
 
 
 @fixed_order
-def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = None, method: str = "auto", *,
-                   component: str | int = "all", progress: Progress | None = None, timings: dict | None = None,
-                   **options: Any) -> list[GeometryImage]:
+def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, options: ConversionOptions | None = None, *,
+                   backend: str = "cpu", progress: Progress | None = None, timings: dict | None = None,
+                   fidelity: bool = True, **option_values: Any) -> list[GeometryImage]:
     """The geometry images of a mesh's pieces, largest first, after the repairs of
     :func:`geoimg.mesh.repair` (pinch vertices split, non-manifold edges separated, faces oriented, each
     announced with a warning): one image per piece, or only the ``"largest"`` or the ``K``-th
@@ -70,18 +79,16 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
         The mesh, or a mesh file (read by :func:`geoimg.load_mesh`).
     resolution : int or None
         Pixels along the longer side (see :func:`mesh_to_image`).
-    s : float, array_like or None
-        The smoothness (see :func:`mesh_to_image`).
-    method : str
-        The parametrization's method (see :func:`geoimg.parametrize`).
-    component : {"all", "largest"} or int
-        Which pieces: all of them, the largest, or the K-th (0: the largest).
-    progress : callable or None
-        Called with each stage's progress.
+    options : ConversionOptions, optional
+        The conversion's options; ``options.component`` says which pieces: all of them, the largest, or the
+        K-th (0: the largest).
+    backend, progress, fidelity
+        As :func:`mesh_to_image` takes them.
     timings : dict or None
         Filled with seconds per stage, summed over the pieces.
-    **options
-        The other options of :func:`mesh_to_image`.
+    **option_values
+        Fields of :class:`~geoimg.ConversionOptions` (``component``, ``method``, ``weights``, ...), replacing
+        those of ``options``.
 
     Returns
     -------
@@ -101,13 +108,16 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
     >>> quad = [[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0]]
     >>> m = geoimg.Mesh(quad + [[x + 3, y, z] for x, y, z in quad], [[0, 1, 2, 3], [4, 5, 6, 7]])
     >>> with warnings.catch_warnings(record=True):
-    ...     images = mesh_to_images(m, 5, s=2.0, method="heightfield", axis="z")
+    ...     images = mesh_to_images(m, 5, method="heightfield", axis="z", weights=geoimg.CoverageWeights(s=2.0))
     >>> [img.metadata["component"] for img in images], images[1].pixels[0, 0, 0].item()
     ([0, 1], 3.0)
     """
-    check_backend(options.get("backend", "cpu"))    # before the work: a GPU asked for and missing is said at once
-    ConversionOptions(resolution=resolution, s=s, method=method, component=component,     # and the options
-                      **{k: v for k, v in options.items() if k in CONVERSION_FIELDS})
+    check_backend(backend)       # before the work: a GPU asked for and missing is said at once, and the options
+    options = _s_in_its_old_place(options, option_values)
+    if resolution is not None:
+        option_values["resolution"] = resolution
+    opts = ConversionOptions.create(options, caller="mesh_to_images", stacklevel=4, **option_values)
+    component = opts.component
     say = progress or (lambda message: None)
     with _timed(timings, "load"):
         mesh, source = _load(mesh_or_path, say)
@@ -127,8 +137,8 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
         if len(pieces) > 1:
             say(f"piece {k} of {len(pieces)}: {pieces[k].mesh.n_faces} faces")
         try:
-            image = mesh_to_image(pieces[k].mesh, resolution, s, method, progress=progress, timings=timings,
-                                  **options)
+            image = mesh_to_image(pieces[k].mesh, options=opts, backend=backend, progress=progress,
+                                  timings=timings, fidelity=fidelity)
         except ParametrizationError as e:
             if len(chosen) == 1:
                 raise
@@ -148,13 +158,10 @@ def mesh_to_images(mesh_or_path: Any, resolution: int | None = None, s: Any = No
 
 
 @fixed_order
-def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = None, method: str = "auto", *,
-                  axis: str | None = None, boundary: str = "square", balance: str = DEFAULT_DISK_BALANCE,
-                  weights: str = "coverage", n: int = 10,
-                  tol: float = 1e-10, sliver_rule: str = "robust", normals: bool = True, colors: bool = True,
+def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, options: ConversionOptions | None = None, *,
                   backend: str = "cpu", parametrization: Parametrization | None = None,
                   progress: Progress | None = None, timings: dict | None = None,
-                  fidelity: bool = True) -> GeometryImage:
+                  fidelity: bool = True, **option_values: Any) -> GeometryImage:
     """The geometry image of a mesh: :func:`~geoimg.parametrize`, :func:`~geoimg.fit_surface` and
     :meth:`~geoimg.Surface.sample` in one call. A mesh of several pieces, or one that needs repairs
     before it can be parametrized, goes through :func:`mesh_to_images`.
@@ -163,29 +170,27 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
     0.4 of a pixel spacing (:func:`geoimg.surface.prefilter_s`), a prefilter for the grid rather than a
     smoothing of the shape; with ``fidelity`` the mesh resampled as it is (width :data:`LIMIT_S`) is measured
     too, and taken where it lies closer (maps made of slivers, where the prefilter's rounding costs more than
-    it gains). Smoothing is asked for with ``s`` (or filters afterwards).
+    it gains). Smoothing is asked for with the weights' ``s`` (or filters afterwards).
 
     Parameters
     ----------
     mesh_or_path : Mesh or str or path-like
         A mesh, or a mesh file (see :func:`geoimg.load_mesh`).
     resolution : int, optional
-        Pixels along the longer side; default from ``s`` (:meth:`~geoimg.Surface.auto_resolution`). A
-        cut-open image (meshes with handles or several boundary loops) needs N - 1 a multiple of 64
-        (65, 129, 257, 513, ...).
-    s : float, per-face values or SmoothnessMap, optional
-        Smoothness (see :func:`geoimg.fit_surface`). Default: for coverage weights the width that serves
-        the resolution (``sigma`` 0.4 of a pixel spacing); for the paper's weights 1.
-    method, axis, boundary, balance
-        The parametrization (see :func:`geoimg.parametrize`); ignored when ``parametrization`` is given.
-    weights, n, tol, sliver_rule
-        The fit (see :func:`geoimg.fit_surface`).
-    normals : bool, default True
-        Also store exact normals.
-    colors : bool, default True
-        Also store the mesh's colours, when it has a texture (OBJ with an MTL ``map_Kd``) or vertex colours
-        (PLY, OBJ ``v x y z r g b``): each pixel's colour interpolated in the face that holds it (see
-        :mod:`geoimg.surface._attributes`).
+        Pixels along the longer side; default from the weights' width
+        (:meth:`~geoimg.Surface.auto_resolution`). A cut-open image (meshes with handles or several boundary
+        loops) needs N - 1 a multiple of 64 (65, 129, 257, 513, ...).
+    options : ConversionOptions, optional
+        The conversion's options (:class:`~geoimg.ConversionOptions`): the weights (default
+        ``CoverageWeights()``: the width that serves the resolution, ``sigma`` 0.4 of a pixel spacing;
+        ``CoverageWeights(s=...)`` or ``GaussianWeights(s=...)`` smooth), the parametrization's ``method,
+        axis, boundary, balance`` (ignored when ``parametrization`` is given), ``normals`` (exact normals
+        stored) and ``colors`` (the mesh's texture or vertex colours, each pixel's interpolated in the face
+        that holds it, :mod:`geoimg.surface._attributes`).
+    **option_values
+        Fields of :class:`~geoimg.ConversionOptions` by name (``method="sphere"``,
+        ``weights=GaussianWeights(s=2)``, ...), replacing those of ``options``. The flat ``s``, ``n``,
+        ``tol``, ``sliver_rule`` and ``weights`` as a name of earlier releases still work, deprecated.
     backend : {"cpu", "cuda"}, default "cpu"
         Where the sampling's Gaussian sums run (see :meth:`~geoimg.Surface.sample`).
     parametrization : Parametrization, optional
@@ -213,29 +218,30 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
     --------
     >>> import geoimg
     >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 1], [0, 1, 0]], [[0, 1, 2, 3]])
-    >>> img = mesh_to_image(m, 9, s=2.0, method="heightfield", axis="z")
+    >>> img = mesh_to_image(m, 9, method="heightfield", axis="z", weights=geoimg.CoverageWeights(s=2.0))
     >>> img.shape, img.metadata["parametrization"]
     ((9, 9), 'heightfield')
     """
     check_backend(backend)
-    opts = ConversionOptions(resolution=resolution, s=s, method=method, axis=axis, boundary=boundary,
-                             balance=balance, weights=weights, n=n, tol=tol, sliver_rule=sliver_rule,
-                             normals=normals, colors=colors)     # checked before the work, not after it
-    resolution, s = opts.resolution, opts.s
+    options = _s_in_its_old_place(options, option_values)
+    if resolution is not None:
+        option_values["resolution"] = resolution
+    opts = ConversionOptions.create(options, caller="mesh_to_image", stacklevel=4, **option_values)  # before the work
+    resolution, weights, normals = opts.resolution, opts.weights, opts.normals
+    method = opts.method
     say = progress or (lambda message: None)
     with _timed(timings, "load"):
         mesh, source = _load(mesh_or_path, say)
     if parametrization is None:
         say(f"{mesh.n_vertices} vertices, {mesh.n_faces} faces; parametrizing ({method})")
         with _timed(timings, "parametrize"):
-            parametrization = parametrize(mesh, method, axis=axis, boundary=boundary, balance=balance,
-                                          progress=progress)
-    serve = s is None and weights == "coverage"          # the width that serves the resolution
-    s_fit = (1.0 if s is None else s)
+            parametrization = parametrize(mesh, method, axis=opts.axis, boundary=opts.boundary,
+                                          balance=opts.balance, progress=progress)
+    serve = isinstance(weights, CoverageWeights) and weights.s is None       # the width that serves the resolution
     say(f"parametrized by {parametrization.method}; fitting the surface "
-        f"({'s for the resolution' if serve else f's={s_fit}'}, {weights} weights)")
+        f"({'s for the resolution' if serve else f's={weights.s}'}, {weights.kind} weights)")
     with _timed(timings, "fit"):
-        surface = fit_surface(mesh, parametrization, s_fit, weights=weights, n=n, tol=tol, sliver_rule=sliver_rule)
+        surface = fit_surface(mesh, parametrization, weights)
     res = surface.auto_resolution() if resolution is None else surface.domain.round_resolution(resolution)
     if resolution is not None and res != resolution:
         warnings.warn(f"resolution {resolution}: {surface.domain.size_rule()}; sampled at {res}", stacklevel=2)
@@ -253,7 +259,7 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, s: Any = Non
             other = _distance(plain, mesh)
             if other["psnr_db"] > measured["psnr_db"]:
                 image, measured = plain, other
-    if colors and (mesh.colors is not None or mesh.texture is not None):
+    if opts.colors and (mesh.colors is not None or mesh.texture is not None):
         say("sampling the colours")
         with _timed(timings, "colors"):
             rgb = sample_colors(mesh, parametrization, image.domain, image.shape, image.valid)

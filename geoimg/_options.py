@@ -1,13 +1,11 @@
 """The options of a conversion, mesh to geometry image: one object that :func:`geoimg.mesh_to_image`,
-:func:`geoimg.mesh_to_images`, ``geoimg image``, the batch (:class:`geoimg.batch.ConvertOptions` adds its
+:func:`geoimg.mesh_to_images`, ``geoimg image``, the batch (:class:`geoimg.batch.BatchOptions` adds its
 own) and a morph's mesh keys take, checked here, once, before any work.
 """
 from __future__ import annotations
 
 import dataclasses
-import math
 import numbers
-from typing import Any
 
 import numpy as np
 
@@ -15,9 +13,7 @@ from ._choices import COMPONENT_CHOICES, DEFAULT_DISK_BALANCE
 from .errors import InputError, InputTypeError
 from .parametrization import AXES, DISK_BALANCES, DISK_BOUNDARIES, PARAMETRIZATION_METHODS
 from .parametrization._parametrize import check_axis
-from .surface import SLIVER_RULES, WEIGHTS
-from .surface._coverage import check_s
-from .surface._fit import check_s_range
+from .surface._weights import UNSET, CoverageWeights, GaussianWeights, resolve_weights
 
 __all__ = ["ConversionOptions", "check_resolution", "check_choice", "plain_number"]
 
@@ -41,37 +37,22 @@ def plain_number(value):
     return value.item() if isinstance(value, np.generic) and isinstance(value, numbers.Number) else value
 
 
-def _check_s(s, weights: str) -> None:
-    """One number in the range of the weights; per-face values and maps (the paper's weights only) are
-    checked by :func:`geoimg.fit_surface`, which knows the faces.
-    """
-    if s is None:
-        return
-    if isinstance(s, (bool, str, bytes)):
-        raise InputTypeError(f"s: expected a number, got {type(s).__name__}")
-    if not isinstance(s, numbers.Real):
-        if weights == "coverage":
-            raise InputError(f"s: coverage weights take one number (one width everywhere), got {s!r:.80}")
-        return
-    if weights == "coverage":
-        check_s(s)
-    elif not math.isfinite(s):
-        raise InputError(f"s: expected a positive finite number, got {s!r}")
-    else:
-        check_s_range(np.array([s], np.float64))          # the messages fit_surface gives
+DEPRECATED = ("s", "n", "tol", "sliver_rule")      # flat weight settings of earlier releases
 
 
 @dataclasses.dataclass(frozen=True)
 class ConversionOptions:
-    """How a mesh becomes a geometry image, checked on construction.
+    """How a mesh becomes a geometry image, checked on construction: the one object that
+    :func:`geoimg.mesh_to_image`, :func:`geoimg.mesh_to_images`, ``geoimg image``, the batch
+    (:class:`geoimg.batch.BatchOptions` adds its own) and a morph's mesh keys take. An option is added here,
+    once (and as a flag of the same name on the command line).
 
     Parameters
     ----------
     resolution : int or None
-        Pixels along the longer side; None: from ``s`` (see :func:`geoimg.mesh_to_image`).
-    s : float, per-face values, SmoothnessMap or None
-        The smoothness; None: the width that serves the resolution (coverage weights) or 1 (the paper's).
-        Coverage weights take one number.
+        Pixels along the longer side; None: from the weights' width (see :func:`geoimg.mesh_to_image`).
+    weights : CoverageWeights or GaussianWeights
+        The surface's weights and their settings (default ``CoverageWeights()``, the faithful image).
     method : str
         The parametrization's method (see :func:`geoimg.parametrize`).
     axis : {"x", "y", "z"} or None
@@ -80,14 +61,6 @@ class ConversionOptions:
         A disk's boundary: on the unit square, or its own convex outline.
     balance : {"area", "slim", "none"}
         How a disk or cut-open map is relaxed.
-    weights : {"coverage", "gaussian", "local"}
-        The surface's weights.
-    n : int
-        Faces per weight of ``local`` weights, at least 2.
-    tol : float
-        The truncation tolerance of Gaussian weights, in [0, 1) (0: exact sums).
-    sliver_rule : {"robust", "paper"}
-        How long thin faces are treated.
     component : {"all", "largest"} or int
         Which pieces of a mesh of several (:func:`geoimg.mesh_to_images`).
     normals, colors : bool
@@ -104,44 +77,34 @@ class ConversionOptions:
     --------
     >>> ConversionOptions(resolution=np.int64(65), method="sphere").resolution
     65
-    >>> ConversionOptions(n=1)
+    >>> ConversionOptions(weights="gaussian")
     Traceback (most recent call last):
     ...
-    geoimg.errors.InputError: n: expected a whole number of at least 2, got 1
+    geoimg.errors.InputTypeError: weights: expected CoverageWeights or GaussianWeights, got str
     """
 
     resolution: int | None = None
-    s: Any = None
+    weights: CoverageWeights | GaussianWeights = CoverageWeights()
     method: str = "auto"
     axis: str | None = None
     boundary: str = "square"
     balance: str = DEFAULT_DISK_BALANCE
-    weights: str = "coverage"
-    n: int = 10
-    tol: float = 1e-10
-    sliver_rule: str = "robust"
     component: str | int = "all"
     normals: bool = True
     colors: bool = True
 
     def __post_init__(self):
-        for name in ("resolution", "n", "component", "s", "tol"):
+        for name in ("resolution", "component"):
             object.__setattr__(self, name, plain_number(getattr(self, name)))
         check_resolution(self.resolution)
-        check_choice("weights", self.weights, WEIGHTS)
-        _check_s(self.s, self.weights)
-        if isinstance(self.tol, bool) or not isinstance(self.tol, numbers.Real):
-            raise InputTypeError(f"tol: expected a number, got {type(self.tol).__name__}")
-        if not (math.isfinite(self.tol) and 0 <= self.tol < 1):
-            raise InputError(f"tol: expected a number from 0 (exact) to below 1, got {self.tol!r}")
-        if isinstance(self.n, bool) or not isinstance(self.n, int) or self.n < 2:
-            raise InputError(f"n: expected a whole number of at least 2, got {self.n!r}")
+        if not isinstance(self.weights, (CoverageWeights, GaussianWeights)):
+            raise InputTypeError(f"weights: expected CoverageWeights or GaussianWeights, got "
+                                 f"{type(self.weights).__name__}")
         check_choice("method", self.method, PARAMETRIZATION_METHODS)
         check_choice("axis", self.axis, AXES, optional=True)
         check_axis(self.method, self.axis)
         check_choice("boundary", self.boundary, DISK_BOUNDARIES)
         check_choice("balance", self.balance, DISK_BALANCES)
-        check_choice("sliver_rule", self.sliver_rule, SLIVER_RULES)
         if not (self.component in COMPONENT_CHOICES or (isinstance(self.component, int)
                                                         and not isinstance(self.component, bool)
                                                         and self.component >= 0)):
@@ -151,17 +114,48 @@ class ConversionOptions:
                 raise InputTypeError(f"{name}: expected True or False, got {getattr(self, name)!r}")
             object.__setattr__(self, name, bool(getattr(self, name)))
 
-    def conversion(self) -> dict:
-        """These options as keyword arguments of :func:`geoimg.mesh_to_images` (``component`` included).
+    @classmethod
+    def create(cls, options: ConversionOptions | None = None, *, caller: str, stacklevel: int = 3, **values):
+        """These options built from ``options`` (or the defaults) with ``values`` replacing fields; the flat
+        weight keywords of earlier releases (``s``, ``weights`` as a name, ``n``, ``tol``, ``sliver_rule``)
+        build ``weights`` as they did then (see :func:`geoimg.surface._weights.resolve_weights`), with a
+        :class:`DeprecationWarning` naming ``caller``.
 
-        Returns
-        -------
-        dict
-            ``resolution, s, method, ..., colors`` by name.
+        Raises
+        ------
+        InputTypeError
+            On a keyword that is no option.
 
         Examples
         --------
-        >>> ConversionOptions(resolution=65).conversion()["resolution"]
+        >>> ConversionOptions.create(caller="f", resolution=33, method="sphere").method
+        'sphere'
+        """
+        if options is not None and not isinstance(options, cls):
+            raise InputTypeError(f"{caller}: options: expected a {cls.__name__}, got {type(options).__name__}")
+        flat = {k: values.pop(k) for k in DEPRECATED if k in values}
+        weights = values.pop("weights", None)
+        if flat or (weights is not None and not isinstance(weights, (CoverageWeights, GaussianWeights))):
+            values["weights"] = resolve_weights(weights, **{k: flat.get(k, UNSET) for k in DEPRECATED},
+                                                old_default="coverage", old_s=None, caller=caller,
+                                                stacklevel=stacklevel + 1)
+        elif weights is not None:
+            values["weights"] = weights
+        unknown = sorted(set(values) - {f.name for f in dataclasses.fields(cls)})
+        if unknown:
+            raise InputTypeError(f"{caller}: unknown option{'s' if len(unknown) > 1 else ''} {', '.join(unknown)}")
+        return dataclasses.replace(options, **values) if options is not None else cls(**values)
+
+    def conversion(self) -> ConversionOptions:
+        """The conversion's own options (those of :class:`ConversionOptions`, whatever subclass this is).
+
+        Returns
+        -------
+        ConversionOptions
+
+        Examples
+        --------
+        >>> ConversionOptions(resolution=65).conversion().resolution
         65
         """
-        return {f.name: getattr(self, f.name) for f in dataclasses.fields(ConversionOptions)}
+        return ConversionOptions(**{f.name: getattr(self, f.name) for f in dataclasses.fields(ConversionOptions)})

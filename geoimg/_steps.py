@@ -56,7 +56,7 @@ def apply_steps(image: GeometryImage, steps, *, mode: str | None = None, nsr: fl
     --------
     >>> import geoimg
     >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 1], [0, 1, 0]], [[0, 1, 2, 3]])
-    >>> img = geoimg.mesh_to_image(m, 9, s=2.0, method="heightfield", axis="z")
+    >>> img = geoimg.mesh_to_image(m, 9, method="heightfield", axis="z", weights=geoimg.CoverageWeights(s=2.0))
     >>> apply_steps(img, [("mean", [3]), ("sharpen", [3])]).metadata["filters"][-2:]
     ['mean_filter(3, mode=reflect)', "inverse_filter('mean', 3, nsr=0.001, mode=reflect)"]
     """

@@ -57,7 +57,7 @@ def run(out_dir: Path, res: int = 257, size=(360, 300)) -> dict:
         warnings.simplefilter("ignore")                  # the file's UV seams are not read
         mesh = geoimg.load_mesh(TEST_DATA / "bob_tri.obj")
     image = geoimg.mesh_to_image(mesh, res)
-    coarse = geoimg.mesh_to_image(mesh, 65, s=2.0)
+    coarse = geoimg.mesh_to_image(mesh, 65, weights=geoimg.CoverageWeights(s=2.0))
     quads, coarse_quads = image.to_mesh(), coarse.to_mesh()
     t_in, t_out = topology(mesh), topology(quads)
     stats = {"domain": image.domain.kind, "genus in": t_in.genus, "genus out": t_out.genus,

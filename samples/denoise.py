@@ -51,7 +51,7 @@ def run(out_dir: Path, res: int = 161, size=(360, 270)) -> dict:
     clean = geoimg.load_mesh(MOUNTAIN)
     noisy, sigma = noisy_copy(clean)
     t = time.perf_counter()
-    image = geoimg.mesh_to_image(noisy, res, s=0.5, normals=False)
+    image = geoimg.mesh_to_image(noisy, res, normals=False, weights=geoimg.CoverageWeights(s=0.5))
     quads = apply_steps(image, [("median", [3]), ("nlmeans", [sigma])]).to_mesh()
     t_image = time.perf_counter() - t
     tm = trimesh.Trimesh(noisy.vertices, noisy.faces, process=False)

@@ -23,17 +23,17 @@ from _common import MOUNTAIN, caption, gray, hillshade, sample_main, save, sheet
 def run(out_dir: Path, res: int = 257) -> dict:
     mesh = geoimg.load_mesh(MOUNTAIN)
     param = geoimg.parametrize(mesh, "heightfield", axis="y")
-    geoimg.fit_surface(mesh, param, s=1.0).sample(9)      # compile / load the kernels first
+    geoimg.fit_surface(mesh, param, geoimg.GaussianWeights()).sample(9)      # compile / load the kernels first
     rows, stats = [], {}
     for kind, values in (("gaussian", (1.0, 2.0, 3.0)), ("local", (5, 10, 15))):
         row = []
         for value in values:
             t = time.perf_counter()
             if kind == "gaussian":
-                image = geoimg.fit_surface(mesh, param, s=value).sample(res)
+                image = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=value)).sample(res)
                 label = f"rational Gaussian, s = {value:g}"
             else:
-                image = geoimg.fit_surface(mesh, param, s=1.0, weights="local", n=value).sample(res)
+                image = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(n=value)).sample(res)
                 label = f"local weights, n = {value}"
             seconds = time.perf_counter() - t
             stats[label] = seconds

@@ -30,7 +30,7 @@ def run(out_dir: Path, res: int = 257, step: int = 2) -> dict:
     rows, stats = [], {}
     for s in S_VALUES:
         t = time.perf_counter()
-        surface = geoimg.fit_surface(mesh, param, s=s)
+        surface = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=s))
         image = surface.sample(res)
         K, H = surface_curvature(surface, res)
         stats[s] = {"seconds": time.perf_counter() - t, "K_range": (float(K.min()), float(K.max()))}

@@ -54,7 +54,8 @@ def run(out_dir: Path, res: int = 129, size=(300, 240)) -> dict:
             cam = r.camera_for(mesh, azimuth=azimuth, elevation=35 if up == "z" else 15, up=up)
             row = [caption(r.render(mesh, cam, edges=mesh), f"{name}: the mesh")]
             for s in S_VALUES:
-                quads = geoimg.fit_surface(mesh, param, s=s).sample(res | 1 if method == "sphere" else res).to_mesh()
+                surface = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=s))
+                quads = surface.sample(res | 1 if method == "sphere" else res).to_mesh()
                 row.append(caption(r.render(quads, cam, edges=mesh), f"s = {s:g}"))
             rows.append(row)
             stats[name] = {"faces": mesh.n_faces, "sizes": sorted(set(mesh.face_sizes.tolist()))}

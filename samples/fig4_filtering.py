@@ -33,7 +33,7 @@ def to_rgb(image) -> np.ndarray:
 
 def run(out_dir: Path, res: int = 129, size=(240, 240)) -> dict:
     mesh = geoimg.load_mesh(DATA / "spot_low_resolution.obj")
-    image = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), s=1.0).sample(res | 1)
+    image = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), geoimg.GaussianWeights()).sample(res | 1)
     head = mesh.vertices[np.argmax(mesh.vertices[:, 2])]               # the snout's tip
     region = image_region(image, head, 0.35, 0.15)
     versions = [("geometry image", image),

@@ -31,7 +31,7 @@ def run(out_dir: Path, finest: int = 193, size=(240, 220)) -> dict:
         cam = r.camera_for(mesh, azimuth=-50, elevation=15)
         for s, n in PAIRS:
             n = max(5, int(round((n - 1) * scale)) + 1) | 1
-            quads = geoimg.fit_surface(mesh, param, s=s).sample(n).to_mesh()
+            quads = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=s)).sample(n).to_mesh()
             stats[s] = n
             row.append(caption(r.render(quads, cam, edges=quads if n <= 49 else None,
                                         edge_color=(0.2, 0.2, 0.6)), f"s = {s:g}, {n} x {n}"))

@@ -39,7 +39,7 @@ def run(out_dir: Path, res: int = 257) -> dict:
     diag = mesh.bounding_box_diagonal()
     centre = param.coords[np.argmax(mesh.vertices[:, 1])]           # the summit, in the parameter domain
     radius, feather = 0.18, 0.12                                      # parameter units (longer side 1)
-    base = geoimg.fit_surface(mesh, param, s=2.0).sample(res)
+    base = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=2.0)).sample(res)
     u, v = base.parameter_grid()
     uv = np.stack(np.meshgrid(u, v), axis=-1)
     region = ball_weights(uv, centre, radius, feather)                # the same disk for both domains
@@ -47,7 +47,8 @@ def run(out_dir: Path, res: int = 257) -> dict:
     orientation = base.domain.orientation
 
     def surface(inside, outside):
-        img = geoimg.fit_surface(mesh, param, s=uv_smoothness(centre, radius, inside, outside, feather)).sample(res)
+        img = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=uv_smoothness(centre, radius, inside, outside,
+                                                                                     feather))).sample(res)
         return img, img.normals
 
     def image(mask):

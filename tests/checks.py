@@ -40,7 +40,7 @@ def check_disk_map(mesh, single_polygon=False):
 def check_disk_surface(mesh, param=None):
     """The surface over a disk map (``param``, made here when not given), sampled at 129^2, lies within 1 %
     of the diagonal of the mesh (RMS)."""
-    surf = geoimg.fit_surface(mesh, parametrize(mesh, "disk") if param is None else param, s=1)
+    surf = geoimg.fit_surface(mesh, parametrize(mesh, "disk") if param is None else param, geoimg.GaussianWeights())
     img = surf.sample(129)
     quads = img.to_mesh()
     d = point_mesh_distance(quads.vertices, mesh)
@@ -92,6 +92,6 @@ def surface_to_vertices_rms(mesh, smoothness, sliver_rule):
     used = mesh.referenced_vertices()
     rms = []
     for s in smoothness:
-        surf = fit_surface(mesh, param, s, sliver_rule=sliver_rule)
+        surf = fit_surface(mesh, param, geoimg.GaussianWeights(s=s, sliver_rule=sliver_rule))
         rms.append(np.sqrt(np.mean(np.sum((surf.evaluate(param.coords[used]) - mesh.vertices[used]) ** 2, 1))))
     return rms

@@ -37,4 +37,5 @@ def mountain():
 
 @pytest.fixture(scope="session")
 def mountain_surface(mountain):
-    return geoimg.fit_surface(mountain, geoimg.parametrize(mountain, "heightfield", axis="y"), s=2.0)
+    return geoimg.fit_surface(mountain, geoimg.parametrize(mountain, "heightfield", axis="y"),
+                              geoimg.GaussianWeights(s=2.0))

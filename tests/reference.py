@@ -17,7 +17,8 @@ __all__ = ["sample_grid_numpy", "evaluate_exact_numpy", "AreaBalanceNumpy", "poi
 def sample_grid_numpy(u, v, centres, sigma, radius, C, A, B):
     """Truncated rational-Gaussian surface on the grid ``u`` x ``v``, one row at a time.
 
-    Same truncation box as :func:`geoimg.surface._kernels.sample_grid_gaussian`. Returns (P (H, W, 3), S (H, W)).
+    Same truncation box as :func:`geoimg.surface._gaussian_kernels.sample_grid_gaussian`.
+    Returns (P (H, W, 3), S (H, W)).
     """
     H, W = len(v), len(u)
     P = np.zeros((H, W, 3))

@@ -87,7 +87,8 @@ def test_manifest_outputs_and_a_second_run_that_skips_everything(client, inputs,
         {"ok": 3, "refused": 2, "failed": 0, "done": 5}
     assert {p: p.stat().st_mtime_ns for p in out.rglob("*.exr")} == stamps      # nothing rewritten
 
-    changed = batch.convert([inputs], out, client=client, resolution=RES, quads=True, s=2.0)
+    changed = batch.convert([inputs], out, client=client, resolution=RES, quads=True,
+                            weights=geoimg.CoverageWeights(s=2.0))
     assert changed.attrs["summary"]["skipped"] == 0 and set(changed.options_hash) != set(table.options_hash)
 
 
@@ -131,7 +132,8 @@ def test_zarr_store_shapes_records_and_items(client, inputs, tmp_path):
     again = batch.convert([inputs], tmp_path / "out", client=client, zarr=store, resolution=RES)
     assert again.attrs["summary"]["skipped"] == 5
     with pytest.raises(geoimg.InputError, match="another batch"):      # same store, other options
-        batch.convert([inputs], tmp_path / "out", client=client, zarr=store, resolution=RES, s=2.0)
+        batch.convert([inputs], tmp_path / "out", client=client, zarr=store, resolution=RES,
+                      weights=geoimg.CoverageWeights(s=2.0))
 
 
 def test_a_scheduler_that_cannot_be_reached_leaves_nothing(inputs, tmp_path, monkeypatch):

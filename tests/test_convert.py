@@ -14,9 +14,9 @@ from helpers import MOUNTAIN, load_data
 def test_mesh_to_image_is_the_pipeline_in_one_call():
     mesh = geoimg.load_mesh(MOUNTAIN)
     param = geoimg.parametrize(mesh)
-    for weights, s in (("gaussian", 2.0), ("coverage", 2.0)):
-        by_hand = geoimg.fit_surface(mesh, param, s, weights=weights).sample(33)
-        image = geoimg.mesh_to_image(MOUNTAIN, 33, s, weights=weights)
+    for weights in (geoimg.GaussianWeights(s=2.0), geoimg.CoverageWeights(s=2.0)):
+        by_hand = geoimg.fit_surface(mesh, param, weights).sample(33)
+        image = geoimg.mesh_to_image(MOUNTAIN, 33, weights=weights)
         assert np.array_equal(image.pixels, by_hand.pixels) and np.array_equal(image.normals, by_hand.normals)
         assert image.domain == by_hand.domain
         assert image.metadata["source"] == "mountain.obj" and image.metadata["parametrization"] == "heightfield"
@@ -29,11 +29,11 @@ def test_by_default_the_width_serves_the_resolution_and_the_fidelity_is_recorded
     mesh = geoimg.load_mesh(MOUNTAIN)
     param = geoimg.parametrize(mesh)
     image = geoimg.mesh_to_image(mesh, 65, parametrization=param)
-    surface = geoimg.fit_surface(mesh, param, 1.0, weights="coverage")
+    surface = geoimg.fit_surface(mesh, param, geoimg.CoverageWeights(s=1.0))
     assert image.metadata["weights"] == "coverage"
     assert image.metadata["s"] == prefilter_s(surface, 65)
     assert surface.with_s(image.metadata["s"]).sigma == pytest.approx(PREFILTER * surface.pixel_spacing(65))
-    paper = geoimg.mesh_to_image(mesh, 65, weights="gaussian", parametrization=param)
+    paper = geoimg.mesh_to_image(mesh, 65, parametrization=param, weights=geoimg.GaussianWeights())
     assert paper.metadata["s"] == 1.0
     assert image.metadata["psnr_db"] > paper.metadata["psnr_db"] > 30
     assert 0 < image.metadata["hausdorff"] < 0.01
@@ -63,7 +63,7 @@ def test_an_image_far_from_its_mesh_says_so(monkeypatch):
     with pytest.warns(UserWarning, match=r"its map squeezes or folds"):             # the map: nothing asked for
         convert.measure_fidelity(geoimg.mesh_to_image(mesh, 9, fidelity=False), mesh)
     with pytest.warns(UserWarning, match=r"the smoothing asked for \(s = 8.0\).*try a smaller --s"):
-        geoimg.mesh_to_image(mesh, 9, s=8.0)                                    # s was asked for: it is named
+        geoimg.mesh_to_image(mesh, 9, weights=geoimg.CoverageWeights(s=8.0))        # s was asked for: it is named
 
 
 def test_a_given_parametrization_is_used_and_progress_is_reported():
@@ -81,7 +81,7 @@ def test_bad_inputs_are_refused(tmp_path):
     with pytest.raises(FileNotFoundError):
         geoimg.mesh_to_image(tmp_path / "none.obj")
     with pytest.raises(ValueError, match="s: expected"):
-        geoimg.mesh_to_image(MOUNTAIN, 9, s=-1)
+        geoimg.mesh_to_image(MOUNTAIN, 9, weights=geoimg.CoverageWeights(s=-1))
 
 
 def test_a_missing_optional_dependency_names_the_install_command(monkeypatch, tmp_path):

@@ -39,7 +39,7 @@ MODES = ["reflect", "wrap", "octahedral"]
 @pytest.fixture(scope="module")
 def spot_octahedral():
     mesh = load_data("spot_low_resolution.obj")
-    return geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), s=1).sample(65)
+    return geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), geoimg.GaussianWeights()).sample(65)
 
 
 @pytest.fixture(scope="module")

@@ -227,7 +227,7 @@ def test_non_finite_results_are_refused_not_returned():
     with pytest.raises(geoimg.InputError, match="no direction"):
         geoimg.parametrization.area_ratio(np.zeros(3))
     mesh = geoimg.load_mesh(MOUNTAIN)
-    planar = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "heightfield", axis="y"), s=2.0)
+    planar = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "heightfield", axis="y"), geoimg.GaussianWeights(s=2.0))
     with pytest.raises(geoimg.InputError, match="so far outside the parameter domain"):
         planar.evaluate([[0.5, 0.5], [1e300, 1e300]])
     with pytest.raises(geoimg.InputError, match="so far outside the parameter domain"):
@@ -241,9 +241,12 @@ def test_non_finite_results_are_refused_not_returned():
 
 
 def test_numpy_scalars_are_numbers_in_the_conversion_options():
-    from geoimg.batch import ConvertOptions
-    numpy_made = ConvertOptions(resolution=np.int64(65), s=np.float32(0.5), n=np.int32(5), tol=np.float64(0.0))
-    assert numpy_made.digest() == ConvertOptions(resolution=65, s=0.5, n=5, tol=0.0).digest()
-    assert type(numpy_made.resolution) is int and type(numpy_made.s) is float
+    from geoimg.batch import BatchOptions
+    numpy_made = BatchOptions(resolution=np.int64(65), weights=geoimg.GaussianWeights(
+        s=np.float32(0.5), n=np.int32(5), tol=np.float64(0.0)))
+    assert numpy_made.digest() == BatchOptions(resolution=65, weights=geoimg.GaussianWeights(
+        s=0.5, n=5, tol=0.0)).digest()
+    assert type(numpy_made.resolution) is int and type(numpy_made.weights.s) is float
+    assert type(numpy_made.weights.n) is int
     with pytest.raises(geoimg.InputError, match="resolution"):
-        ConvertOptions(resolution=np.float64(65.0))
+        BatchOptions(resolution=np.float64(65.0))

@@ -14,8 +14,8 @@ ROOT = Path(__file__).resolve().parents[1]
 OPTIONAL = {"moderngl", "imageio", "imageio.v3", "pygltflib", "imageio_ffmpeg", "dask", "dask.utils", "distributed",
             "zarr", "pandas", "psutil"}
 DEFERRED = {("geoimg.cli", "geoimg._commands"),     # the parser runs without the commands' heavy imports
-            ("geoimg.surface._base", "geoimg.surface._cuda_kernels"),      # numba.cuda: for backend="cuda" alone
-            ("geoimg.surface._planar", "geoimg.surface._cuda_kernels"),
+            ("geoimg.surface._base", "geoimg.surface._gaussian_cuda_kernels"),    # numba.cuda: backend="cuda" alone
+            ("geoimg.surface._gaussian_planar", "geoimg.surface._gaussian_cuda_kernels"),
             ("geoimg.mesh._trimesh_io", "trimesh")}     # STL and GLB alone: OBJ, OFF and PLY load without it
 HEAVY = ("numba", "trimesh", "scipy", "cv2", "OpenImageIO", "skimage", "igl", "PIL")
 

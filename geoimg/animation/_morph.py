@@ -28,7 +28,7 @@ from .._options import ConversionOptions
 from ..image import GeometryImage, OctahedralDomain
 from ..mesh import Mesh, grid_triangles, suggest_landmarks
 from ..parametrization import grid_directions, parametrize, sphere_to_square
-from ..parametrization._warp import warp_sphere
+from ._warp import warp_sphere
 from ..spectrum import grid_directions as gauss_legendre_directions, harmonics, synthesize
 from ..spectrum._transform import check_lmax
 from .._types import Progress

@@ -16,7 +16,7 @@ from .._optional import require
 from ..errors import InputError, InputTypeError
 from ._inputs import find_inputs, output_stems
 from ._manifest import ManifestLog, read_manifest, write_manifest
-from ._options import ConvertOptions
+from ._options import BatchOptions
 from ._store import open_store, store_records, write_records
 from ._spectra import write_table
 from ._task import SPECTRUM_SUFFIX, Job, run_job
@@ -178,11 +178,12 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
         per_minute, eta``. ``ok``, ``poor`` and ``refused`` include the ``skipped`` inputs, as an earlier run
         recorded them: a refusal stays a refusal on every rerun.
     **options
-        Those of :class:`ConvertOptions`: ``resolution, s, method, axis, boundary, weights, n, tol,
-        sliver_rule, component, normals, steps, mode, nsr, quads, quads_format, psnr, min_psnr, max_hausdorff,
-        harmonics``. With ``harmonics=L`` each input's coefficients go beside its image (``NAME_sh.npz``) and
-        the batch's table of them, normalized, into ``out/harmonics.csv`` and ``out/harmonics.parquet``
-        (see :func:`geoimg.spectrum.coefficient_columns`).
+        Those of :class:`BatchOptions`: ``resolution, weights, method, axis, boundary, balance, component,
+        normals, colors, steps, mode, nsr, quads, quads_format, psnr, min_psnr, max_hausdorff, harmonics``
+        (the flat ``s, n, tol, sliver_rule`` of earlier releases still work, deprecated). With
+        ``harmonics=L`` each input's coefficients go beside its image (``NAME_sh.npz``) and the batch's
+        table of them, normalized, into ``out/harmonics.csv`` and ``out/harmonics.parquet`` (see
+        :func:`geoimg.spectrum.coefficient_columns`).
 
     Returns
     -------
@@ -212,7 +213,7 @@ def convert(inputs: Any, out: PathLike, client: Any = None, *, zarr: PathLike | 
     if zarr is not None:
         options.setdefault("component", "largest")
     try:
-        opts = ConvertOptions(**options)
+        opts = BatchOptions.create(caller="convert", stacklevel=4, **options)
     except TypeError as e:
         raise InputTypeError(f"convert: {e}") from None
     if zarr is not None and opts.resolution is None:

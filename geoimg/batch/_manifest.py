@@ -13,7 +13,7 @@ from .._types import PathLike
 
 __all__ = ["COLUMNS", "STAGES", "STATUSES", "read_manifest", "ManifestLog", "write_manifest"]
 
-STATUSES = ("ok", "poor", "refused", "failed")      # poor: converted, but far from the input (see ConvertOptions)
+STATUSES = ("ok", "poor", "refused", "failed")      # poor: converted, but far from the input (see BatchOptions)
 STAGES = ("load", "repair", "parametrize", "fit", "sample", "harmonics", "filter", "write", "psnr")
 COLUMNS = ("input", "status", "message", "warnings", "outputs", "vertices", "faces", "topology", "pieces",
            "domain", "image_size", "psnr_db", "hausdorff", "map_stretch", "starved") + tuple(

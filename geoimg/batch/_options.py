@@ -16,13 +16,13 @@ from .._steps import check_steps
 from ..spectrum._transform import check_lmax
 from ..errors import InputError, InputTypeError
 
-__all__ = ["ConvertOptions", "QUAD_FORMATS"]
+__all__ = ["BatchOptions", "QUAD_FORMATS"]
 
 
 @dataclasses.dataclass(frozen=True)
-class ConvertOptions(ConversionOptions):
+class BatchOptions(ConversionOptions):
     """What :func:`geoimg.batch.convert` does to each input: the conversion's options
-    (:class:`geoimg.ConversionOptions`), then the filter ``steps`` (``(name, values)`` pairs of
+    (:class:`geoimg.ConversionOptions`, their fields first), then the filter ``steps`` (``(name, values)`` pairs of
     :data:`geoimg._steps.FILTER_STEPS`, with ``mode`` and ``nsr``), and what to write besides the image
     (``quads`` in ``quads_format``) and measure (``psnr``: the quad mesh against the input; below
     ``min_psnr`` dB or with a Hausdorff distance above ``max_hausdorff`` of the diagonal the input is marked
@@ -30,8 +30,9 @@ class ConvertOptions(ConversionOptions):
 
     Parameters
     ----------
-    resolution, s, method, axis, boundary, balance, weights, n, tol, sliver_rule, component, normals, colors
-        The conversion's options, as :class:`geoimg.ConversionOptions` takes them (``s`` a number).
+    resolution, weights, method, axis, boundary, balance, component, normals, colors
+        The conversion's options, as :class:`geoimg.ConversionOptions` takes them (the weights' ``s`` a
+        number).
     steps : tuple
         Filter steps, ``(name, values)`` pairs, applied in order.
     mode : str or None
@@ -59,12 +60,12 @@ class ConvertOptions(ConversionOptions):
 
     Examples
     --------
-    >>> ConvertOptions(resolution=65, steps=[("mean", [3])]).steps
+    >>> BatchOptions(resolution=65, steps=[("mean", [3])]).steps
     (('mean', (3,)),)
-    >>> ConvertOptions(s=0).digest() # doctest: +ELLIPSIS
+    >>> BatchOptions(nsr=0)
     Traceback (most recent call last):
     ...
-    geoimg.errors.InputError: s: expected a number from 1e-06 to 1000 (sigma = s * dbar), got 0
+    geoimg.errors.InputError: nsr: expected a positive number, got 0
     """
 
     steps: tuple = ()
@@ -81,10 +82,11 @@ class ConvertOptions(ConversionOptions):
         super().__post_init__()
         for name in ("nsr", "min_psnr", "max_hausdorff"):   # NumPy scalars as Python's, so that options hash alike
             object.__setattr__(self, name, plain_number(getattr(self, name)))
-        for name in ("s", "nsr"):                            # numbers, so that the options hash
-            value = getattr(self, name)
-            if (name != "s" or value is not None) and (isinstance(value, bool) or not isinstance(value, (int, float))):
-                raise InputTypeError(f"{name}: expected a number, got {type(value).__name__}")
+        s = self.weights.s                                   # numbers, so that the options hash
+        if s is not None and not isinstance(s, float):
+            raise InputTypeError(f"s: a batch takes one number, got {type(s).__name__}")
+        if isinstance(self.nsr, bool) or not isinstance(self.nsr, (int, float)):
+            raise InputTypeError(f"nsr: expected a number, got {type(self.nsr).__name__}")
         for name in ("min_psnr", "max_hausdorff"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
@@ -102,21 +104,6 @@ class ConvertOptions(ConversionOptions):
                 raise InputError(f"harmonics: the spectrum is of the sphere map; method {self.method!r} makes none "
                                  "(use auto or sphere)")
 
-    def image_options(self) -> dict:
-        """The keyword arguments of :func:`geoimg.mesh_to_images`.
-
-        Returns
-        -------
-        dict
-            The conversion's options by name, ``s`` and ``tol`` as floats.
-
-        Examples
-        --------
-        >>> ConvertOptions(resolution=65, s=2).image_options()["s"]
-        2.0
-        """
-        return {**self.conversion(), "s": None if self.s is None else float(self.s), "tol": float(self.tol)}
-
     def digest(self, *extra: object) -> str:
         """A short hash of the options, this geoimg's version and ``extra`` (say, the output layout): equal
         hashes mean equal outputs.
@@ -133,10 +120,11 @@ class ConvertOptions(ConversionOptions):
 
         Examples
         --------
-        >>> ConvertOptions(resolution=65).digest() == ConvertOptions(resolution=65).digest()
+        >>> BatchOptions(resolution=65).digest() == BatchOptions(resolution=65).digest()
         True
-        >>> ConvertOptions(resolution=65).digest() == ConvertOptions(resolution=129).digest()
+        >>> BatchOptions(resolution=65).digest() == BatchOptions(resolution=129).digest()
         False
         """
-        record = dict(dataclasses.asdict(self), version=__version__, extra=list(map(str, extra)))
+        record = dict(dataclasses.asdict(self), weights_kind=self.weights.kind, version=__version__,
+                      extra=list(map(str, extra)))
         return hashlib.sha256(json.dumps(record, sort_keys=True, default=list).encode()).hexdigest()[:16]

@@ -22,7 +22,7 @@ from ..image import OctahedralDomain
 from ..spectrum import harmonics
 from ..spectrum._harmonics import require_sphere_topology
 from ..mesh import Mesh, load_mesh, mesh_file_jobs, surface_distance, topology
-from ._options import ConvertOptions
+from ._options import BatchOptions
 from ._store import write_item
 
 __all__ = ["Job", "run_job", "warnings_cell", "PSNR_SAMPLES", "WARNINGS_CELL", "SPECTRUM_SUFFIX"]
@@ -41,7 +41,7 @@ class Job:
 
     input: str
     stem: str
-    options: ConvertOptions
+    options: BatchOptions
     options_hash: str
     input_size: int
     input_mtime_ns: int
@@ -147,8 +147,7 @@ def run_job(job: Job) -> dict:
             row.update(vertices=mesh.n_vertices, faces=mesh.n_faces, topology=top.describe())
             if opts.harmonics and opts.component == "all":
                 require_sphere_topology(top)                    # refused before the conversion
-            images = mesh_to_images(mesh, opts.resolution, timings=timings, **{
-                k: v for k, v in opts.image_options().items() if k != "resolution"})
+            images = mesh_to_images(mesh, options=opts.conversion(), timings=timings)
             for image in images:
                 image.metadata["source"] = Path(job.input).name
             spectra = _harmonics(images, opts.harmonics, timings)      # of the shape, before any filter step

@@ -163,7 +163,8 @@ def _along(seg: np.ndarray, step: float) -> np.ndarray:
     length = np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1)
     count = np.ceil(length / step).astype(np.int64) + 1
     owner = np.repeat(np.arange(len(seg)), count)
-    frac = (np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)) / np.repeat(np.maximum(count - 1, 1), count)
+    step = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
+    frac = step / np.repeat(np.maximum(count - 1, 1), count)
     return seg[owner, 0] + frac[:, None] * (seg[owner, 1] - seg[owner, 0])
 
 

@@ -1,7 +1,8 @@
 """How a surface is addressed by image coordinates, once for every surface over each kind of domain: over a
 plane from a ``_points(uv, exact)`` that gives ``P, P_u, P_v, status``; over the sphere from an
 ``evaluate_directions(q)`` that gives ``P`` and its derivatives along a tangent frame, through the octahedral
-map. :class:`PlanarSurface` and the coverage-weighted surfaces share them.
+map. :class:`PlanarSurface` and the coverage-weighted surfaces share them, and the copies of faces beyond a
+glued side that both fits over a plane make.
 """
 from __future__ import annotations
 
@@ -9,10 +10,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
+from ..mesh import Mesh
 from ..parametrization import square_jacobian, square_to_sphere
 from ._base import unit
 
-__all__ = ["PlanarAddressing", "SphereAddressing"]
+__all__ = ["PlanarAddressing", "SphereAddressing", "with_ghosts", "MAX_PLANAR_RESOLUTION", "MAX_SPHERE_RESOLUTION"]
+
+MAX_PLANAR_RESOLUTION = 4096      # the largest automatic resolution over a plane
+MAX_SPHERE_RESOLUTION = 2049      # and over the sphere
 
 
 class PlanarAddressing:
@@ -49,7 +54,7 @@ class PlanarAddressing:
         >>> import geoimg
         >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 1], [1, 1, 2], [0, 1, 1]], [[0, 1, 2], [0, 2, 3]])
         >>> p = geoimg.Parametrization(m.vertices[:, :2], (1, 1))
-        >>> geoimg.fit_surface(m, p, s=1).evaluate([[0.5, 0.25]]).round(12).tolist()
+        >>> geoimg.fit_surface(m, p, geoimg.GaussianWeights()).evaluate([[0.5, 0.25]]).round(12).tolist()
         [[0.5, 0.25, 0.75]]
         """
         return self._points(uv, exact)[0]
@@ -107,3 +112,22 @@ class SphereAddressing:
         """Unit normals from the analytic derivatives (smooth across the creases), shape (k, 3)."""
         _, P1, P2, _, _, _ = self.evaluate_directions(square_to_sphere(self._uv(uv)), exact=exact)
         return unit(np.cross(P1, P2) * self.orientation)
+
+
+def with_ghosts(mesh: Mesh, coords: np.ndarray, face_index: np.ndarray, ghosts: list):
+    """The mesh with copies of faces (vertices copied too) at moved parameters appended; returns the mesh,
+    its coordinates and, per face, the face of the input it copies.
+    """
+    verts, uvs, faces, source = [mesh.vertices], [coords], [mesh.faces], [np.arange(mesh.n_faces)]
+    base = mesh.n_vertices
+    for kept, R, b in ghosts:
+        f = mesh.faces[face_index[kept]]
+        used, inv = np.unique(f[f >= 0], return_inverse=True)
+        local = np.full(f.shape, -1, np.int64)
+        local[f >= 0] = inv + base
+        verts.append(mesh.vertices[used])
+        uvs.append(coords[used] @ R.T + b)
+        faces.append(local)
+        source.append(face_index[kept])
+        base += len(used)
+    return (Mesh(np.vstack(verts), np.vstack(faces)), np.vstack(uvs), np.concatenate(source))

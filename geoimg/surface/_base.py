@@ -44,7 +44,7 @@ def check_backend(backend: str) -> None:
     if not isinstance(backend, str) or backend not in BACKENDS:
         raise InputError(f"backend: expected one of {BACKENDS}, got {backend!r}")
     if backend == "cuda":
-        from ._cuda_kernels import cuda_unavailable
+        from ._gaussian_cuda_kernels import cuda_unavailable
         why = cuda_unavailable()
         if why is not None:
             raise InputError(f"backend 'cuda': {why}; use the 'cpu' backend")
@@ -85,7 +85,7 @@ class Surface(ABC):
     --------
     >>> import geoimg
     >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-    >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+    >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
     >>> isinstance(surf, geoimg.Surface), surf.evaluate([[0.5, 0.5]]).shape, surf.sample(5).shape
     (True, (1, 3), (5, 5))
     """
@@ -105,7 +105,7 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
         >>> surf.extent
         (1.0, 1.0)
         """
@@ -119,7 +119,7 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
         >>> surf.orientation in (1, -1)
         True
         """
@@ -133,7 +133,7 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
         >>> surf.log_g_ref < 0
         True
         """
@@ -157,7 +157,7 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
         >>> surf.evaluate([[0.0, 0.0], [1.0, 1.0]]).shape
         (2, 3)
         """
@@ -177,7 +177,7 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
         >>> Pu, Pv = surf.derivatives([[0.5, 0.5]])
         >>> Pu.shape
         (1, 3)
@@ -198,7 +198,7 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
         >>> n = surf.normals([[0.5, 0.5]])
         >>> bool(abs(np.linalg.norm(n) - 1) < 1e-12)
         True
@@ -217,7 +217,7 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
         >>> K, H = surf.curvature(5)
         >>> K.shape
         (5, 5)
@@ -231,7 +231,7 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
         >>> isinstance(surf.auto_resolution(), int)
         True
         """
@@ -266,7 +266,7 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.grid_mesh([[0.0, 0.0], [1.0, 1.0]], (1.0, 1.0))
-        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), s=1.0)
+        >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.GaussianWeights())
         >>> u, v = surf.grid(5)
         >>> u.tolist()
         [0.0, 0.25, 0.5, 0.75, 1.0]
@@ -301,7 +301,8 @@ class Surface(ABC):
         --------
         >>> import geoimg
         >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 1], [1, 1, 2], [0, 1, 1]], [[0, 1, 2], [0, 2, 3]])
-        >>> img = geoimg.fit_surface(m, geoimg.Parametrization(m.vertices[:, :2], (1, 1)), s=2).sample(5)
+        >>> param = geoimg.Parametrization(m.vertices[:, :2], (1, 1))
+        >>> img = geoimg.fit_surface(m, param, geoimg.GaussianWeights(s=2)).sample(5)
         >>> img.pixels.shape, bool(img.mask.all()), img.metadata["s"]
         ((5, 5, 3), True, 2.0)
         """

@@ -37,24 +37,23 @@ from numpy.typing import ArrayLike
 from scipy.special import ndtri
 
 from ..errors import InputError, ParametrizationError
-from ..image import Domain
+from ..image import Domain, GeometryImage
 from ..mesh import Mesh
 from ..parametrization._laplacian import planar_cross
 from ..parametrization._octahedral import directions
 from ..parametrization._orientation import chord_orientation
 from . import _coverage_kernels as ck
-from . import _kernels as kernels
-from ._addressing import PlanarAddressing, SphereAddressing
+from . import _grid as grid
+from ._addressing import (MAX_PLANAR_RESOLUTION, MAX_SPHERE_RESOLUTION, PlanarAddressing, SphereAddressing,
+                          with_ghosts)
 from ._base import Surface
 from ._curvature import planar_curvature, sphere_curvature
-from ._face_maps import enclosing_circle_radius
-from ._planar import MAX_AUTO_RESOLUTION, _with_ghosts
-from ._rim import boundary_segments, snap_rim
-from ._sphere import MAX_AUTO_RESOLUTION as MAX_SPHERE_RESOLUTION
-from ._sphere_kernels import build_cells_3d, tangent_frames
+from ._cells import build_cells_3d, enclosing_circle_radius, tangent_frames
+from ._coverage_rim import boundary_segments, snap_rim
+from ._weights import COVERAGE_S_RANGE, check_coverage_s
 
 __all__ = ["CoverageSurface", "PlanarCoverageSurface", "SphereCoverageSurface", "fit_coverage_surface",
-           "PREFILTER", "prefilter_s", "check_s"]
+           "PREFILTER", "prefilter_s", "check_s", "COVERAGE_S_RANGE"]
 
 PREFILTER = 0.4     # sigma in pixel spacings of the default image (0.2 to 0.5 measured: benchmarks/README.md)
 DEGENERATE = 1e-12  # a triangle whose inradius is this share of the domain's size or less has no width
@@ -62,17 +61,7 @@ THIN = 4.0          # a triangle whose enclosing circle is THIN times its incirc
 FLOOR_OVER_TOL = 1e4    # a sum of weights below FLOOR_OVER_TOL * tol is outside the triangles: recomputed exactly
 
 
-COVERAGE_S_RANGE = (1e-6, 1e3)   # sigma = s dbar: no exponent to underflow, but a width of at least a millionth
-
-
-def check_s(s) -> float:
-    """One positive ``s`` for coverage weights (one width everywhere: no per-face values or maps)."""
-    if isinstance(s, bool) or not isinstance(s, (int, float, np.number)):
-        raise InputError(f"s: coverage weights take one number (one width everywhere), got {s!r:.80}")
-    lo, hi = COVERAGE_S_RANGE
-    if not (np.isfinite(s) and lo <= s <= hi):
-        raise InputError(f"s: expected a number from {lo:g} to {hi:g} (sigma = s * dbar), got {s!r}")
-    return float(s)
+check_s = check_coverage_s          # one number in COVERAGE_S_RANGE
 
 
 def prefilter_s(surface: CoverageSurface, resolution: int) -> float:
@@ -95,7 +84,7 @@ def prefilter_s(surface: CoverageSurface, resolution: int) -> float:
     --------
     >>> import geoimg
     >>> m = geoimg.grid_mesh(np.zeros((5, 5)), (1.0, 1.0))
-    >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), weights="coverage")
+    >>> surf = geoimg.fit_surface(m, geoimg.parametrize(m, "heightfield", axis="z"), geoimg.CoverageWeights(s=1.0))
     >>> s = prefilter_s(surf, 33)
     >>> bool(0 < s < prefilter_s(surf, 9))               # a finer grid, a narrower prefilter
     True
@@ -133,6 +122,7 @@ class CoverageSurface(Surface):
     thin: Any = field(repr=False)           # (T,) the inradius of a thin triangle (aspect beyond THIN), else inf
     polygons: Any = field(repr=False, default=None)    # (T, 3, 2) planar triangles, for the mask
     rim: Any = field(repr=False, default=None)        # (B, 2, 2) the mesh's boundary, that a planar rim snaps to
+    serve: bool = False     # CoverageWeights(s=None): sampled at the width that serves the resolution
     weights: str = "coverage"
     n: int = 0
     sliver_rule: str = "exact"
@@ -150,7 +140,17 @@ class CoverageSurface(Surface):
 
     def with_s(self, s: float) -> CoverageSurface:
         """The same surface at another ``s`` (nothing refitted)."""
-        return type(self)(**{**self.__dict__, "s": check_s(s), "_cells": None, "_edges": None})
+        return type(self)(**{**self.__dict__, "s": check_s(s), "serve": False, "_cells": None, "_edges": None})
+
+    def sample(self, resolution: int | None = None, *, normals: bool = True, backend: str = "cpu") -> GeometryImage:
+        """As :meth:`Surface.sample`; fitted with ``CoverageWeights(s=None)``, at the width that serves
+        ``resolution`` (:func:`prefilter_s`).
+        """
+        if not self.serve:
+            return super().sample(resolution, normals=normals, backend=backend)
+        res = self.auto_resolution() if resolution is None else resolution
+        self.domain.grid_shape(res)                                     # a resolution it has, before its width
+        return self.with_s(prefilter_s(self, res)).sample(res, normals=normals, backend=backend)
 
     def widths(self) -> np.ndarray:
         """Each triangle's own width: ``sigma``, narrowed where its map is steeper than the median (so that
@@ -223,7 +223,7 @@ class PlanarCoverageSurface(PlanarAddressing, CoverageSurface):
     def auto_resolution(self) -> int:
         """Pixels along the longer side for a sample spacing of ``s * dbar`` (the paper's section 4.4)."""
         spacing = self.s * self.dbar
-        return max(2, self._capped(int(math.ceil(max(self.extent) / spacing)) + 1, MAX_AUTO_RESOLUTION))
+        return max(2, self._capped(int(math.ceil(max(self.extent) / spacing)) + 1, MAX_PLANAR_RESOLUTION))
 
     def _sample_grid(self, shape, normals: bool, backend: str = "cpu"):
         if backend != "cpu":
@@ -243,12 +243,12 @@ class PlanarCoverageSurface(PlanarAddressing, CoverageSurface):
             P, Pu, Pv = p.reshape(H, W, 3), pu.reshape(H, W, 3), pv.reshape(H, W, 3)
             n_exact = int((st == ck.EXACT).sum())
         eps = 0.5 * max(u[1] - u[0], v[1] - v[0])  # within half a pixel of a triangle
-        mask = kernels.face_coverage(u, v, self.polygons, np.full(len(self.polygons), 3), eps)
+        mask = grid.face_coverage(u, v, self.polygons, np.full(len(self.polygons), 3), eps)
         if self.rim is not None and self.domain.glue(shape) is None:    # a rim that follows the mesh's outline
             ii, jj, uv = snap_rim(mask, u, v, self.rim)
             if len(ii):
                 P[ii, jj], Pu[ii, jj], Pv[ii, jj], _ = self._points(uv, False)
-        nrm = kernels.unit_normals(Pu, Pv, self.orientation) if normals else None
+        nrm = grid.unit_normals(Pu, Pv, self.orientation) if normals else None
         return P, nrm, mask, n_exact, 0
 
 
@@ -307,7 +307,7 @@ class SphereCoverageSurface(SphereAddressing, CoverageSurface):
             t1, t2 = tangent_frames(q)
             P, P1, P2, st = self._evaluate(q, t1, t2, derivatives=normals)
             n_exact = int((st == ck.EXACT).sum())
-        nrm = kernels.unit_normals(P1, P2, self.orientation).reshape(n, n, 3) if normals else None
+        nrm = grid.unit_normals(P1, P2, self.orientation).reshape(n, n, 3) if normals else None
         return P.reshape(n, n, 3), nrm, None, n_exact, 0
 
 
@@ -358,7 +358,8 @@ def _border_triangles(tris: np.ndarray) -> np.ndarray:
     return np.flatnonzero(lone) if lone.any() else np.arange(len(tris))
 
 
-def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float, *, tol: float) -> CoverageSurface:
+def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float, *, tol: float,
+                         serve: bool = False) -> CoverageSurface:
     """Fit the coverage-weighted surface to a mesh whose vertices have ``coords`` in ``domain``: (N, 2)
     planar or (N, 3) unit vectors (called by ``fit_surface``, which has checked the settings).
     """
@@ -372,7 +373,7 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
         d = enclosing_circle_radius(coords[tris])
         ghosts = domain.ghosts(coords[tris].mean(axis=1), 4.0 * d + 8.0 * s * float(d.mean()), d)
         if ghosts:
-            tri_mesh, coords, _ = _with_ghosts(tri_mesh, coords, np.arange(len(tris)), ghosts)
+            tri_mesh, coords, _ = with_ghosts(tri_mesh, coords, np.arange(len(tris)), ghosts)
             tris = tri_mesh.faces
     corners = np.concatenate([coords[tris], np.ones(tris.shape + (1,))], axis=2) if planar else coords[tris]
     E, K, w, keep = _triangle_tables(corners, tri_mesh.vertices[tris], planar)
@@ -395,7 +396,7 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
     tables = tuple(np.ascontiguousarray(a, np.float64) for a in (E, K, w))
     kind = PlanarCoverageSurface if planar else SphereCoverageSurface
     return kind(domain, float(s), float(tol), dbar, tables, np.ascontiguousarray(centres), size, spread,
-                _border_triangles(tris) if planar else np.arange(len(tris)), narrow, thin, polygons, rim)
+                _border_triangles(tris) if planar else np.arange(len(tris)), narrow, thin, polygons, rim, serve)
 
 
 def _orientation(coords: np.ndarray, tris: np.ndarray) -> np.ndarray:

@@ -30,8 +30,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ._kernels import _band_lists, _band_rows, grid_bands
-from ._sphere_kernels import _cell_of
+from ._cells import _cell_of
+from ._grid import _band_lists, _band_rows, grid_bands
 
 __all__ = ["evaluate_coverage", "sample_grid_coverage", "sample_octahedral_coverage", "octant_owners", "offset_boxes",
            "log_ndtr", "TRUNCATED", "EXACT"]
@@ -284,7 +284,7 @@ def evaluate_coverage(pts, t1, t2, tables, cells, fallback, *, zmin, floor, deri
     """The coverage-weighted surface and its derivatives along ``t1, t2`` at points ``pts`` (k, 3) given in
     homogeneous coordinates (see the module's text). ``tables`` is ``(E, K, w)``: (T, 3, 3) edge rows over
     each triangle's width, (T, 3, 3) maps and (T, 3) denominators; ``cells`` from
-    :func:`~._sphere_kernels.build_cells_3d` over the triangles' reach (None with ``exact``: every point is
+    :func:`~._gaussian_sphere_kernels.build_cells_3d` over the triangles' reach (None with ``exact``: every point is
     summed over ``fallback`` alone, in runs of :data:`EXACT_RUN`); ``fallback`` the triangles a point outside
     them is summed over (all of them with ``exact``). Returns ``P, P_t1, P_t2`` (k, 3) and a status per point.
     """

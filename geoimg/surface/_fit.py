@@ -1,6 +1,8 @@
 """Fitting the weighted-mean surface of a parametrized mesh, over whatever domain the parametrization has."""
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .._choices import WEIGHTS
@@ -9,26 +11,16 @@ from ..image import Domain
 from ..mesh import Mesh
 from ..parametrization import Parametrization
 from ._base import Surface
-from ._coverage import check_s, fit_coverage_surface
-from ._face_maps import SLIVER_RULES
-from ._planar import fit_planar_surface
-from ._smoothness import SmoothnessMap
-from ._sphere import fit_sphere_surface
+from ._coverage import fit_coverage_surface
+from ._gaussian_planar import fit_planar_surface
+from ._gaussian_smoothness import SmoothnessMap
+from ._gaussian_sphere import fit_sphere_surface
+from ._weights import S_RANGE, UNSET, CoverageWeights, GaussianWeights, check_s_range, resolve_weights
 from .._threads import fixed_order
 
-__all__ = ["fit_surface", "WEIGHTS", "check_s_range"]
+__all__ = ["fit_surface", "WEIGHTS", "S_RANGE", "check_s_range"]
 
 _FITTERS = {2: fit_planar_surface, 3: fit_sphere_surface}     # by the dimension of the parameter coordinates
-
-
-S_RANGE = (1e-3, 1e3)     # sigma = s d: beyond these the Gaussians are a face's own plane, or the mean of all
-
-
-def check_s_range(values: np.ndarray) -> None:
-    lo, hi = float(np.min(values)), float(np.max(values))
-    if lo < S_RANGE[0] or hi > S_RANGE[1]:
-        raise InputError(f"s: expected values from {S_RANGE[0]:g} to {S_RANGE[1]:g} (sigma = s d_i; outside that "
-                         f"range the weights under- or overflow), got {lo:g}" + (f" to {hi:g}" if hi != lo else ""))
 
 
 def _smoothness(s, n_faces: int) -> tuple[float, np.ndarray | None, object]:
@@ -75,8 +67,8 @@ def _parametrized_mesh(mesh: Mesh, param: Parametrization) -> Mesh:
 
 
 @fixed_order
-def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: str = "gaussian", n: int = 10,
-                tol: float = 1e-10, sliver_rule: str = "robust") -> Surface:
+def fit_surface(mesh: Mesh, param: Parametrization, weights: CoverageWeights | GaussianWeights | None = None, *,
+                s: Any = UNSET, n: Any = UNSET, tol: Any = UNSET, sliver_rule: Any = UNSET) -> Surface:
     """Fit the weighted-mean surface of a parametrized mesh.
 
     Parameters
@@ -84,65 +76,57 @@ def fit_surface(mesh: Mesh, param: Parametrization, s: float = 1.0, *, weights: 
     mesh : Mesh
     param : Parametrization
         Per-vertex (u, v) of the mesh (see :func:`geoimg.parametrize`).
-    s : float, array_like of shape (mesh.n_faces,), or SmoothnessMap; default 1.0
-        Smoothness: sigma_i = s d_i (Gaussian weights). Per-face values
-        (:func:`geoimg.surface.smoothness_field`) or a map s(u, v) that varies with the point evaluated
-        (:func:`geoimg.surface.uv_smoothness`, planar only) give a surface smoothed more in some places
-        than in others, its normals still exact (paper 4.5). Per-face values cannot keep a region sharp
-        inside a smoothed surrounding (the wide Gaussians around reach in); a map can.
-    weights : {"gaussian", "local", "coverage"}
-        The paper's rational Gaussians of the distance to each face's centre (infinitely smooth), its
-        locally supported ``1 - 3R^2 + 2R^3`` (C1, faster, may leave holes, which are reported and masked),
-        or each triangle's share of a Gaussian footprint of width ``sigma = s * dbar`` (infinitely smooth,
-        tends to the mesh itself as ``s -> 0``; one number ``s``; see :mod:`geoimg.surface._coverage`).
-    n : int, default 10
-        Face centres inside each local weight's support (``weights="local"``).
-    tol : float, default 1e-10
-        Truncation: skipped weights are below ``tol``; 0 for the exact, untruncated sum.
-    sliver_rule : {"robust", "paper"}
-        How long thin faces are treated (see :mod:`geoimg.surface._face_maps`).
+    weights : CoverageWeights or GaussianWeights, optional
+        The weights and their settings (see :mod:`geoimg.surface._weights`). Default
+        ``CoverageWeights()``: each triangle's share of a Gaussian footprint, the mesh itself as ``s -> 0``,
+        sampled at the width that serves the image's resolution. ``GaussianWeights(s=...)``: the paper's
+        rational Gaussians (``sigma_i = s d_i``), or with ``n`` its locally supported weights; per-face
+        ``s`` or a map s(u, v) smooth some places more than others, the normals still exact (paper 4.5).
+    s, n, tol, sliver_rule
+        Deprecated (the flat keywords of earlier releases, where ``weights`` was a name and defaulted to
+        ``"gaussian"``): they still build the weights they did, with a :class:`DeprecationWarning`.
 
     Returns
     -------
     Surface
-        Over the parametrization's domain: a :class:`~geoimg.surface.PlanarSurface` for a planar one, a
-        :class:`~geoimg.surface.SphereSurface` for a spherical (octahedral) one.
+        Over the parametrization's domain: a :class:`~geoimg.surface.PlanarSurface` or
+        :class:`~geoimg.surface.SphereSurface` (the paper's weights), a
+        :class:`~geoimg.surface.PlanarCoverageSurface` or :class:`~geoimg.surface.SphereCoverageSurface`
+        (coverage weights).
 
     Raises
     ------
-    ValueError
-        On a bad ``s``, ``weights``, ``n``, ``tol`` or ``sliver_rule``, or a parametrization that does not
-        match the mesh.
+    InputError
+        On bad weights, per-face ``s`` that do not match the faces, the paper's weights on a charts image,
+        or a parametrization that does not match the mesh.
 
     Examples
     --------
     >>> import geoimg
+    >>> from geoimg.surface import GaussianWeights
     >>> m = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 1], [0, 1, 0]], [[0, 1, 2, 3]])
-    >>> surf = geoimg.fit_surface(m, geoimg.Parametrization(m.vertices[:, :2], (1, 1)), s=2.0)
-    >>> surf.evaluate([[0.5, 0.5]]).shape
+    >>> param = geoimg.Parametrization(m.vertices[:, :2], (1, 1))
+    >>> geoimg.fit_surface(m, param).evaluate([[0.5, 0.5]]).shape
     (1, 3)
+    >>> type(geoimg.fit_surface(m, param, GaussianWeights(s=2.0))).__name__
+    'PlanarSurface'
     """
+    weights = resolve_weights(weights, s=s, n=n, tol=tol, sliver_rule=sliver_rule, old_default="gaussian",
+                              old_s=1.0, caller="fit_surface", stacklevel=4)
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
     if not isinstance(param, Parametrization):
         raise InputTypeError(f"param: expected a geoimg.Parametrization, got {type(param).__name__}")
     mesh = _parametrized_mesh(mesh, param)
-    if weights not in WEIGHTS:
-        raise InputError(f"weights: expected one of {WEIGHTS}, got {weights!r}")
-    if not (isinstance(tol, (int, float, np.number)) and 0 <= tol < 1):
-        raise InputError(f"tol: expected a number in [0, 1), got {tol!r}")
     domain = Domain.from_metadata(param.domain, {"extent": param.extent, **param.domain_fields,
                                                  "orientation": int(param.info.get("orientation", 1))})
-    if domain.coverage_only and weights != "coverage":
-        raise InputError(f"weights={weights!r}: a {domain.kind} image is sampled with weights='coverage' only (the "
+    if isinstance(weights, CoverageWeights):
+        return fit_coverage_surface(mesh, param.coords, domain, 1.0 if weights.s is None else weights.s,
+                                    tol=weights.tol, serve=weights.s is None)
+    if domain.coverage_only:
+        raise InputError(f"weights={weights!r}: a {domain.kind} image is sampled with coverage weights only (the "
                          "paper's weights reach from one chart across the gutter into the next)")
-    if weights == "coverage":
-        return fit_coverage_surface(mesh, param.coords, domain, check_s(s), tol=float(tol))
-    s, s_face, s_map = _smoothness(s, mesh.n_faces)
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
-        raise InputError(f"n: expected an integer >= 2, got {n!r}")
-    if sliver_rule not in SLIVER_RULES:
-        raise InputError(f"sliver_rule: expected one of {SLIVER_RULES}, got {sliver_rule!r}")
+    s_min, s_face, s_map = _smoothness(weights.s, mesh.n_faces)
     fit = _FITTERS[domain.parameter_dim]
-    return fit(mesh, param.coords, domain, s, s_face, s_map, weights=weights, n=int(n), tol=float(tol),
-               sliver_rule=sliver_rule)
+    return fit(mesh, param.coords, domain, s_min, s_face, s_map, weights=weights.kind,
+               n=10 if weights.n is None else weights.n, tol=weights.tol, sliver_rule=weights.sliver_rule)

@@ -21,9 +21,9 @@ from helpers import MOUNTAIN, data_file, load_data
 @pytest.fixture(scope="module")
 def spots():
     a = load_data("spot_low_resolution.obj")
-    img = geoimg.fit_surface(a, geoimg.parametrize(a, "sphere"), s=1).sample(33)
+    img = geoimg.fit_surface(a, geoimg.parametrize(a, "sphere"), geoimg.GaussianWeights()).sample(33)
     b = meshes.icosphere(3, 0.25)
-    img_b = geoimg.fit_surface(b, geoimg.parametrize(b, "sphere"), s=1).sample(33)
+    img_b = geoimg.fit_surface(b, geoimg.parametrize(b, "sphere"), geoimg.GaussianWeights()).sample(33)
     return img, img_b
 
 

@@ -52,7 +52,8 @@ def test_locate_finds_the_triangle_and_barycentrics_in_the_plane_and_on_the_sphe
 
 
 def test_vertex_colours_affine_in_position_are_reproduced(coloured_terrain):
-    img = geoimg.mesh_to_image(coloured_terrain, 33, s=1.0, method="heightfield", axis="z")
+    img = geoimg.mesh_to_image(coloured_terrain, 33, method="heightfield", axis="z",
+                               weights=geoimg.CoverageWeights(s=1.0))
     assert img.colors.shape == (33, 33, 3) and img.colors.dtype == np.float32
     # x and y are linear in (u, v) on a height field, and so are the colours: interpolation is exact
     want = affine_colours(img.pixels.reshape(-1, 3).astype(np.float64)).reshape(33, 33, 3)

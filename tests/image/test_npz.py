@@ -18,7 +18,8 @@ def images():
     sphere = load_data("sphere.obj")
     torus = load_data("torus.obj")
     bumpy = geoimg.grid_mesh(np.random.default_rng(0).random((12, 9)))
-    return {"planar": geoimg.mesh_to_image(bumpy, 17, s=2.0, method="heightfield", axis="z"),
+    return {"planar": geoimg.mesh_to_image(bumpy, 17, method="heightfield", axis="z",
+                                           weights=geoimg.CoverageWeights(s=2.0)),
             "octahedral": geoimg.mesh_to_image(sphere, 17),
             "cut": geoimg.mesh_to_image(torus, 65)}
 

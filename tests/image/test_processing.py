@@ -22,7 +22,7 @@ from helpers import finite_differences, load_data
 def spot():
     mesh = load_data("spot_low_resolution.obj")
     param = geoimg.parametrize(mesh, "sphere")
-    surf = geoimg.fit_surface(mesh, param, s=1)
+    surf = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights())
     return mesh, param, surf, surf.sample(65)
 
 
@@ -94,7 +94,7 @@ def test_varying_s_smooths_a_region_and_keeps_normals_exact(mountain, mountain_s
     diag = mountain.bounding_box_diagonal()
     s_face = smoothness_field(mountain, centre, 0.1 * diag, inside=6.0, outside=2.0, feather=0.1 * diag)
     assert s_face.shape == (mountain.n_faces,) and s_face.min() == 2 and s_face.max() == 6
-    varied = geoimg.fit_surface(mountain, param, s=s_face)
+    varied = geoimg.fit_surface(mountain, param, geoimg.GaussianWeights(s=s_face))
     assert varied.s == 2.0
     u, v = varied.grid(65)
     uu, vv = np.meshgrid(u, v)
@@ -118,7 +118,7 @@ def test_varying_s_smooths_a_region_and_keeps_normals_exact(mountain, mountain_s
 def test_varying_s_on_the_sphere(spot):
     mesh, param, surf, img = spot
     s_face = np.where(np.arange(mesh.n_faces) % 2 == 0, 1.0, 1.5)
-    varied = geoimg.fit_surface(mesh, param, s=s_face)
+    varied = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=s_face))
     assert varied.s == 1.0 and varied.sample(9).metadata["s_max"] == 1.5
     q = geoimg.parametrization.grid_directions(17).reshape(-1, 3)
     assert np.abs(varied.evaluate_directions(q)[0] - varied.evaluate_directions(q, exact=True)[0]).max() < 1e-9
@@ -131,14 +131,14 @@ def test_bad_smoothness_is_refused(s, message):
         [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], [[0, 1, 2], [0, 2, 3], [1, 4, 2], [0, 1, 3]]
     )
     with pytest.raises(ValueError, match=message):
-        geoimg.fit_surface(m, geoimg.Parametrization(m.vertices[:, :2] / 2, (1, 1)), s=s)
+        geoimg.fit_surface(m, geoimg.Parametrization(m.vertices[:, :2] / 2, (1, 1)), geoimg.GaussianWeights(s=s))
 
 
 # --- curvature --------------------------------------------------------------------------------------
 
 def test_surface_curvature_of_a_sphere_mesh():
     mesh = load_data("sphere.obj")
-    surf = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), s=1)
+    surf = geoimg.fit_surface(mesh, geoimg.parametrize(mesh, "sphere"), geoimg.GaussianWeights())
     K, H = surface_curvature(surf, 33)
     r = np.linalg.norm(mesh.vertices, axis=1).mean()
     assert np.median(K) == pytest.approx(1 / r ** 2, rel=0.03) and np.median(H) == pytest.approx(-1 / r, rel=0.03)
@@ -238,8 +238,8 @@ def test_a_smoothness_map_keeps_a_region_sharp_and_normals_exact(mountain, mount
     from geoimg.surface import uv_smoothness
     param = geoimg.parametrize(mountain, "heightfield", axis="y")
     smap = uv_smoothness((0.5, 0.5), 0.15, inside=2.0, outside=6.0, feather=0.1)
-    varied = geoimg.fit_surface(mountain, param, s=smap)
-    six = geoimg.fit_surface(mountain, param, s=6.0)
+    varied = geoimg.fit_surface(mountain, param, geoimg.GaussianWeights(s=smap))
+    six = geoimg.fit_surface(mountain, param, geoimg.GaussianWeights(s=6.0))
     rng = np.random.default_rng(4)
     uv = rng.uniform(0.02, 0.98, (400, 2)) * param.extent
     r = np.linalg.norm(uv - 0.5, axis=1)
@@ -261,7 +261,7 @@ def test_a_smoothness_map_is_refused_on_the_sphere_and_checked(spot):
     from geoimg.surface import uv_smoothness
     mesh, param, *_ = spot
     with pytest.raises(ValueError, match="planar parametrizations"):
-        geoimg.fit_surface(mesh, param, s=uv_smoothness((0.5, 0.5), 0.1, 2.0))
+        geoimg.fit_surface(mesh, param, geoimg.GaussianWeights(s=uv_smoothness((0.5, 0.5), 0.1, 2.0)))
     with pytest.raises(ValueError, match="feather"):
         uv_smoothness((0.5, 0.5), 0.1, 2.0, feather=0)
     with pytest.raises(ValueError, match="centre"):

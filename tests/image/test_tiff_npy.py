@@ -18,7 +18,8 @@ from helpers import load_data
 def images():
     bumpy = geoimg.grid_mesh(np.random.default_rng(0).random((12, 9)))
     disk = geoimg.mesh_to_image(load_data("cube_no_bottom.obj"), 17)            # a mask
-    return {"planar": geoimg.mesh_to_image(bumpy, 17, s=2.0, method="heightfield", axis="z"), "disk": disk,
+    return {"planar": geoimg.mesh_to_image(bumpy, 17, method="heightfield", axis="z",
+                                           weights=geoimg.CoverageWeights(s=2.0)), "disk": disk,
             "octahedral": geoimg.mesh_to_image(load_data("sphere.obj"), 17),
             "cut": geoimg.mesh_to_image(load_data("torus.obj"), 65)}
 

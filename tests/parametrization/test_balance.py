@@ -117,11 +117,11 @@ def test_area_balancing_holds_a_kept_outline():
 
 def test_the_default_disk_balance_is_the_area_balancing_everywhere():
     import inspect
-    from geoimg.batch import ConvertOptions
+    from geoimg.batch import BatchOptions
     from geoimg.cli import build_parser
     assert inspect.signature(geoimg.parametrize).parameters["balance"].default == "area"
-    assert inspect.signature(geoimg.mesh_to_image).parameters["balance"].default == "area"
-    assert ConvertOptions().balance == "area"
+    assert geoimg.ConversionOptions().balance == "area"
+    assert BatchOptions().balance == "area"
     assert build_parser().parse_args(["image", "m.obj", "-o", "m.exr"]).balance == "area"
     p = geoimg.parametrize(meshes.finger(rows=8), "disk")
     assert p.info["balance"] == "area" and p.info["balance_steps"] > 0

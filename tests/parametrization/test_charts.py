@@ -85,7 +85,7 @@ def test_no_face_of_one_chart_reaches_another_tile():
     domain = geoimg.Domain.from_metadata("charts", dict(param.domain_fields))
     shape = domain.grid_shape(domain.round_resolution(60))
     lin, _ = _linear(param, shape)
-    img = geoimg.fit_surface(mesh, param, 1e-4, weights="coverage").sample(max(shape))
+    img = geoimg.fit_surface(mesh, param, geoimg.CoverageWeights(s=1e-4)).sample(max(shape))
     ok = img.valid & np.isfinite(lin).all(axis=2)
     assert ok.sum() > 0.5 * img.valid.sum()
     assert np.abs(np.asarray(img.pixels, np.float64)[ok] - lin[ok]).max() < 1e-4      # float32 pixels, s > 0
@@ -130,7 +130,7 @@ def test_filters_read_across_a_border_the_twins_pixels():
 def test_the_paper_weights_are_refused_on_charts():
     mesh = meshes.torus_grid(12, 6)
     with pytest.raises(InputError, match="coverage"):
-        geoimg.fit_surface(mesh, _charts(mesh, charts=2), 1.0, weights="gaussian")
+        geoimg.fit_surface(mesh, _charts(mesh, charts=2), geoimg.GaussianWeights())
 
 
 def test_auto_takes_charts_only_where_one_chart_starves():
@@ -329,6 +329,6 @@ def test_a_narrow_surface_agrees_with_itself_across_glued_sides():
     # apart (0.3 % and 0.9 % of the diagonal) before the glue averaged them; 2.9e-4 units with the margin.
     mesh = load_data("plate_holes.STL")
     param = geoimg.parametrize(mesh, "charts")
-    image = geoimg.fit_surface(mesh, param, 1e-4, weights="coverage").sample(129)
+    image = geoimg.fit_surface(mesh, param, geoimg.CoverageWeights(s=1e-4)).sample(129)
     diag = np.linalg.norm(np.ptp(mesh.vertices, axis=0))
     assert image.metadata.get("glue_spread", 0.0) < 1e-6 * diag

@@ -24,7 +24,7 @@ CASES = {"torus grid": meshes.torus_grid, "torus": lambda: load_data("torus.obj"
 def case(request):
     mesh = CASES[request.param]()
     param = geoimg.parametrize(mesh)
-    return mesh, param, geoimg.fit_surface(mesh, param, 1.0).sample(129)
+    return mesh, param, geoimg.fit_surface(mesh, param, geoimg.GaussianWeights()).sample(129)
 
 
 def test_the_map_is_one_to_one_onto_the_square(case):
@@ -91,7 +91,7 @@ def test_the_weighted_mean_sees_across_the_cut():
     """With faces copied across the cut, the surface at the two copies of a cut vertex is (nearly) one point."""
     mesh = meshes.torus_grid()
     param = geoimg.parametrize(mesh, "cut")
-    surf = geoimg.fit_surface(mesh, param, 1.0)
+    surf = geoimg.fit_surface(mesh, param, geoimg.GaussianWeights())
     loop = boundary_loops(param.mesh)[0]
     src = param.source[loop, 0]
     P = surf.evaluate(param.coords[loop])

@@ -110,7 +110,7 @@ def test_auto_maps_a_winding_flat_outline_onto_the_square_so_the_image_keeps_it_
     u_shape = Mesh(np.stack([x, y, 0 * x], -1).reshape(-1, 3)[used], remap[np.array(quads)])
     p = parametrize(u_shape)
     assert p.method == "disk"
-    image = geoimg.fit_surface(u_shape, p, 1.0).sample(65)
+    image = geoimg.fit_surface(u_shape, p, geoimg.GaussianWeights()).sample(65)
     assert topology(image.to_mesh()).boundary_loops == 1 and topology(image.to_mesh()).components == 1
 
 

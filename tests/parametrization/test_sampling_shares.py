@@ -141,7 +141,8 @@ def test_a_map_with_shares_by_bending_resamples_a_lens_closer(lens, monkeypatch)
     assert by_bend.flipped_faces == by_area.flipped_faces == 0
 
     def psnr(param):
-        image = geoimg.mesh_to_image(lens, 65, 1e-4, parametrization=param, fidelity=False)
+        image = geoimg.mesh_to_image(lens, 65, parametrization=param, fidelity=False,
+                                     weights=geoimg.CoverageWeights(s=1e-4))
         return surface_distance(tm, image.to_mesh(), 20000)["psnr_db"]
     bend_db, area_db = psnr(by_bend), psnr(by_area)
     assert bend_db > area_db + 3.0, (bend_db, area_db)

@@ -38,7 +38,7 @@ def test_auto_picks_sphere_for_closed_genus_0(spot_small):
 def test_octahedral_image_welds_into_a_closed_genus_0_quad_mesh(spot_small):
     mesh, p = spot_small
     for side, s in ((129, 1.0), (65, 0.5)):         # glued pixels are bit-identical, normals too (nothing averaged)
-        img = geoimg.fit_surface(mesh, p, s=s).sample(side)
+        img = geoimg.fit_surface(mesh, p, geoimg.GaussianWeights(s=s)).sample(side)
         w = weld_index(side).ravel()
         flat, nrm = img.pixels.reshape(-1, 3), img.normals.reshape(-1, 3)
         assert np.array_equal(flat, flat[w]) and np.array_equal(nrm, nrm[w]) and "glue_spread" not in img.metadata
@@ -59,7 +59,7 @@ def test_coarse_mesh_surface_stays_near_the_mesh():
     # their maps must stay bounded there (a central projection onto their planes put a pixel at y = -9.8)
     from geoimg.mesh import surface_distance
     mesh = meshes.rhombicuboctahedron()
-    img = geoimg.fit_surface(mesh, parametrize(mesh, "sphere"), s=1).sample(65)
+    img = geoimg.fit_surface(mesh, parametrize(mesh, "sphere"), geoimg.GaussianWeights()).sample(65)
     half = np.abs(mesh.vertices).max()
     assert np.abs(img.pixels).max() < 1.5 * half
     assert surface_distance(mesh, img.to_mesh(), n=20000)["psnr_db"] > 20
@@ -67,7 +67,7 @@ def test_coarse_mesh_surface_stays_near_the_mesh():
 
 def test_sphere_surface_truncation_derivatives_and_convergence(spot_small):
     mesh, p = spot_small
-    surf = geoimg.fit_surface(mesh, p, s=1)
+    surf = geoimg.fit_surface(mesh, p, geoimg.GaussianWeights())
     uv = np.random.default_rng(3).uniform(0.02, 0.98, (200, 2))
     diag = mesh.bounding_box_diagonal()
     assert np.abs(surf.evaluate(uv) - surf.evaluate(uv, exact=True)).max() < 1e-9 * diag
@@ -82,14 +82,14 @@ def test_sphere_surface_truncation_derivatives_and_convergence(spot_small):
     used = mesh.referenced_vertices()
     errs = []
     for s in (1.0, 0.5, 0.25):
-        surf_s = geoimg.fit_surface(mesh, p, s=s)
+        surf_s = geoimg.fit_surface(mesh, p, geoimg.GaussianWeights(s=s))
         errs.append(np.sqrt(np.mean((surf_s.evaluate_directions(p.coords[used])[0] - mesh.vertices[used]) ** 2)))
     assert errs[0] > errs[1] > errs[2] and errs[2] < 0.003 * diag
 
 
 def test_positions_alone_are_the_same_points_as_with_derivatives(spot_small):
     mesh, p = spot_small
-    surf = geoimg.fit_surface(mesh, p, s=1)
+    surf = geoimg.fit_surface(mesh, p, geoimg.GaussianWeights())
     q = np.random.default_rng(5).normal(size=(300, 3))
     for exact in (False, True):
         full = surf.evaluate_directions(q, exact=exact)
@@ -103,7 +103,7 @@ def test_positions_alone_are_the_same_points_as_with_derivatives(spot_small):
 
 def test_octahedral_exr_round_trip(spot_small, tmp_path):
     mesh, p = spot_small
-    img = geoimg.fit_surface(mesh, p, s=2).sample(17)
+    img = geoimg.fit_surface(mesh, p, geoimg.GaussianWeights(s=2)).sample(17)
     back = geoimg.load_image(img.save(tmp_path / "spot.exr"))
     assert back.domain == img.domain and np.array_equal(back.pixels, img.pixels)
     assert back.to_mesh().n_faces == 256
@@ -111,11 +111,11 @@ def test_octahedral_exr_round_trip(spot_small, tmp_path):
 
 def test_octahedral_errors(spot_small):
     mesh, p = spot_small
-    surf = geoimg.fit_surface(mesh, p, s=2)
+    surf = geoimg.fit_surface(mesh, p, geoimg.GaussianWeights(s=2))
     with pytest.raises(ValueError, match="odd side .* 18"):
         surf.sample(17 + 1)
     with pytest.raises(ValueError, match="only 'gaussian'"):
-        geoimg.fit_surface(mesh, p, weights="local")
+        geoimg.fit_surface(mesh, p, geoimg.GaussianWeights(n=10))
     with pytest.raises(ValueError, match="must be square"):
         geoimg.GeometryImage(np.zeros((5, 7, 3), np.float32), domain="octahedral")
     with pytest.raises(ValueError, match="takes no mask"):
@@ -241,7 +241,7 @@ def test_balance_gradient_matches_finite_differences(spot_small):
 def test_cell_lists_hold_every_face_within_reach_of_their_points():
     """The 3-D cells bin each face by where its ball reaches: a point's cell lists every face within that
     face's radius of it (the truncated sums miss nothing), and fewer than the balls' bounding boxes would."""
-    from geoimg.surface._sphere_kernels import build_cells_3d
+    from geoimg.surface._cells import build_cells_3d
     rng = np.random.default_rng(7)
     centres = rng.normal(size=(3000, 3))
     centres /= np.linalg.norm(centres, axis=1, keepdims=True)
@@ -262,7 +262,7 @@ def test_cell_lists_hold_every_face_within_reach_of_their_points():
 
 def test_vectorized_exp_matches_libm_to_a_few_ulps():
     import math
-    from geoimg.surface._fastexp import exp_inplace
+    from geoimg.surface._gaussian_fastexp import exp_inplace
 
     def exp_array(a):
         return exp_inplace(np.array(a, np.float64))
@@ -277,11 +277,12 @@ def test_vectorized_exp_matches_libm_to_a_few_ulps():
 def test_tiled_sampling_equals_point_evaluation(spot_small, side, tile):
     """The image sampler (tiles of pixels, plain vectorized exponentials) gives the point evaluator's
     surface and derivatives, whatever the tiling; its candidate lists miss no face within reach."""
-    from geoimg.surface import _sphere_kernels as sk
+    from geoimg.surface import _gaussian_sphere_kernels as sk
+    from geoimg.surface._cells import tangent_frames
     mesh, p = spot_small
-    surf = geoimg.fit_surface(mesh, p, s=1)
+    surf = geoimg.fit_surface(mesh, p, geoimg.GaussianWeights())
     q = surf.domain.directions(side).reshape(-1, 3)
-    t1, t2 = sk.tangent_frames(q)
+    t1, t2 = tangent_frames(q)
     P, P1, P2, st = sk.sample_sphere_grid(q, t1, t2, surf._faces, surf._cells, log_g_ref=surf.log_g_ref, tile=tile)
     R, R1, R2, _, _, _ = surf.evaluate_directions(q)
     scale = mesh.bounding_box_diagonal()
@@ -305,9 +306,9 @@ def test_tiled_sampling_equals_point_evaluation(spot_small, side, tile):
 def test_tiled_sampling_recomputes_what_plain_exponentials_cannot_certify(spot_small):
     """At s = 0.005 a pixel between face centres gets weights below exp(-708) from every face: its plain
     sum underflows, and such pixels are recomputed over all faces in the log domain (and say so)."""
-    from geoimg.surface import _sphere_kernels as sk
+    from geoimg.surface import _gaussian_sphere_kernels as sk
     mesh, p = spot_small
-    surf = geoimg.fit_surface(mesh, p, s=0.005)
+    surf = geoimg.fit_surface(mesh, p, geoimg.GaussianWeights(s=0.005))
     img = surf.sample(33, normals=False)
     assert img.metadata["exact_pixels"] > 0 and np.isfinite(img.pixels).all()
     q = surf.domain.directions(33).reshape(-1, 3)
@@ -320,7 +321,7 @@ def test_tiled_sampling_recomputes_what_plain_exponentials_cannot_certify(spot_s
 
 def test_tangent_frames_are_the_cross_products_bit_for_bit():
     """The numba frames equal numpy's cross products of the axis of the smallest component (first on ties)."""
-    from geoimg.surface._sphere_kernels import tangent_frames
+    from geoimg.surface._cells import tangent_frames
     rng = np.random.default_rng(4)
     q = rng.normal(size=(20000, 3))
     q = np.vstack([q, np.eye(3), -np.eye(3), [[0.6, 0.8, 0.0], [0.0, 0.6, 0.8], [1.0, 1.0, 1.0], [0.5, 0.5, -0.7]]])

@@ -8,12 +8,13 @@ import textwrap
 from pathlib import Path
 
 import numpy as np
+import geoimg
 import pytest
 from scipy.spatial import Delaunay
 
 from geoimg import Mesh, Parametrization, fit_surface
 from geoimg.errors import ImageError, InputError
-from geoimg.surface import _kernels as kernels
+from geoimg.surface import _grid as grid
 from geoimg.surface._base import unit
 import meshes
 
@@ -37,7 +38,7 @@ COMPARE = textwrap.dedent('''
     warnings.simplefilter("ignore")
     from test_backend import partial_tin
     from geoimg import fit_surface
-    from geoimg.surface import _kernels as kernels, _cuda_kernels as cu
+    from geoimg.surface import _gaussian_kernels as kernels, _gaussian_cuda_kernels as cu
     scale = int(sys.argv[2])                    # 1 in the simulator; more pixels on a real GPU
     mesh, param = partial_tin()
     out = []
@@ -103,7 +104,7 @@ def _tile_lists_brute(shape, live, c0, c1, r0, r1, tile):
 
 @pytest.mark.parametrize("shape, tile", [((37, 50), 16), ((16, 16), 16), ((5, 70), 8), ((1, 1), 16)])
 def test_tile_lists_hold_each_tiles_faces_in_order(shape, tile):
-    from geoimg.surface._cuda_kernels import tile_lists
+    from geoimg.surface._gaussian_cuda_kernels import tile_lists
     rng = np.random.default_rng(shape[0])
     F = 300
     H, W = shape
@@ -120,7 +121,7 @@ def test_tile_lists_hold_each_tiles_faces_in_order(shape, tile):
 
 
 def _cuda_usable():
-    from geoimg.surface._cuda_kernels import cuda_unavailable
+    from geoimg.surface._gaussian_cuda_kernels import cuda_unavailable
     return cuda_unavailable() is None
 
 
@@ -128,7 +129,7 @@ def test_cuda_backend_without_a_gpu_is_refused_before_any_work(tmp_path):
     if _cuda_usable():
         pytest.skip("this machine has a CUDA GPU")
     mesh, param = partial_tin()
-    surf = fit_surface(mesh, param, 1.0)
+    surf = fit_surface(mesh, param, geoimg.GaussianWeights())
     with pytest.raises(InputError, match="backend 'cuda': .*no CUDA GPU.*'cpu'"):
         surf.sample(9, backend="cuda")
     from geoimg import mesh_to_image
@@ -149,12 +150,13 @@ def test_unknown_backends_are_refused(backend):
 
 def test_cuda_backend_is_refused_where_only_the_cpu_samples():
     mesh, param = partial_tin()
-    for kw in ({"weights": "local"}, {"tol": 0.0}):
+    for weights in (geoimg.GaussianWeights(n=10), geoimg.GaussianWeights(tol=0.0)):
         with pytest.raises(InputError, match="backend 'cuda': samples Gaussian weights"):
-            fit_surface(mesh, param, 1.0, **kw)._sample_grid((9, 9), False, "cuda")
+            fit_surface(mesh, param, weights)._sample_grid((9, 9), False, "cuda")
     ball = meshes.icosphere(1)
     d = ball.vertices / np.linalg.norm(ball.vertices, axis=1, keepdims=True)
-    sphere = fit_surface(Mesh(d, ball.faces), Parametrization(d, (1.0, 1.0), "octahedral", "sphere"), 1.0)
+    sphere = fit_surface(Mesh(d, ball.faces), Parametrization(d, (1.0, 1.0), "octahedral", "sphere"),
+                         geoimg.GaussianWeights())
     with pytest.raises(InputError, match="octahedral .* CPU only"):
         sphere._sample_grid((9, 9), False, "cuda")
 
@@ -168,10 +170,10 @@ def test_unit_normals_are_numpys_bit_for_bit():
         b[5:10] = 2 * a[5:10]                        # parallel: a zero cross product stays zero
         a[10:15] = [1e-170, 0, 0]                    # its square underflows
         for sign in (1, -1):
-            got = kernels.unit_normals(a.reshape(40, 100, 3), b.reshape(40, 100, 3), sign)
+            got = grid.unit_normals(a.reshape(40, 100, 3), b.reshape(40, 100, 3), sign)
             assert got.shape == (40, 100, 3)
             assert np.array_equal(got.reshape(-1, 3), unit(np.cross(a, b) * sign))
-    assert not np.any(kernels.unit_normals(a[:5], b[:5], 1))
+    assert not np.any(grid.unit_normals(a[:5], b[:5], 1))
 
 
 def test_face_coverage_marks_the_pixels_inside_or_near_each_polygon():
@@ -185,7 +187,7 @@ def test_face_coverage_marks_the_pixels_inside_or_near_each_polygon():
     poly = centres[:, None] + rad[..., None] * np.stack([np.cos(ang), np.sin(ang)], -1)
     sizes = rng.integers(3, K + 1, F)
     eps = 0.01
-    got = kernels.face_coverage(u, v, poly, sizes, eps)
+    got = grid.face_coverage(u, v, poly, sizes, eps)
     uu, vv = np.meshgrid(u, v)
     want = np.zeros_like(got)
     for f in range(F):
@@ -208,13 +210,13 @@ def test_face_coverage_marks_the_pixels_inside_or_near_each_polygon():
 
 def test_float32_check_passes_coordinates_near_zero_and_refuses_tiny_or_huge_surfaces():
     mesh, param = partial_tin(n=300)
-    surf = fit_surface(mesh, param, 0.08)             # far pixels: exact sums, some coordinates near 1e-40
+    surf = fit_surface(mesh, param, geoimg.GaussianWeights(s=0.08))   # far pixels: exact sums, some near 1e-40
     img = surf.sample(64)
     assert np.isfinite(img.pixels).all() and img.metadata["exact_pixels"] > 0
     for scale in (1e-33, 1e39):
         scaled = Mesh(mesh.vertices * scale, mesh.faces)
         with pytest.raises(ImageError, match="cannot be held in a float32 image"):
-            fit_surface(scaled, param, 1.0).sample(9)
+            fit_surface(scaled, param, geoimg.GaussianWeights()).sample(9)
 
 
 @pytest.mark.parametrize("values, held", [([1.0, 2.0], True), ([1e-40, 1.0], True), ([0.0, 0.0], True),

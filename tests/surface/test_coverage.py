@@ -38,12 +38,12 @@ def test_the_plane_surface_tends_to_the_mesh_itself_as_s_falls(mountain):
     pts = rng.uniform(0.05, 0.95, (2000, 2)) * param.extent
     far = []
     for s in (1.0, 0.5, 0.25, 0.1, 0.05, 0.02):
-        surf = fit_surface(mountain, param, s, weights="coverage")
+        surf = fit_surface(mountain, param, geoimg.CoverageWeights(s=s))
         far.append(point_mesh_distance(surf.evaluate(pts), mountain).max())
     assert all(a > b for a, b in zip(far, far[1:])), far
     assert far[-1] < 0.02 * far[0], far
     used = mountain.referenced_vertices()
-    at_vertices = fit_surface(mountain, param, 0.02, weights="coverage").evaluate(param.coords[used])
+    at_vertices = fit_surface(mountain, param, geoimg.CoverageWeights(s=0.02)).evaluate(param.coords[used])
     assert np.abs(at_vertices - mountain.vertices[used]).max() < 1e-9 * mountain.bounding_box_diagonal()
 
 
@@ -53,7 +53,7 @@ def test_the_sphere_surface_tends_to_the_mesh_itself_as_s_falls(ball):
     q = rng.normal(size=(3000, 3))
     far = []
     for s in (0.8, 0.4, 0.2, 0.1, 0.05, 0.02):
-        surf = fit_surface(mesh, param, s, weights="coverage")
+        surf = fit_surface(mesh, param, geoimg.CoverageWeights(s=s))
         far.append(point_mesh_distance(surf.evaluate_directions(q, derivatives=False)[0], mesh).max())
     assert all(a > b for a, b in zip(far, far[1:])), far
     assert far[-1] < 0.02 * far[0], far
@@ -62,14 +62,14 @@ def test_the_sphere_surface_tends_to_the_mesh_itself_as_s_falls(ball):
 @pytest.mark.parametrize("s", [0.1, 1.0])
 def test_truncated_equals_exact(mountain, ball, s):
     param = parametrize(mountain, "heightfield", axis="y")
-    surf = fit_surface(mountain, param, s, weights="coverage")
+    surf = fit_surface(mountain, param, geoimg.CoverageWeights(s=s))
     pts = np.random.default_rng(3).uniform(0, 1, (300, 2)) * param.extent
     diag = mountain.bounding_box_diagonal()
     assert np.abs(surf.evaluate(pts) - surf.evaluate(pts, exact=True)).max() <= 1e-8 * diag
-    assert np.abs(fit_surface(mountain, param, s, weights="coverage", tol=0).evaluate(pts) -
+    assert np.abs(fit_surface(mountain, param, geoimg.CoverageWeights(s=s, tol=0)).evaluate(pts) -
                   surf.evaluate(pts, exact=True)).max() == 0.0
     mesh, sparam = ball
-    sphere = fit_surface(mesh, sparam, s, weights="coverage")
+    sphere = fit_surface(mesh, sparam, geoimg.CoverageWeights(s=s))
     q = np.random.default_rng(4).normal(size=(300, 3))
     a = sphere.evaluate_directions(q)
     b = sphere.evaluate_directions(q, exact=True)
@@ -81,7 +81,7 @@ def test_truncated_equals_exact(mountain, ball, s):
 @pytest.mark.parametrize("s", [0.1, 1.0])
 def test_analytic_derivatives_match_finite_differences(mountain, ball, s):
     param = parametrize(mountain, "heightfield", axis="y")
-    surf = fit_surface(mountain, param, s, weights="coverage")
+    surf = fit_surface(mountain, param, geoimg.CoverageWeights(s=s))
     pts = np.random.default_rng(4).uniform(0.1, 0.9, (80, 2))
     pu, pv = surf.derivatives(pts)
     fu, fv = finite_differences(surf, pts, h=1e-7)
@@ -89,7 +89,7 @@ def test_analytic_derivatives_match_finite_differences(mountain, ball, s):
     assert np.abs(pu - fu).max() < 1e-4 * scale and np.abs(pv - fv).max() < 1e-4 * scale
     assert np.all(surf.normals(pts)[:, 1] > 0)             # y up
     mesh, sparam = ball
-    sphere = fit_surface(mesh, sparam, s, weights="coverage")
+    sphere = fit_surface(mesh, sparam, geoimg.CoverageWeights(s=s))
     q = np.random.default_rng(7).normal(size=(60, 3))
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     P, P1, P2, t1, t2, _ = sphere.evaluate_directions(q)
@@ -102,7 +102,7 @@ def test_analytic_derivatives_match_finite_differences(mountain, ball, s):
 def test_an_octahedral_image_welds_watertight_and_keeps_its_input(ball):
     mesh, param = ball
     before = mesh.vertices.copy(), param.coords.copy()
-    img = fit_surface(mesh, param, 0.2, weights="coverage").sample(33)
+    img = fit_surface(mesh, param, geoimg.CoverageWeights(s=0.2)).sample(33)
     quads = img.to_mesh()
     assert geoimg.mesh.topology(quads).closed and geoimg.mesh.topology(quads).genus == 0
     assert np.array_equal(mesh.vertices, before[0]) and np.array_equal(param.coords, before[1])
@@ -118,7 +118,7 @@ def test_log_ndtr_is_finite_far_out():
 
 def test_points_outside_a_planar_mesh_are_summed_exactly_over_its_border():
     mesh, param = affine_mesh()
-    surf = fit_surface(mesh, param, 0.05, weights="coverage")
+    surf = fit_surface(mesh, param, geoimg.CoverageWeights(s=0.05))
     far = np.array([[3.0, 3.0], [-2.0, 0.5], [0.5, 1.5]])
     _, _, _, status = surf._points(far, False)
     assert (status == ck.EXACT).all()
@@ -130,22 +130,22 @@ def test_points_outside_a_planar_mesh_are_summed_exactly_over_its_border():
 def test_bad_smoothness_is_refused(s, message):
     mesh, param = affine_mesh()
     with pytest.raises(geoimg.InputError, match=message):
-        fit_surface(mesh, param, s, weights="coverage")
+        fit_surface(mesh, param, geoimg.CoverageWeights(s=s))
 
 
 def test_cuda_is_refused_for_coverage_weights():
     mesh, param = affine_mesh()
     with pytest.raises(geoimg.InputError, match="CPU only|no CUDA|not usable|cuda"):
-        fit_surface(mesh, param, 0.5, weights="coverage").sample(9, backend="cuda")
+        fit_surface(mesh, param, geoimg.CoverageWeights(s=0.5)).sample(9, backend="cuda")
 
 
 def test_the_kernel_equals_its_numpy_twin(ball):
     from reference import coverage_numpy
     mesh, param = affine_mesh()
     bumpy = geoimg.Mesh(np.column_stack([mesh.vertices[:, :2], np.sin(7 * param.coords[:, 0])]), mesh.faces)
-    for surf, pts in ((fit_surface(bumpy, param, 0.3, weights="coverage"),
+    for surf, pts in ((fit_surface(bumpy, param, geoimg.CoverageWeights(s=0.3)),
                        np.column_stack([np.random.default_rng(8).uniform(0, 1, (200, 2)), np.ones(200)])),
-                      (fit_surface(*ball, 0.3, weights="coverage"),
+                      (fit_surface(*ball, geoimg.CoverageWeights(s=0.3)),
                        np.random.default_rng(9).normal(size=(200, 3)))):
         if pts[0, 2] != 1.0:
             pts /= np.linalg.norm(pts, axis=1, keepdims=True)
@@ -163,7 +163,7 @@ def test_triangles_thinner_than_rounding_are_left_out_and_nothing_overflows():
     mesh = geoimg.Mesh(v, [[0, 1, 2], [1, 0, 3]])
     param = geoimg.Parametrization(uv, (1.0, 1.0))
     with pytest.warns(UserWarning, match="1 triangles of zero area"):
-        surf = fit_surface(mesh, param, 0.05, weights="coverage")
+        surf = fit_surface(mesh, param, geoimg.CoverageWeights(s=0.05))
     P = surf.evaluate(np.array([[0.5, 0.25], [0.5, 0.5], [0.2, 0.9]]))
     assert np.isfinite(P).all()
     assert np.allclose(P[0], [0.5, -0.5, 0.0], atol=1e-6)            # inside the ordinary triangle: its plane
@@ -187,9 +187,9 @@ def test_the_sphere_cells_list_every_triangle_where_it_counts_and_change_no_samp
     throughout, or off the unit sphere: every triangle whose terms count at a unit point (its edge functions
     above the cut-off, the point in front of it) is in the point's cube, and the samples are the same bits as
     with the plain balls' cells."""
-    from geoimg.surface._sphere_kernels import build_cells_3d
+    from geoimg.surface._cells import build_cells_3d
     mesh, param = ball
-    surf = fit_surface(mesh, param, s=0.3, weights="coverage")
+    surf = fit_surface(mesh, param, geoimg.CoverageWeights(s=0.3))
     h, n, ptr, faces = surf.cells()
     E, zmin = surf.edges(), surf._zmin()
     q = np.random.default_rng(4).normal(size=(3000, 3))
@@ -205,7 +205,7 @@ def test_the_sphere_cells_list_every_triangle_where_it_counts_and_change_no_samp
     plain = build_cells_3d(surf.centres, np.minimum(surf._reach(), 4.0))
     assert len(faces) < len(plain[3])                           # fewer candidates ...
     directions = surf.domain.directions(33).reshape(-1, 3)
-    from geoimg.surface._sphere_kernels import tangent_frames
+    from geoimg.surface._cells import tangent_frames
     t1, t2 = tangent_frames(directions)
     tight = surf._evaluate(directions, t1, t2)
     object.__setattr__(surf, "_cells", plain)
@@ -226,7 +226,7 @@ def test_a_quad_its_shorter_split_would_fold_is_split_the_other_way():
     assert sorted(map(sorted, fixed.tolist())) == [[0, 1, 2], [0, 2, 3]]
     o = _orientation(p.coords, fixed)
     assert (o > 0).all() or (o < 0).all()
-    img = geoimg.mesh_to_image(mesh, 33, 1e-4, parametrization=p, fidelity=False)
+    img = geoimg.mesh_to_image(mesh, 33, parametrization=p, fidelity=False, weights=geoimg.CoverageWeights(s=1e-4))
     u, w = img.domain.pixel_uv(img.pixels.shape[:2])
     uv = np.stack(np.meshgrid(u, w), axis=-1)
     inside = np.zeros(uv.shape[:2], bool)                  # a pixel spacing within one of the two triangles
@@ -270,10 +270,10 @@ def test_the_octahedral_image_sums_every_triangle_that_counts_in_order(coarse_sp
     the brute-force truncated sum's to the bit, and its normal (from derivatives along the image's axes) the
     brute force's (along tangent frames) within rounding."""
     from geoimg.surface._coverage import prefilter_s
-    from geoimg.surface._kernels import unit_normals
-    from geoimg.surface._sphere_kernels import tangent_frames
+    from geoimg.surface._grid import unit_normals
+    from geoimg.surface._cells import tangent_frames
     for name, mesh, param in coarse_spheres:
-        base = fit_surface(mesh, param, 1.0, weights="coverage")
+        base = fit_surface(mesh, param, geoimg.CoverageWeights(s=1.0))
         surf = base.with_s(prefilter_s(base, res) if s is None else s)
         image = surf.sample(res)
         q = surf.domain.directions(res).reshape(-1, 3)
@@ -288,12 +288,12 @@ def test_the_sphere_points_path_reaches_every_triangle_that_counts(coarse_sphere
     """Points looked up in the 3-D cells get the same sums as the brute force on meshes with large triangles
     (the planar reach rule left out triangles whose weight was 0.007: points 0.0095 off on the scorpion)."""
     from geoimg.surface._coverage import prefilter_s
-    from geoimg.surface._sphere_kernels import tangent_frames
+    from geoimg.surface._cells import tangent_frames
     q = np.random.default_rng(7).normal(size=(4000, 3))
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     t1, t2 = tangent_frames(q)
     for name, mesh, param in coarse_spheres:
-        base = fit_surface(mesh, param, 1.0, weights="coverage")
+        base = fit_surface(mesh, param, geoimg.CoverageWeights(s=1.0))
         surf = base.with_s(prefilter_s(base, 257))
         P = surf.evaluate_directions(q)[0]
         np.testing.assert_allclose(P, _brute_force(surf, q, t1, t2)[0], rtol=0, atol=1e-12, err_msg=name)
@@ -341,7 +341,7 @@ def test_the_reach_polygon_from_the_edges_triangle_is_the_octants_triangle_clipp
     buf = [np.empty(ck._VERTS) for _ in range(4)]
     taken = compared = 0
     for name, mesh, param in coarse_spheres:
-        base = fit_surface(mesh, param, 1.0, weights="coverage")
+        base = fit_surface(mesh, param, geoimg.CoverageWeights(s=1.0))
         for res in (33, 257):
             surf = base.with_s(prefilter_s(base, res))
             E, w, zmin = surf.edges(), surf.tables[2], surf._zmin()
@@ -373,12 +373,12 @@ def test_the_planar_image_sums_every_triangle_that_counts_in_order(mountain, res
     sum's point to the bit, on the terrain grid and on an irregular mixed mesh (rim pixels off the mesh's
     boundary at the boundary point they snap to)."""
     from geoimg.surface._coverage import prefilter_s
-    from geoimg.surface._rim import snap_rim
+    from geoimg.surface._coverage_rim import snap_rim
     uv, faces = mixed_mesh(seed=3)
     irregular = geoimg.Mesh(np.column_stack([uv, np.sin(3 * uv[:, 0]) * uv[:, 1]]), faces)
     for mesh, param in ((mountain, parametrize(mountain, "heightfield")),
                         (irregular, geoimg.Parametrization(uv, (1.0, 1.0)))):
-        base = fit_surface(mesh, param, 1.0, weights="coverage")
+        base = fit_surface(mesh, param, geoimg.CoverageWeights(s=1.0))
         surf = base.with_s(prefilter_s(base, res))
         image = surf.sample(res)
         u, v = surf.domain.pixel_uv(image.pixels.shape[:2])
@@ -415,7 +415,7 @@ def test_the_exact_sum_leaves_out_only_terms_that_underflow():
     from scipy.special import log_ndtr
     mesh = load_data("bob_tri.obj")
     param = parametrize(mesh)
-    surf = fit_surface(mesh, param, 0.01, weights="coverage")
+    surf = fit_surface(mesh, param, geoimg.CoverageWeights(s=0.01))
     E, K, w = surf.edges(), surf.tables[1], surf.tables[2]
     rng = np.random.default_rng(3)
     uv = rng.uniform(-0.5, 1.5, (300, 2)) * np.asarray(surf.domain.extent)

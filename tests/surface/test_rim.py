@@ -1,4 +1,4 @@
-"""Rims that follow the mesh (geoimg.surface._rim): a planar image's rim within half a pixel spacing of the
+"""Rims that follow the mesh (geoimg.surface._coverage_rim): a planar image's rim within half a pixel spacing of the
 mesh's boundary, where the mask's staircase strays farther; rectangles left to the bit; the exact nearest
 points and the boundary distance it is measured with."""
 import warnings
@@ -11,12 +11,12 @@ from geoimg.errors import InputError, InputTypeError
 from geoimg.mesh import boundary_distance, grid_mesh
 from geoimg.mesh._metrics import nearest_on_segments
 from geoimg.surface import prefilter_s
-from geoimg.surface._rim import rim_pixels
+from geoimg.surface._coverage_rim import rim_pixels
 import meshes
 
 
 def _image(mesh, param, res, snap=True):
-    surf = geoimg.fit_surface(mesh, param, weights="coverage")
+    surf = geoimg.fit_surface(mesh, param, geoimg.CoverageWeights(s=1.0))
     surf = surf.with_s(prefilter_s(surf, res))
     if not snap:                                            # the mask's staircase, as before
         surf = type(surf)(**{**surf.__dict__, "rim": None})

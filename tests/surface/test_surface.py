@@ -1,8 +1,10 @@
 
 import numpy as np
+import geoimg
 import pytest
 
 from geoimg import Mesh, Parametrization, fit_surface, parametrize
+from geoimg.surface import make_weights
 from reference import evaluate_exact_numpy, sample_grid_numpy
 
 from checks import surface_to_vertices_rms
@@ -28,7 +30,7 @@ def test_mixed_mesh_has_triangles_quads_and_hexagons():
 @pytest.mark.parametrize("sliver_rule", ["robust", "paper"])
 def test_linear_precision_on_irregular_polygon_mesh(weights, s, sliver_rule):
     mesh, param = affine_mesh()
-    surf = fit_surface(mesh, param, s, weights=weights, n=6, sliver_rule=sliver_rule)
+    surf = fit_surface(mesh, param, make_weights(weights, s=s, n=6, sliver_rule=sliver_rule))
     rng = np.random.default_rng(2)
     pts = np.concatenate([rng.uniform(0, 1, (300, 2)), [[0, 0], [1, 1], [0.5, -0.1]]])
     assert np.allclose(surf.evaluate(pts), pts @ AFFINE + OFFSET, rtol=0, atol=1e-10)
@@ -45,7 +47,7 @@ def test_linear_precision_on_irregular_polygon_mesh(weights, s, sliver_rule):
 @pytest.mark.parametrize("s", [1.0, 4.0])
 def test_truncated_equals_exact_on_a_real_terrain(mountain, s):
     param = parametrize(mountain, "heightfield", axis="y")
-    surf = fit_surface(mountain, param, s)
+    surf = fit_surface(mountain, param, geoimg.GaussianWeights(s=s))
     rng = np.random.default_rng(3)
     pts = rng.uniform(0, 1, (400, 2)) * param.extent
     diag = mountain.bounding_box_diagonal()
@@ -57,7 +59,7 @@ def test_truncated_equals_exact_on_a_real_terrain(mountain, s):
     ref = evaluate_exact_numpy(pts[:20], fm.centres, surf.sigma, fm.C, fm.A, fm.B)
     assert np.abs(exact[:20] - ref).max() <= 1e-12 * diag
     # and with tol=0 the grid sampler is exact too
-    exact_surf = fit_surface(mountain, param, s, tol=0)
+    exact_surf = fit_surface(mountain, param, geoimg.GaussianWeights(s=s, tol=0))
     u, v = surf.grid(17)
     uu, vv = np.meshgrid(u, v)
     grid_pts = np.stack([uu.ravel(), vv.ravel()], axis=1)
@@ -76,7 +78,7 @@ def test_surface_converges_to_the_mesh_as_s_shrinks(sliver_rule):
 @pytest.mark.parametrize("weights", ["gaussian", "local"])
 def test_analytic_derivatives_match_finite_differences(mountain, weights):
     param = parametrize(mountain, "heightfield", axis="y")
-    surf = fit_surface(mountain, param, 1.5, weights=weights, n=12)
+    surf = fit_surface(mountain, param, make_weights(weights, s=1.5, n=12))
     rng = np.random.default_rng(4)
     pts = rng.uniform(0.1, 0.9, (50, 2))
     pu, pv = surf.derivatives(pts)
@@ -110,7 +112,7 @@ def test_grid_sampler_agrees_with_point_evaluation(mountain_surface):
 def test_far_points_and_tiny_s_give_finite_values():
     mesh, param = affine_mesh()
     for s in (1.0, 0.02):
-        surf = fit_surface(mesh, param, s)
+        surf = fit_surface(mesh, param, geoimg.GaussianWeights(s=s))
         far = np.array([[1e3, -1e3], [50.0, 0.5], [-7.0, 2.0]])
         p = surf.evaluate(far)
         assert np.isfinite(p).all()
@@ -123,7 +125,7 @@ def test_local_weights_report_holes_not_nan():
     v = np.array([[0, 0], [0.1, 0], [0.1, 0.1], [0, 0.1], [0.2, 0], [0.2, 0.1], [1, 0], [1, 1], [0, 1]], float)
     faces = [[0, 1, 2, 3], [1, 4, 5, 2], [4, 6, 7, 5], [3, 2, 5, 7, 8]]
     mesh = Mesh(np.c_[v, v[:, 0] * v[:, 1]], faces)
-    surf = fit_surface(mesh, Parametrization(v, (1, 1)), weights="local", n=2)
+    surf = fit_surface(mesh, Parametrization(v, (1, 1)), geoimg.GaussianWeights(n=2))
     with pytest.warns(UserWarning, match="holes"):
         img = surf.sample(32)
     assert img.metadata["hole_pixels"] > 0
@@ -133,8 +135,8 @@ def test_local_weights_report_holes_not_nan():
 
 def test_auto_resolution_follows_s():
     mesh, param = affine_mesh(n=9)
-    r1 = fit_surface(mesh, param, 1.0).auto_resolution()
-    r4 = fit_surface(mesh, param, 4.0).auto_resolution()
+    r1 = fit_surface(mesh, param, geoimg.GaussianWeights()).auto_resolution()
+    r4 = fit_surface(mesh, param, geoimg.GaussianWeights(s=4.0)).auto_resolution()
     assert r1 > r4 >= 2
     assert abs(r1 / r4 - 4) < 1.5
 
@@ -143,14 +145,14 @@ def test_rectangular_domain_gives_rectangular_image():
     v = np.array([[0, 0, 0], [2, 0, 0], [2, 1, 1], [0, 1, 1]], float)
     mesh = Mesh(v, [[0, 1, 2, 3]])
     param = parametrize(mesh, "heightfield", axis="z")
-    img = fit_surface(mesh, param, 1.0).sample(65)
+    img = fit_surface(mesh, param, geoimg.GaussianWeights()).sample(65)
     assert sorted(img.shape) == [33, 65]
 
 
 def test_inputs_left_unchanged(mountain):
     param = parametrize(mountain, "heightfield", axis="y")
     v0, f0, c0 = mountain.vertices.copy(), mountain.faces.copy(), param.coords.copy()
-    surf = fit_surface(mountain, param, 2.0)
+    surf = fit_surface(mountain, param, geoimg.GaussianWeights(s=2.0))
     pts = np.array([[0.3, 0.4], [0.5, 0.5]])
     p0 = pts.copy()
     surf.evaluate(pts)
@@ -163,7 +165,7 @@ def test_degenerate_parametric_faces_are_left_out_with_a_warning():
     v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 0, 0]], float)
     mesh = Mesh(v, [[0, 1, 2], [0, 2, 3], [0, 1, 4]])  # the last one is a segment in (u, v)
     with pytest.warns(UserWarning, match="1 faces of zero area"):
-        surf = fit_surface(mesh, Parametrization(v[:, :2] / 2, (1, 0.5)), 1.0)
+        surf = fit_surface(mesh, Parametrization(v[:, :2] / 2, (1, 0.5)), geoimg.GaussianWeights())
     assert surf.faces.n_degenerate == 1
 
 
@@ -218,7 +220,7 @@ def test_robust_sliver_rule_follows_a_real_tin_closer_than_the_paper_rule():
     tin = LinearNDInterpolator(tri, mesh.vertices[:, 2])
     rms = {}
     for rule in ("paper", "robust"):
-        surf = fit_surface(mesh, param, 1.0, sliver_rule=rule)
+        surf = fit_surface(mesh, param, geoimg.GaussianWeights(sliver_rule=rule))
         img = surf.sample(96, normals=False)
         P = img.pixels.astype(float)
         ref = tin(P[..., 0], P[..., 1])
@@ -231,8 +233,8 @@ def test_robust_sliver_rule_follows_a_real_tin_closer_than_the_paper_rule():
 
 def test_robust_rule_changes_nothing_on_well_shaped_faces(mountain):
     param = parametrize(mountain, "heightfield", axis="y")
-    robust = fit_surface(mountain, param, 2.0)
-    paper = fit_surface(mountain, param, 2.0, sliver_rule="paper")
+    robust = fit_surface(mountain, param, geoimg.GaussianWeights(s=2.0))
+    paper = fit_surface(mountain, param, geoimg.GaussianWeights(s=2.0, sliver_rule="paper"))
     assert robust.faces.n_slivers == 0
     assert np.array_equal(robust.sample(32).pixels, paper.sample(32).pixels)
 
@@ -244,14 +246,15 @@ def test_unreferenced_vertices_and_repeated_indices_are_cleaned_up_and_reported(
     dirty = Mesh(v, faces)
     p = parametrize(dirty, "heightfield", axis="z")
     with pytest.warns(UserWarning, match="1 faces of zero area"):
-        surf = fit_surface(dirty, p, 1.0)
+        surf = fit_surface(dirty, p, geoimg.GaussianWeights())
     pts = np.random.default_rng(5).uniform(0, 1, (50, 2)) * p.extent
-    clean = fit_surface(Mesh(mesh.vertices, mesh.face_list()), parametrize(mesh, "heightfield", axis="z"), 1.0)
+    clean = fit_surface(Mesh(mesh.vertices, mesh.face_list()), parametrize(mesh, "heightfield", axis="z"),
+                        geoimg.GaussianWeights())
     assert np.allclose(surf.evaluate(pts), clean.evaluate(pts), atol=1e-9)
 
 
 def test_box_ranges_are_searchsorted_on_any_increasing_grid():
-    from geoimg.surface._kernels import _ranges
+    from geoimg.surface._gaussian_kernels import _ranges
     rng = np.random.default_rng(0)
     for coord in (np.linspace(0, 1, 256), np.sort(rng.random(100)), np.array([0.5]), np.array([0., 0., 1., 1., 2.])):
         c = np.concatenate([rng.uniform(-0.5, 2.5, 3000), coord, coord + 1e-17])     # ends exactly on grid points

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import InputError
-from ._orientation import chord_orientation
+from ..parametrization._orientation import chord_orientation
 from .._threads import fixed_order
 
 __all__ = ["warp_sphere", "best_rotation", "WARP_TOLERANCE"]

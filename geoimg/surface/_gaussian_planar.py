@@ -19,15 +19,16 @@ from scipy.spatial import cKDTree
 from ..errors import InputError
 from ..image import Domain
 from ..mesh import Mesh
-from . import _kernels as kernels
-from ._addressing import PlanarAddressing
+from . import _gaussian_kernels as kernels
+from . import _grid as grid
+from ._addressing import MAX_PLANAR_RESOLUTION, PlanarAddressing, with_ghosts
 from ._base import Surface, truncation_radius
 from ._curvature import planar_curvature
-from ._face_maps import FaceMaps, face_maps
+from ._gaussian_face_maps import FaceMaps, face_maps
 
 __all__ = ["PlanarSurface", "fit_planar_surface", "MAX_AUTO_RESOLUTION"]
 
-MAX_AUTO_RESOLUTION = 4096
+MAX_AUTO_RESOLUTION = MAX_PLANAR_RESOLUTION
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,7 +107,7 @@ class PlanarSurface(PlanarAddressing, Surface):
 
     def _grid_arguments(self, u: np.ndarray, v: np.ndarray) -> tuple:
         """The grid kernels' positional arguments for the columns ``u`` and rows ``v`` (see
-        :func:`~geoimg.surface._kernels.sample_grid_gaussian`).
+        :func:`~geoimg.surface._gaussian_kernels.sample_grid_gaussian`).
         """
         fm = self.faces
         return u, v, fm.centres, self.sigma, self._radius, fm.C, fm.A, fm.B
@@ -127,7 +128,7 @@ class PlanarSurface(PlanarAddressing, Surface):
         if grid_kernel:
             sample_grid: Callable[..., tuple]
             if backend == "cuda":
-                from ._cuda_kernels import sample_grid_gaussian_cuda as sample_grid
+                from ._gaussian_cuda_kernels import sample_grid_gaussian_cuda as sample_grid
             else:
                 sample_grid = kernels.sample_grid_gaussian
             P, Pu, Pv, ok = sample_grid(*self._grid_arguments(u, v), derivatives=normals, log_g_ref=self.log_g_ref)
@@ -147,8 +148,8 @@ class PlanarSurface(PlanarAddressing, Surface):
             n_exact = int((status == kernels.EXACT).sum())
         holes = status == kernels.HOLE
         eps = 0.5 * max(u[1] - u[0], v[1] - v[0])  # conservative: within half a pixel of a face
-        mask = kernels.face_coverage(u, v, self.polygons, self.sizes, eps) & ~holes
-        nrm = kernels.unit_normals(Pu, Pv, self.orientation) if normals else None
+        mask = grid.face_coverage(u, v, self.polygons, self.sizes, eps) & ~holes
+        nrm = grid.unit_normals(Pu, Pv, self.orientation) if normals else None
         return P, nrm, mask, n_exact, int(holes.sum())
 
 
@@ -166,7 +167,7 @@ def fit_planar_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float,
     sizes = mesh.face_sizes[fm.face_index]
     ghosts = domain.ghosts(fm.centres, _reach(fm, s, s_face, s_map, weights, n, tol)[0])
     if ghosts:
-        mesh, coords, source = _with_ghosts(mesh, coords, fm.face_index, ghosts)
+        mesh, coords, source = with_ghosts(mesh, coords, fm.face_index, ghosts)
         fm = face_maps(mesh, coords, sliver_rule=sliver_rule)
         if s_face is not None:
             s_face = s_face[source]
@@ -197,20 +198,3 @@ def _reach(fm, s, s_face, s_map, weights, n, tol):
     return radius, param_arr, s_kept
 
 
-def _with_ghosts(mesh: Mesh, coords: np.ndarray, face_index: np.ndarray, ghosts: list):
-    """The mesh with copies of faces (vertices copied too) at moved parameters appended; returns the mesh,
-    its coordinates and, per face, the face of the input it copies.
-    """
-    verts, uvs, faces, source = [mesh.vertices], [coords], [mesh.faces], [np.arange(mesh.n_faces)]
-    base = mesh.n_vertices
-    for kept, R, b in ghosts:
-        f = mesh.faces[face_index[kept]]
-        used, inv = np.unique(f[f >= 0], return_inverse=True)
-        local = np.full(f.shape, -1, np.int64)
-        local[f >= 0] = inv + base
-        verts.append(mesh.vertices[used])
-        uvs.append(coords[used] @ R.T + b)
-        faces.append(local)
-        source.append(face_index[kept])
-        base += len(used)
-    return (Mesh(np.vstack(verts), np.vstack(faces)), np.vstack(uvs), np.concatenate(source))

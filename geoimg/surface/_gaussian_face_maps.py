@@ -24,13 +24,13 @@ from .._choices import SLIVER_RULES
 from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh
 from ..parametrization import signed_face_areas
+from ._cells import enclosing_circle_radius
 
 __all__ = [
     "FaceMaps",
     "SphereFaceMaps",
     "face_maps",
     "fit_planes",
-    "enclosing_circle_radius",
     "robust_sliver_planes",
     "SLIVER_RULES",
     "SLIVER_RATIO",
@@ -62,27 +62,6 @@ class SphereFaceMaps(FaceMaps):
     origin: np.ndarray = None   # type: ignore[assignment]   # (F, 3) the chord polygon's centroid (required)
     e1: np.ndarray = None       # type: ignore[assignment]   # (F, 3) in-plane frame
     e2: np.ndarray = None       # type: ignore[assignment]
-
-
-def enclosing_circle_radius(p: np.ndarray) -> np.ndarray:
-    """Radius of the smallest circle enclosing each triangle ``p`` of shape (T, 3, 2).
-
-    Half the longest edge for a right or obtuse triangle, the circumradius otherwise.
-
-    Examples
-    --------
-    >>> enclosing_circle_radius(np.array([[[0., 0], [2, 0], [1, 0.1]]])).round(6).tolist()
-    [1.0]
-    """
-    e = np.stack([p[:, 1] - p[:, 2], p[:, 2] - p[:, 0], p[:, 0] - p[:, 1]], axis=1)
-    sq = np.einsum("tij,tij->ti", e, e)
-    longest = sq.max(axis=1)
-    rest = sq.sum(axis=1) - longest
-    area2 = np.abs(e[:, 1, 0] * e[:, 2, 1] - e[:, 1, 1] * e[:, 2, 0])  # twice the area
-    obtuse = longest >= rest
-    with np.errstate(divide="ignore", invalid="ignore"):
-        circum = np.sqrt(sq.prod(axis=1)) / (2.0 * area2)
-    return np.where(obtuse | (area2 == 0), 0.5 * np.sqrt(longest), circum)
 
 
 def fit_planes(uv: np.ndarray, xyz: np.ndarray, valid: np.ndarray, centres: np.ndarray):

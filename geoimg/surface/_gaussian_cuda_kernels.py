@@ -1,5 +1,5 @@
 """The planar grid kernel on a CUDA GPU (numba.cuda): the same truncated sums as
-:func:`geoimg.surface._kernels.sample_grid_gaussian`, one GPU thread per pixel.
+:func:`geoimg.surface._gaussian_kernels.sample_grid_gaussian`, one GPU thread per pixel.
 
 The image is cut into tiles of ``TILE x TILE`` pixels, one thread block each. The host lists, per tile,
 the faces whose truncation box reaches it (in face order, so every pixel adds its faces in the order
@@ -15,8 +15,9 @@ import numpy as np
 from numba import cuda, njit, prange
 
 from ..errors import InputError
-from ._fastexp import plain_sum_floor
-from ._kernels import _band_lists, truncation_boxes
+from ._gaussian_fastexp import plain_sum_floor
+from ._grid import _band_lists
+from ._gaussian_kernels import truncation_boxes
 
 __all__ = ["sample_grid_gaussian_cuda", "cuda_unavailable", "TILE"]
 
@@ -137,7 +138,7 @@ def _check_device_memory(need: int) -> None:
 
 
 def sample_grid_gaussian_cuda(u, v, centres, sigma, radius, C, A, B, *, derivatives, log_g_ref, profile=None):
-    """:func:`~geoimg.surface._kernels.sample_grid_gaussian` on a CUDA GPU (the caller has checked that one is
+    """:func:`~geoimg.surface._gaussian_kernels.sample_grid_gaussian` on a CUDA GPU (the caller has checked that one is
     usable, :func:`geoimg.surface._base.check_backend`): same arguments, same returns.
 
     The sums differ from the CPU kernel's by rounding alone (each pixel adds the same faces in the same

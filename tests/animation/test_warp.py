@@ -6,7 +6,7 @@ from scipy.spatial.transform import Rotation
 
 from geoimg.errors import InputError
 from geoimg.parametrization._orientation import chord_orientation
-from geoimg.parametrization._warp import best_rotation, warp_sphere
+from geoimg.animation._warp import best_rotation, warp_sphere
 
 import meshes
 

@@ -4,10 +4,10 @@ A planar image of an open mesh whose outline is not the image's rectangle (a pet
 to a coastline) is masked: a pixel is valid within half a pixel of a triangle. The quad mesh's rim then runs
 along pixel centres, a staircase up to a pixel and a half from the outline, which a picture shows as a saw
 blade. Here each pixel on the quad mesh's rim (a corner of a quad with a missing neighbour) is moved to the
-point of the mesh's boundary nearest to it in the parameter domain, its position that boundary point's
-surface's value there (for the faithful surface, the mesh's boundary itself): the rim's vertices lie on the
-surface's outline, and the rim follows it within the chord of two neighbouring pixels. A rim pixel already on the boundary
-(a terrain's rectangle, a disk mapped to the square) is left as it is, to the bit.
+point of the mesh's boundary nearest to it in the parameter domain, and the surface evaluated there (for the
+faithful surface, the mesh's boundary itself): the rim's vertices lie on the surface's outline, and the rim
+follows it within the chord of two neighbouring pixels. A rim pixel already on the boundary (a terrain's
+rectangle, a disk mapped to the square) is left as it is, to the bit.
 """
 from __future__ import annotations
 
@@ -50,7 +50,7 @@ def rim_pixels(valid: np.ndarray) -> np.ndarray:
     quads = np.zeros((H + 1, W + 1), bool)          # quads[i + 1, j + 1]: the block of pixels (i..i+1, j..j+1)
     quads[1:-1, 1:-1] = valid[:-1, :-1] & valid[:-1, 1:] & valid[1:, :-1] & valid[1:, 1:]
     around = np.stack([quads[:-1, :-1], quads[:-1, 1:], quads[1:, :-1], quads[1:, 1:]])   # a pixel's four quads
-    return around.any(axis=0) & ~around.all(axis=0)
+    return np.asarray(around.any(axis=0) & ~around.all(axis=0))
 
 
 def snap_rim(valid: np.ndarray, u: np.ndarray, v: np.ndarray, seg_uv: np.ndarray) -> tuple:

@@ -3,9 +3,9 @@
 Each face lives on the sphere through its parametrized vertices: its plane through them (the chord
 polygon), a frame in that plane, ``d_i`` the smallest enclosing circle of the chord triangle (mean vertex
 distance for n > 3) and the affine map of the frame coordinates onto the face in space, as in
-:mod:`geoimg.surface._face_maps` (same sliver rule). Weights are Gaussians of the chord distance between a
+:mod:`geoimg.surface._gaussian_face_maps` (same sliver rule). Weights are Gaussians of the chord distance between a
 direction and the face's centre, ``sigma_i = s d_i``; truncation and its certificate are those of
-:mod:`geoimg.surface._base`. See :mod:`geoimg.surface._sphere_kernels` for the evaluation.
+:mod:`geoimg.surface._base`. See :mod:`geoimg.surface._gaussian_sphere_kernels` for the evaluation.
 """
 from __future__ import annotations
 
@@ -21,16 +21,17 @@ from ..errors import InputError, ParametrizationError
 from ..image import Domain
 from ..mesh import Mesh
 from ..parametrization._octahedral import directions
-from . import _sphere_kernels as sphere_kernels
-from ._addressing import SphereAddressing
+from . import _gaussian_sphere_kernels as sphere_kernels
+from ._addressing import MAX_SPHERE_RESOLUTION, SphereAddressing
+from ._cells import build_cells_3d, enclosing_circle_radius, tangent_frames
 from ._base import Surface, truncation_radius
 from ._curvature import sphere_curvature
-from ._face_maps import SphereFaceMaps, enclosing_circle_radius, fit_planes, robust_sliver_planes
-from ._kernels import unit_normals
+from ._gaussian_face_maps import SphereFaceMaps, fit_planes, robust_sliver_planes
+from ._grid import unit_normals
 
 __all__ = ["SphereSurface", "fit_sphere_surface", "MAX_AUTO_RESOLUTION"]
 
-MAX_AUTO_RESOLUTION = 2049
+MAX_AUTO_RESOLUTION = MAX_SPHERE_RESOLUTION
 
 
 def _project(points: np.ndarray, normal: np.ndarray, height: np.ndarray) -> np.ndarray:
@@ -123,7 +124,7 @@ class SphereSurface(SphereAddressing, Surface):
             raise InputError(f"q: expected finite directions of shape (k, 3), got {d.shape}")
         d = directions(d, "q")
         d = d / np.linalg.norm(d, axis=1, keepdims=True)
-        t1, t2 = sphere_kernels.tangent_frames(d)
+        t1, t2 = tangent_frames(d)
         P, P1, P2, st = sphere_kernels.evaluate_sphere(d, t1, t2, self._faces, self._cells, log_g_ref=self.log_g_ref,
                                                        exact=exact or self.tol == 0, derivatives=derivatives)
         return P, P1, P2, t1, t2, st
@@ -147,7 +148,7 @@ class SphereSurface(SphereAddressing, Surface):
         n = shape[0]
         q = self.domain.directions(n).reshape(-1, 3)             # type: ignore[attr-defined]   # octahedral
         if self.tol > 0:        # by tiles of pixels
-            t1, t2 = sphere_kernels.tangent_frames(q) if normals else (None, None)
+            t1, t2 = tangent_frames(q) if normals else (None, None)
             P, P1, P2, st = sphere_kernels.sample_sphere_grid(q, t1, t2, self._faces, self._cells,
                                                               log_g_ref=self.log_g_ref, derivatives=normals)
         else:
@@ -177,6 +178,6 @@ def fit_sphere_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: float,
     radius = truncation_radius(sigma, s, tol) if tol > 0 else np.full_like(sigma, 4.0)
     faces = tuple(np.ascontiguousarray(a, np.float64) for a in (
         fm.centres, 0.5 / sigma ** 2, radius, fm.origin, fm.e1, fm.e2, fm.C, fm.A, fm.B))
-    cells = sphere_kernels.build_cells_3d(fm.centres, np.minimum(radius, 4.0))
+    cells = build_cells_3d(fm.centres, np.minimum(radius, 4.0))
     return SphereSurface(domain, s, float(tol), sliver_rule, fm.d, fm.face_index, fm.n_slivers, fm.n_degenerate,
                          faces, cells, s_face=s_face)
