@@ -17,20 +17,20 @@ from numpy.typing import ArrayLike
 import filters
 from .._choices import EXR_LAYOUTS, IMAGE_FORMATS
 from .._atomic import atomic_path, write_all
-from .._raster import FLOAT, UINT16, write_raster
 from ..errors import GeoimgError, ImageError, ImageFileError, InputError, InputTypeError
 from ..mesh import Mesh
 from ._domain import Domain
+from ._exr import write_exr
+from ._npy import npy_jobs
 from ._npz import write_npz
+from ._preview import PREVIEW_LEVELS, write_preview
+from ._tiff import write_tiff
 from .._types import PathLike, as_path
 
-__all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS", "IMAGE_FORMATS", "NPY_SIDECAR", "TIFF_DESCRIPTION"]
+__all__ = ["GeometryImage", "DEFAULT_PAD", "EXR_LAYOUTS", "IMAGE_FORMATS", "COLOR_CHANNELS"]
 
 DEFAULT_PAD = 16
 COLOR_CHANNELS = ("color.R", "color.G", "color.B", "color.A")
-NPY_SIDECAR = ".json"                 # x.npy's channel names and metadata are in x.npy.json
-TIFF_DESCRIPTION = "geoimg"           # the key of the record a TIFF keeps in its ImageDescription tag
-PREVIEW_LEVELS = 65534                # a preview's valid pixels take the levels 1 to 65535; 0 is masked
 
 
 def _boundary_aware(op):
@@ -467,19 +467,21 @@ class GeometryImage:
         if suffix not in IMAGE_FORMATS:
             raise ImageFileError(f"{path}: geometry images are saved as {', '.join(IMAGE_FORMATS)}; use one of those "
                                  "names (previews: GeometryImage.preview)")
-        record = self.metadata_record()
+        record, kind = self.metadata_record(), self.domain.kind
         if suffix == ".npz":
             return [(path, lambda tmp: write_npz(tmp, self.pixels, self.mask, self.normals, record, self.colors))]
         if suffix in (".tif", ".tiff"):
-            return [(path, lambda tmp: self._write_tiff(tmp, path, record))]
+            dropped = [name for name, value in (("normals", self.normals), ("colours", self.colors))
+                       if value is not None]
+            if dropped:
+                warnings.warn(f"{path}: a TIFF keeps X, Y, Z and the mask; the {' and '.join(dropped)} are not "
+                              "written (.exr and .npz keep them)", stacklevel=3)
+            data, names = self._channels("rgba")
+            return [(path, lambda tmp: write_tiff(tmp, data, names, record, kind))]
         data, names = self._channels(layout)
         if suffix == ".npy":
-            sidecar = json.dumps({"channels": names, "domain": self.domain.kind, "metadata": record}, sort_keys=True)
-            return [(path, lambda tmp: _save_npy(tmp, data)),
-                    (path.with_name(path.name + NPY_SIDECAR), lambda tmp: tmp.write_text(sidecar + "\n"))]
-        attrs = [("geoimg:domain", self.domain.kind), ("geoimg:metadata", json.dumps(record, sort_keys=True)),
-                 ("compression", "zip")]
-        return [(path, lambda tmp: write_raster(tmp, data, names, FLOAT, attrs))]
+            return npy_jobs(path, data, names, record, kind)
+        return [(path, lambda tmp: write_exr(tmp, data, names, record, kind))]
 
     def _channels(self, layout: str) -> tuple[np.ndarray, list]:
         """The image's planes stacked (H, W, C) float32 and their channel names."""
@@ -494,16 +496,6 @@ class GeometryImage:
             planes.append(self.colors)
             names += list(COLOR_CHANNELS[: self.colors.shape[2]])
         return np.concatenate(planes, axis=2), names
-
-    def _write_tiff(self, tmp: Path, path: Path, record: dict) -> None:
-        dropped = [name for name, value in (("normals", self.normals), ("colours", self.colors)) if value is not None]
-        if dropped:
-            warnings.warn(f"{path}: a TIFF keeps X, Y, Z and the mask; the {' and '.join(dropped)} are not written "
-                          "(.exr and .npz keep them)", stacklevel=4)
-        data, names = self._channels("rgba")
-        description = json.dumps({TIFF_DESCRIPTION: {"domain": self.domain.kind, "metadata": record}}, sort_keys=True)
-        write_raster(tmp, data[..., :4], names[:4], FLOAT,      # zip without a float predictor: tifffile reads it
-                     [("ImageDescription", description), ("compression", "zip"), ("tiff:Predictor", 1)])
 
     def metadata_record(self) -> dict:
         """The metadata and the domain's fields as plain JSON types: what files record and
@@ -582,17 +574,9 @@ class GeometryImage:
         """
         path = _suffixed(path, ".png", "previews are PNG; use a .png name")
         q, lo, step = self._levels(PREVIEW_LEVELS + 1)
-        q = q.astype(np.uint16)
-        record = json.dumps({**self.metadata_record(), "preview_offset": lo.tolist(), "preview_step": step.tolist()},
-                            sort_keys=True)
         with atomic_path(path, overwrite) as tmp:
-            write_raster(tmp, q, ["R", "G", "B"], UINT16, [("geoimg:preview", record)])
+            write_preview(tmp, q, lo, step, self.metadata_record())
         return path
-
-
-def _save_npy(tmp: Path, data: np.ndarray) -> None:
-    with open(tmp, "wb") as f:
-        np.save(f, data, allow_pickle=False)
 
 
 def _plain(value):

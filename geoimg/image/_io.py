@@ -1,9 +1,10 @@
-"""Geometry-image files: OpenEXR geometry images (see :meth:`GeometryImage.save`), 16-bit PNG previews
-and scalar, colour and normal maps.
+"""Geometry-image files: :func:`load_image` and :func:`save_image` over the formats, each in a module of its own
+that reads and writes it (``_exr.py``, ``_npz.py``, ``_npy.py``, ``_tiff.py``, ``_jp2.py``, ``_preview.py`` for
+16-bit PNG previews; see :meth:`GeometryImage.save`), the image assembled here from what a file holds; and
+scalar, colour and normal maps.
 """
 from __future__ import annotations
 
-import json
 import warnings
 from pathlib import Path
 
@@ -12,13 +13,16 @@ from PIL import Image, ImageDraw
 
 from .._choices import ASSUMABLE_DOMAINS
 from .._atomic import atomic_path
-from .._raster import FLOAT, UINT8, read_raster, write_raster
+from .._raster import FLOAT, UINT8, write_raster
 from ..errors import GeoimgError, ImageFileError, InputError, InputTypeError
 from ._domain import Domain
-from ._image import (COLOR_CHANNELS, IMAGE_FORMATS, NPY_SIDECAR, PREVIEW_LEVELS, TIFF_DESCRIPTION,
-                     GeometryImage)
+from ._exr import read_exr
+from ._image import COLOR_CHANNELS, IMAGE_FORMATS, GeometryImage
 from ._jp2 import read_jp2
-from ._npz import read_npy, read_npz
+from ._npy import read_npy_image
+from ._npz import read_npz
+from ._preview import read_preview
+from ._tiff import read_tiff
 from .._types import PathLike, as_path
 
 __all__ = ["IMAGE_FORMATS", "ASSUMABLE_DOMAINS", "save_image", "load_image", "save_preview", "save_scalar",
@@ -82,28 +86,7 @@ def _unmarked(path, assume: str | None) -> str:
 
 def _load_preview(path, approximate: bool) -> GeometryImage:
     """A 16-bit preview (:meth:`GeometryImage.preview`) decoded back to coordinates, when asked."""
-    data, _, attrs = read_raster(path, ("geoimg:preview",))
-    if attrs[0] is None:
-        raise ImageFileError(f"{path}: its pixels are integers, not coordinates, and it is not a geoimg preview: a "
-                             "picture cannot become geometry (geometry images are float EXR or .npz files)")
-    if not approximate:
-        raise ImageFileError(f"{path}: a 16-bit preview, its coordinates rounded to 1/{PREVIEW_LEVELS} of each "
-                             "axis' range; to read it as approximate geometry, say so: load_image(path, "
-                             "approximate=True) (--approximate on the command line)")
-    try:
-        record = json.loads(attrs[0])
-        offset = np.asarray(record.pop("preview_offset"), np.float64)
-        step = np.asarray(record.pop("preview_step"), np.float64)
-        if offset.shape != (3,) or step.shape != (3,) or not (np.isfinite(offset).all() and np.isfinite(step).all()):
-            raise ValueError("offset and step must be 3 finite numbers each")
-    except (json.JSONDecodeError, KeyError, TypeError, ValueError, AttributeError) as e:
-        raise ImageFileError(f"{path}: geoimg:preview is damaged ({e})") from None
-    if data.ndim != 3 or data.shape[2] != 3:
-        raise ImageFileError(f"{path}: a preview has 3 channels, this file {data.shape[-1]}")
-    q = np.round(data.astype(np.float64) * (PREVIEW_LEVELS + 1))             # the 16-bit levels 0 .. 65535
-    valid = q.min(axis=2) >= 1
-    pixels = np.where(valid[..., None], offset + (q - 1.0) * step, offset).astype(np.float32)
-    record["approximate"] = f"read from a 16-bit preview; within half a step {step.tolist()} of the original"
+    pixels, valid, record = read_preview(path, approximate)
     return _image_of_file(path, pixels, None if valid.all() else valid, record.get("domain", "planar"), None, record)
 
 
@@ -162,49 +145,12 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
     suffix = path.suffix.lower()
     if suffix == ".npz":
         return _load_npz(path, assume)
-    if suffix == ".npy":
-        return _load_npy(path, assume)
     if suffix == ".png":
         return _load_preview(path, approximate)
     if suffix == ".jp2":
         return read_jp2(path)
-    floats = "its pixels are integers, not coordinates: a preview or picture cannot become geometry (geometry " \
-             "images are float files written by geoimg)"
-    if suffix in (".tif", ".tiff"):
-        data, names, attrs = read_raster(path, ("ImageDescription",), integers=floats)
-        record = _tiff_record(path, attrs[0])
-        if record is None:
-            return _from_channels(path, data, names, None, None, assume)
-        return _from_channels(path, data, ["R", "G", "B", "A"][: data.shape[2]], record.get("metadata", {}),
-                              record.get("domain"), assume)
-    data, names, attrs = read_raster(path, ("geoimg:metadata", "geoimg:domain"), integers=floats)
-    for name, value in zip(("geoimg:metadata", "geoimg:domain"), attrs):
-        if value is not None and not isinstance(value, str):
-            raise ImageFileError(f"{path}: its {name} attribute is not text but {type(value).__name__} "
-                                 f"{str(value)[:60]}")
-    meta = _parsed_metadata(path, attrs[0]) if attrs[0] is not None else None if attrs[1] is None else {}
-    return _from_channels(path, data, names, meta, attrs[1], assume)
-
-
-def _parsed_metadata(path, text: str):
-    """An EXR's ``geoimg:metadata`` attribute, parsed (empty: no fields)."""
-    try:
-        return json.loads(text) if text else {}
-    except json.JSONDecodeError as e:
-        raise ImageFileError(f"{path}: geoimg:metadata is not valid JSON ({e})") from None
-
-
-def _tiff_record(path, description):
-    """The geoimg record of a TIFF's ImageDescription, or None when it has none."""
-    try:
-        record = json.loads(description) if description else None
-    except json.JSONDecodeError:
-        return None                                     # another program's description
-    if not isinstance(record, dict) or TIFF_DESCRIPTION not in record:
-        return None
-    if not isinstance(record[TIFF_DESCRIPTION], dict):
-        raise ImageFileError(f"{path}: its geoimg record is not a JSON object")
-    return record[TIFF_DESCRIPTION]
+    read = {".npy": read_npy_image, ".tif": read_tiff, ".tiff": read_tiff}.get(suffix, read_exr)
+    return _from_channels(path, *read(path), assume)
 
 
 def _from_channels(path, data, names, meta, domain, assume) -> GeometryImage:
@@ -237,30 +183,6 @@ def _from_channels(path, data, names, meta, domain, assume) -> GeometryImage:
     except ValueError as e:
         raise ImageFileError(f"{path}: {e}") from None
     return _image_of_file(path, xyz, None if mask is None else mask[..., 0] > 0.5, dom, normals, meta, colors)
-
-
-def _load_npy(path, assume: str | None) -> GeometryImage:
-    """A ``.npy`` array (H, W, C) float and its sidecar ``NAME.npy.json`` (channel names, domain, metadata);
-    without the sidecar, an (H, W, 3) array of X, Y, Z read only with ``assume``.
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: no such file")
-    data = read_npy(path)
-    sidecar = path.with_name(path.name + NPY_SIDECAR)
-    if not sidecar.is_file():
-        if data.shape[2] != 3:
-            raise ImageFileError(f"{path}: {data.shape[2]} channels and no {sidecar.name} naming them; an array "
-                                 "without geoimg's sidecar must be (H, W, 3): X, Y, Z")
-        return _from_channels(path, data, ["R", "G", "B"], None, None, assume)
-    try:
-        record = json.loads(sidecar.read_text(encoding="utf-8"))
-        names, domain, meta = record["channels"], record["domain"], record["metadata"]
-        if not (isinstance(names, list) and len(names) == data.shape[2] and all(isinstance(n, str) for n in names)):
-            raise ValueError(f"channels must name the array's {data.shape[2]} channels")
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError, KeyError, TypeError, ValueError) as e:
-        raise ImageFileError(f"{sidecar}: not a geoimg sidecar ({type(e).__name__}: {e})") from None
-    return _from_channels(path, data, names, meta, domain, assume)
 
 
 def _load_npz(path, assume: str | None) -> GeometryImage:

@@ -16,7 +16,7 @@ import numpy as np
 from .._budget import check_memory
 from ..errors import ImageFileError
 
-__all__ = ["write_npz", "read_npz", "read_npy", "read_arrays", "NPZ_ARRAYS"]
+__all__ = ["write_npz", "read_npz", "read_arrays", "NPZ_ARRAYS"]
 
 NPZ_ARRAYS = ("positions", "mask", "normals", "metadata", "colors")
 _SHAPES = {"positions": 3, "normals": 3, "mask": 2, "metadata": 0, "colors": 3}
@@ -121,26 +121,3 @@ def read_npz(path) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, di
     return arrays["positions"], arrays.get("mask"), arrays.get("normals"), record, arrays.get("colors")
 
 
-def read_npy(path) -> np.ndarray:
-    """A ``.npy`` file's (H, W, C) float array, its header checked (kind, dimensions, the memory it would
-    take) before it is read; no pickles.
-
-    Raises
-    ------
-    ImageFileError
-        Not a ``.npy`` file, or not a float array of 3 dimensions with at least 3 channels.
-    """
-    path = Path(path)
-    try:
-        with open(path, "rb") as f:
-            shape, dtype = _header(f)
-    except (ValueError, OSError, EOFError) as e:
-        raise ImageFileError(f"{path}: not a .npy array ({e})") from None
-    if dtype.kind != "f" or len(shape) != 3 or shape[2] < 3:
-        raise ImageFileError(f"{path}: a {len(shape)}-D {dtype} array of shape {shape}; a geometry image is an "
-                             "(H, W, C) float array with X, Y, Z first")
-    check_memory(float(np.prod(shape, dtype=np.float64)) * dtype.itemsize, str(path))
-    try:
-        return np.load(path, allow_pickle=False)
-    except (ValueError, OSError, EOFError, OverflowError) as e:
-        raise ImageFileError(f"{path}: cannot be read ({e})") from None
