@@ -121,6 +121,22 @@ class ConversionOptions:
         build ``weights`` as they did then (see :func:`geoimg.surface._weights.resolve_weights`), with a
         :class:`DeprecationWarning` naming ``caller``.
 
+        Parameters
+        ----------
+        options : ConversionOptions, optional
+            The options to start from (the defaults when None).
+        caller : str
+            The function that was called, for messages.
+        stacklevel : int
+            Where a deprecation warning points (the caller's caller).
+        **values
+            Fields replacing those of ``options``, and the deprecated flat keywords.
+
+        Returns
+        -------
+        ConversionOptions
+            Of this class (a subclass adds its own fields).
+
         Raises
         ------
         InputTypeError

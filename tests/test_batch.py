@@ -157,7 +157,9 @@ def test_a_scheduler_address_runs_the_same_tasks(client, inputs, tmp_path):
     (dict(zarr="x.zarr"), geoimg.InputError, "resolution"),
     (dict(zarr="x.zarr", resolution=33, component="all"), geoimg.InputError, "one image per input"),
     (dict(s=0.0), geoimg.InputError, "s: expected"),
-    (dict(s="soft"), geoimg.InputTypeError, "s: expected a number"),
+    (dict(s="soft"), geoimg.InputError, "s: coverage weights take one number"),      # deprecated, still checked
+    (dict(weights="soft"), geoimg.InputError, "weights: expected one of"),
+    (dict(weights=geoimg.GaussianWeights(s=np.ones(3))), geoimg.InputTypeError, "a batch takes one number"),
     (dict(method="magic"), geoimg.InputError, "method"),
     (dict(resolution=1), geoimg.InputError, "resolution"),
     (dict(steps=[("blur", [3])]), geoimg.InputError, "unknown filter step"),
@@ -393,10 +395,11 @@ def test_a_row_names_every_pieces_domain_and_keeps_its_warnings_short(tmp_path):
 
 
 def test_numpy_scalars_are_taken_as_the_numbers_they_hold():
-    from geoimg.batch import ConvertOptions
-    given = ConvertOptions(resolution=np.int64(65), s=np.float32(2.0), nsr=np.float32(0.01), min_psnr=np.float32(40),
-                           max_hausdorff=np.float64(0.05), n=np.int32(12))
-    plain = ConvertOptions(resolution=65, s=2.0, nsr=float(np.float32(0.01)), min_psnr=40.0, max_hausdorff=0.05, n=12)
+    from geoimg.batch import BatchOptions
+    given = BatchOptions(resolution=np.int64(65), weights=geoimg.GaussianWeights(s=np.float32(2.0), n=np.int32(12)),
+                         nsr=np.float32(0.01), min_psnr=np.float32(40), max_hausdorff=np.float64(0.05))
+    plain = BatchOptions(resolution=65, weights=geoimg.GaussianWeights(s=2.0, n=12), nsr=float(np.float32(0.01)),
+                         min_psnr=40.0, max_hausdorff=0.05)
     assert given == plain and given.digest() == plain.digest() and type(given.nsr) is float
 
 

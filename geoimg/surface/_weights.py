@@ -165,7 +165,13 @@ class GaussianWeights:
 
     @property
     def kind(self) -> str:
-        """``"gaussian"`` or, with ``n``, ``"local"``."""
+        """``"gaussian"`` or, with ``n``, ``"local"``.
+
+        Examples
+        --------
+        >>> GaussianWeights(n=6).kind
+        'local'
+        """
         return "gaussian" if self.n is None else "local"
 
 
