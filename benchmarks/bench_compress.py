@@ -2,11 +2,17 @@
 (DracoPy, compression level 10) on the same meshes, both measured exactly against the mesh (two-sided RMS by
 an AABB tree, 100,000 samples a side; PSNR = 20 log10(diagonal / RMS)).
 
-    python benchmarks/bench_compress.py [--kb 2 4 8 16] [--json out.json] [MESH ...]
+    python benchmarks/bench_compress.py [--kb 2 4 8 16] [--json out.json] [--curve curve.png] [MESH ...]
+    python benchmarks/bench_compress.py --stream MESH [--kb 1 2 4 8 16] [--picture stream.png]
+    python benchmarks/bench_compress.py --bunny9k      # bunny.off decimated to 8,902 vertices, at 3,000 bytes
 
 For each mesh: Draco at 8, 10 and 11 quantization bits (its size and PSNR); geoimg at Draco q8's size and at
 each budget of ``--kb`` (resolution and rate chosen by ``compress``); the decoded quad mesh's boundary loops
-and genus against the input's (closed in, closed out).
+and genus against the input's (closed in, closed out). ``--curve`` draws PSNR against bytes for both.
+
+``--stream``: one file of the largest budget, and what its first k bytes decode to (``load_image(...,
+max_bytes=k)``: the shape as far as its whole wavelet levels go) against a file compressed to k bytes;
+``--picture`` renders both rows.
 """
 from __future__ import annotations
 
@@ -20,6 +26,8 @@ import numpy as np
 
 import geoimg
 from geoimg.mesh import surface_distance, topology
+
+from _sheet import render_sheet          # noqa: E402  (benchmarks/, the script's own folder)
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "meshes"
@@ -58,13 +66,77 @@ def ours(mesh: geoimg.Mesh, budget: int) -> dict:
             "seconds": round(time.perf_counter() - t0, 1)}
 
 
+def stream(path: Path, kbs: list[float], picture: Path | None) -> None:
+    """The first k bytes of one file against a file of k bytes, for each k of ``kbs`` (the file: the largest)."""
+    import tempfile
+    mesh = geoimg.load_mesh(path)
+    whole = geoimg.compress(mesh, max_bytes=int(max(kbs) * 1000))
+    file = Path(tempfile.mkdtemp()) / "stream.jp2"
+    file.write_bytes(whole.data)
+    print(f"{path.name}: one file of {whole.nbytes} bytes, {whole.resolution}²")
+    print("| first k bytes | wavelet levels | PSNR (dB) | a file of k bytes: PSNR (dB), resolution |")
+    print("|---:|---|---:|---|")
+    first, alone = [], []
+    for kb in kbs:
+        k = int(kb * 1000)
+        part = geoimg.load_image(file, max_bytes=k)
+        own = geoimg.compress(mesh, max_bytes=k)
+        p1 = surface_distance(mesh, part.to_mesh(), n=SAMPLES)["psnr_db"]
+        p2 = surface_distance(mesh, own.image.to_mesh(), n=SAMPLES)["psnr_db"]
+        print(f"| {k} | {part.metadata.get('jpeg2000_levels', 'all')} | {p1:.1f} | {p2:.1f} ({own.resolution}²) |",
+              flush=True)
+        first.append((f"first {kb:g} KB of one file: {p1:.1f} dB", part))
+        alone.append((f"a {kb:g} KB file: {p2:.1f} dB", own.image))
+    if picture:
+        render_sheet([first, alone], mesh, picture, size=300)
+        print(f"wrote {picture}")
+
+
+def curve(rows: list[dict], out: Path) -> None:
+    """PSNR against bytes, geoimg's budgets and Draco's bit depths, one panel per mesh."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    n = len(rows)
+    fig, axes = plt.subplots(1, n, figsize=(3.0 * n, 3.2), sharey=True)
+    for ax, row in zip(np.atleast_1d(axes), rows):
+        ours_ = sorted((b["bytes"], b["psnr_db"]) for b in row["geoimg"] + [row["geoimg_at_q8"]] if "bytes" in b)
+        drc = sorted((d["bytes"], d["psnr_db"]) for d in row["draco"].values())
+        ax.plot(*zip(*ours_), "o-", label="geoimg (JPEG 2000)")
+        ax.plot(*zip(*drc), "s--", label="Draco q8, q10, q11")
+        ax.set_xscale("log")
+        ax.set_title(f"{row['mesh']} ({row['vertices']} v)", fontsize=9)
+        ax.set_xlabel("bytes")
+        ax.grid(alpha=0.3)
+    np.atleast_1d(axes)[0].set_ylabel("PSNR (dB)")
+    np.atleast_1d(axes)[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print(f"wrote {out}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("meshes", nargs="*", type=Path)
-    ap.add_argument("--kb", nargs="*", type=float, default=[2, 4, 8, 16])
+    ap.add_argument("--kb", nargs="*", type=float, default=None)
     ap.add_argument("--json", type=Path, default=None)
+    ap.add_argument("--curve", type=Path, default=None, help="draw PSNR against bytes to this PNG")
+    ap.add_argument("--stream", type=Path, default=None, help="one mesh: what the first bytes of a file give")
+    ap.add_argument("--picture", type=Path, default=None, help="with --stream: render the shapes to this PNG")
+    ap.add_argument("--bunny9k", action="store_true", help="a 9k-vertex bunny (bunny.off decimated) at 3,000 B")
     args = ap.parse_args()
     warnings.simplefilter("ignore")
+    if args.bunny9k:
+        import igl
+        full = geoimg.load_mesh(SHARED / "closed_genus0" / "bunny.off")
+        out = igl.decimate(full.vertices, full.triangulate()[0], 17800)
+        mesh = geoimg.Mesh(out[0], out[1])           # V, F, then the kept faces and vertices
+        print(f"bunny.off decimated to {mesh.n_vertices} vertices, {mesh.n_faces} faces:", ours(mesh, 3000))
+        return
+    if args.stream:
+        stream(args.stream, args.kb or [1, 2, 4, 8, 16], args.picture)
+        return
+    args.kb = args.kb or [2, 4, 8, 16]
     rows = []
     print("| mesh | V | topology | Draco q8 | q10 | q11 | geoimg at q8's size | " +
           " | ".join(f"geoimg {kb:g} KB" for kb in args.kb) + " | boundary loops, genus: in -> out |")
@@ -89,6 +161,8 @@ def main() -> None:
               flush=True)
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
+    if args.curve:
+        curve(rows, args.curve)
 
 
 if __name__ == "__main__":

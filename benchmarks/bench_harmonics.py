@@ -24,6 +24,8 @@ import geoimg
 from geoimg.mesh import surface_distance
 from geoimg.spectrum import default_resolution, harmonics
 
+from _sheet import render_sheet          # noqa: E402  (benchmarks/, the script's own folder)
+
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "meshes" / "closed_genus0"
 SAMPLES = 100_000
@@ -59,24 +61,10 @@ def anchor(mesh: geoimg.Mesh, lmax: int, voxels: int = 128):
 
 def figure(mesh_path: Path, out: Path, degrees=(4, 8, 16, 32, 64)) -> None:
     """The shape rebuilt at each degree, side by side, and the mesh itself last, rendered alike."""
-    from PIL import Image, ImageDraw
-
-    from geoimg.animation import Renderer
-
     mesh = geoimg.load_mesh(mesh_path)
     h = harmonics(mesh, max(degrees))
     shapes = [(f"L = {L}", h.to_image(257, lmax=L)) for L in degrees] + [("mesh", mesh)]
-    tiles = []
-    with Renderer(360, 360, background=(1.0, 1.0, 1.0)) as r:
-        camera = r.camera_for(mesh, azimuth=35, elevation=15)
-        for title, shape in shapes:
-            tile = Image.fromarray(r.render(shape, camera))
-            ImageDraw.Draw(tile).text((12, 10), title, fill=(0, 0, 0))
-            tiles.append(tile)
-    sheet = Image.new("RGB", (360 * len(tiles), 360), "white")
-    for k, tile in enumerate(tiles):
-        sheet.paste(tile, (360 * k, 0))
-    sheet.save(out)
+    render_sheet([shapes], mesh, out)
 
 
 def speed(path: Path) -> None:

@@ -86,8 +86,8 @@ def _bar(done: int, total: int, width: int) -> str:
 
 
 def _read_image(path, args):
-    """A geometry image, read as the command's --assume and --approximate say."""
-    return load_image(path, assume=args.assume, approximate=args.approximate)
+    """A geometry image, read as the command's --assume, --approximate (and --bytes) say."""
+    return load_image(path, assume=args.assume, approximate=args.approximate, max_bytes=getattr(args, "bytes", None))
 
 
 def _load_shape(path, args):
@@ -235,7 +235,9 @@ def cmd_mesh(args) -> int:
     out, *beside = write_all(mesh_file_jobs(mesh, args.output), overwrite=args.force)
     if not args.quiet:
         also = f" (its material {beside[0].name} and texture {beside[1].name} beside it)" if beside else ""
-        print(f"wrote {out}: {mesh.n_vertices} vertices, {mesh.n_faces} quads{also}")
+        levels = image.metadata.get("jpeg2000_levels")
+        part = f"; from its first {image.metadata['jpeg2000_bytes']} bytes: {levels} wavelet levels" if levels else ""
+        print(f"wrote {out}: {mesh.n_vertices} vertices, {mesh.n_faces} quads{also}{part}")
     return 0
 
 

@@ -81,6 +81,7 @@ EXAMPLES = {
         "geoimg mesh terrain.exr -o terrain_quads.obj",
         "geoimg mesh spot.exr -o spot.glb   # with its texture",
         "geoimg mesh other.exr -o q.ply --assume planar",
+        "geoimg mesh bunny.jp2 -o coarse.obj --bytes 2000   # the first 2 KB of a compressed shape",
     ],
     "filter": [
         "geoimg filter terrain.exr -o smooth.exr --mean 5 --sharpen 3",
@@ -320,6 +321,9 @@ COMMANDS: dict[str, Command] = {
             arg("image", help=f"input geometry image ({_IMAGES})"),
             arg("-o", "--output", required=True, help="output mesh (.obj/.ply/.off keep quads)"),
             arg("--force", action="store_true", help="overwrite an existing file"),
+            arg("--bytes", type=_positive(int), default=None, metavar="K",
+                help="a .jp2 from geoimg compress: decode only its first K bytes, the shape as far as they go "
+                     "(what a viewer streaming the file shows)"),
         ],
     ),
     "filter": Command(

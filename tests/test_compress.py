@@ -1,6 +1,8 @@
 """Shapes compressed into JPEG 2000 geometry images: the budget honoured, closed in closed out (the glued
 seams welded after lossy coding moved them apart), files that any reader of geoimg takes, and every bad input
 refused in one line with no file left behind."""
+import re
+
 import numpy as np
 import pytest
 
@@ -122,7 +124,9 @@ def test_files_that_are_not_geoimg_jpeg_2000_are_refused_in_one_line(spot_image,
     good = encode(spot_image, 70)
     start = good.index(b"uuid") + 4 + 16
     cases = {"picture.jp2": (picture, "without geoimg's record"), "raw.jp2": (raw, "raw JPEG 2000 codestream"),
-             "cut.jp2": (good[: len(good) * 2 // 3], "truncated or damaged"),
+             "cut.jp2": (good[: start + 40], "inside geoimg's record; read more of the file"),
+             "short.jp2": (good[:60], "before geoimg's record and the codestream"),
+             "damaged.jp2": (good.replace(b"\xff\x51", b"\xff\x01", 1), "truncated or damaged"),
              "record.jp2": (good[:start] + b"\x00" * 8 + good[start + 8:], "record is damaged"),
              "empty.jp2": (b"", "not a JP2 file")}
     for name, (data, message) in cases.items():
@@ -138,6 +142,10 @@ def test_the_command_compresses_and_the_other_commands_read_it(tmp_path, capsys)
     assert "bytes (budget 2500)" in text and "33 x 33" in text and out.stat().st_size <= 2500
     assert main(["info", str(out)]) == 0 and "octahedral" in capsys.readouterr().out
     assert main(["mesh", str(out), "-o", str(tmp_path / "q.obj")]) == 0
+    assert main(["mesh", str(out), "-o", str(tmp_path / "coarse.obj"), "--bytes", "1500"]) == 0   # streamed
+    assert re.search(r"from its first 1500 bytes: \d of \d wavelet levels", capsys.readouterr().out)
+    assert main(["mesh", str(out), "-o", str(tmp_path / "none.obj"), "--bytes", "50"]) == 2
+    assert "read more of the file" in capsys.readouterr().err and not (tmp_path / "none.obj").exists()
     for argv in (["--bytes", "10", "--res", "33"], ["--res", "33"], ["--bytes", "1000", "--psnr", "50"]):
         assert main(["compress", src, "-o", str(tmp_path / "no.jp2"), *argv]) == 2
         assert "error" in capsys.readouterr().err and not (tmp_path / "no.jp2").exists()

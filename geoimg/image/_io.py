@@ -98,7 +98,8 @@ def _image_of_file(path, pixels, mask, domain, normals, metadata, colors=None) -
         raise ImageFileError(f"{path}: {e}") from None
 
 
-def load_image(path: PathLike, *, assume: str | None = None, approximate: bool = False) -> GeometryImage:
+def load_image(path: PathLike, *, assume: str | None = None, approximate: bool = False,
+               max_bytes: int | None = None) -> GeometryImage:
     """Read a geometry image written by :func:`save_image` (see :meth:`GeometryImage.save` for the
     formats): OpenEXR, a NumPy ``.npz`` archive, a float TIFF or a ``.npy`` array with its ``.npy.json``
     sidecar. The mask is the ``mask`` channel, or ``A`` (the RGBA layout, and TIFF's alpha). A file without
@@ -126,6 +127,9 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
         The domain of a file without geoimg's metadata.
     approximate : bool
         Read a 16-bit PNG preview as approximate geometry.
+    max_bytes : int, optional
+        A ``.jp2`` file's first bytes only: the shape as far as its whole wavelet levels go (a coarser shape at
+        the same resolution), as a viewer streaming the file has it (``metadata["jpeg2000_levels"]``).
 
     Returns
     -------
@@ -143,12 +147,14 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
     """
     path = as_path(path)
     suffix = path.suffix.lower()
+    if max_bytes is not None and suffix != ".jp2":
+        raise InputError(f"max_bytes: only a compressed .jp2 geometry image decodes from its first bytes, not {path}")
     if suffix == ".npz":
         return _load_npz(path, assume)
     if suffix == ".png":
         return _load_preview(path, approximate)
     if suffix == ".jp2":
-        return read_jp2(path)
+        return read_jp2(path, max_bytes)
     read = {".npy": read_npy_image, ".tif": read_tiff, ".tiff": read_tiff}.get(suffix, read_exr)
     return _from_channels(path, *read(path), assume)
 

@@ -5,6 +5,10 @@ mask, the domain and the little metadata worth its bytes (:data:`KEPT`), as zlib
 2000 decoder opens the pixels; geoimg reads them back as coordinates and welds what the domain glues (lossy
 coding moves glued seam pixels apart).
 
+Progressive: the codestream holds the coarsest wavelet level first, then each finer one; the first k bytes of a
+file decode to the shape as far as its whole levels go (:func:`decode` with ``max_bytes``, a truncated file
+likewise, with a warning; see :mod:`geoimg.image._j2k_packets`).
+
 Why ``imagecodecs`` and not OpenImageIO (which geoimg reads its other images with): OpenImageIO's JPEG 2000
 writer has no rate control, and rate is what compression is for.
 
@@ -23,15 +27,17 @@ from __future__ import annotations
 import base64
 import json
 import struct
+import warnings
 import zlib
 from pathlib import Path
 
 import numpy as np
 
 from .._optional import require
-from ..errors import ImageError, ImageFileError
+from ..errors import ImageError, ImageFileError, InputError
 from ._domain import Domain
 from ._image import GeometryImage
+from ._j2k_packets import cut_after, read_layout, resolution_ends
 
 __all__ = ["encode", "decode", "read_jp2", "RECORD_UUID", "HEADROOM", "TOP"]
 
@@ -147,8 +153,12 @@ def _record(data: bytes, where: str) -> dict:
     if not data.startswith(b"\x00\x00\x00\x0cjP  \r\n\x87\n"):
         what = "a raw JPEG 2000 codestream (.j2k)" if data.startswith(b"\xff\x4f\xff\x51") else "not a JP2 file"
         raise ImageFileError(f"{where}: {what}; geoimg reads the JP2 files that geoimg compress writes")
-    for kind, start, end in _boxes(data):
+    boxes = _boxes(data)
+    for kind, start, end in boxes:
         if kind == b"uuid" and data[start + 8:start + 24] == RECORD_UUID:
+            if start + struct.unpack(">I", data[start:start + 4])[0] > len(data):
+                raise ImageFileError(f"{where}: it ends after {len(data)} bytes, inside geoimg's record; read more "
+                                     "of the file")
             try:
                 record = json.loads(zlib.decompress(data[start + 24:end]))
             except (zlib.error, ValueError) as e:
@@ -156,11 +166,46 @@ def _record(data: bytes, where: str) -> dict:
             if not isinstance(record, dict) or not {"offset", "step", "headroom", "meta"} <= set(record):
                 raise ImageFileError(f"{where}: geoimg's record lacks the quantization or the metadata")
             return record
+    if not any(kind == b"jp2c" for kind, _, _ in boxes):
+        raise ImageFileError(f"{where}: it ends after {len(data)} bytes, before geoimg's record and the codestream; "
+                             "read more of the file")
     raise ImageFileError(f"{where}: a JPEG 2000 file without geoimg's record: its pixels are a picture, not "
                          "coordinates (geoimg compress writes geometry images)")
 
 
-def decode(data: bytes, where: str = "data") -> GeometryImage:
+def _prefix(data: bytes, max_bytes: int | None, where: str) -> tuple[bytes, str | None]:
+    """The whole file to decode and, when it is not all of ``data``, how many resolution levels it holds of
+    how many: the first ``max_bytes`` (or a truncated file's bytes, with a warning), its codestream cut after
+    the last resolution level they hold whole.
+    """
+    asked = max_bytes is not None
+    head = data[:max_bytes] if asked else data
+    what = f"the first {len(head)} bytes hold" if asked else f"truncated after {len(data)} bytes, it holds"
+    found = [(start, end) for kind, start, end in _boxes(head) if kind == b"jp2c"]
+    if not found:
+        raise ImageFileError(f"{where}: {what} no JPEG 2000 codestream (geoimg's record and the header come "
+                             "first); read more of the file")
+    start, _ = found[0]
+    length = struct.unpack(">I", head[start:start + 4])[0]
+    if length == 0 or start + length <= len(head):          # the codestream is whole (a box to the end: as given)
+        return head, None
+    cs = head[start + 8:]
+    try:
+        layout, ends = read_layout(cs), resolution_ends(cs)
+    except ImageFileError as e:
+        raise ImageFileError(f"{where}: {what} no whole resolution level ({e}); read more of the file") from None
+    if not ends:
+        raise ImageFileError(f"{where}: {what} no whole resolution level (the coarsest needs more); read more "
+                             "of the file")
+    r = len(ends) - 1
+    if not asked:
+        warnings.warn(f"{where}: truncated after {len(data)} bytes: decoded its first {r + 1} of "
+                      f"{layout.levels + 1} resolution levels", stacklevel=4)
+    body = cut_after(cs, r)
+    return head[:start] + struct.pack(">I4s", 8 + len(body), b"jp2c") + body, f"{r + 1} of {layout.levels + 1}"
+
+
+def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) -> GeometryImage:
     """The geometry image of a JP2 file's bytes written by :func:`encode`: the levels back to coordinates,
     glued pixels welded (each group set to its mean), the mask and metadata restored.
 
@@ -170,6 +215,10 @@ def decode(data: bytes, where: str = "data") -> GeometryImage:
         The file's bytes.
     where : str
         What to call the data in errors (a path).
+    max_bytes : int, optional
+        Decode only the first ``max_bytes`` bytes: the shape as far as the whole wavelet levels they hold go
+        (a coarser shape, at the same resolution); ``metadata["jpeg2000_levels"]`` says how many of how many.
+        A truncated file is decoded so too, with a warning.
 
     Returns
     -------
@@ -188,9 +237,14 @@ def decode(data: bytes, where: str = "data") -> GeometryImage:
     ...
     geoimg.errors.ImageFileError: data: not a JP2 file; geoimg reads the JP2 files that geoimg compress writes
     """
-    record = _record(bytes(data), where)
+    data = bytes(data)
+    record = _record(data, where)
+    if max_bytes is not None and (isinstance(max_bytes, bool) or not isinstance(max_bytes, (int, np.integer))
+                                  or max_bytes < 1):
+        raise InputError(f"max_bytes: expected a whole number of bytes, got {max_bytes!r}")
+    used, levels = _prefix(data, max_bytes, where)
     try:
-        q = np.asarray(_codec().jpeg2k_decode(bytes(data)))
+        q = np.asarray(_codec().jpeg2k_decode(used))
     except Exception as e:                   # imagecodecs' own error type: a truncated or damaged codestream
         raise ImageFileError(f"{where}: the JPEG 2000 codestream cannot be decoded, truncated or damaged "
                              f"({' '.join(str(e).split())[:120]})") from None
@@ -210,20 +264,24 @@ def decode(data: bytes, where: str = "data") -> GeometryImage:
             mask = np.unpackbits(bits)[: q.shape[0] * q.shape[1]].reshape(q.shape[:2]).astype(bool)
         pixels = (q.astype(np.float64) - float(record["headroom"])) * step + offset
         pixels = domain.average_glued(pixels)
-        meta.update(jpeg2000_bytes=len(data))
+        meta.update(jpeg2000_bytes=min(len(data), max_bytes or len(data)))
+        if levels is not None:
+            meta["jpeg2000_levels"] = levels
         return GeometryImage(pixels.astype(np.float32), mask, domain, metadata=meta, colors=colors)
     except (TypeError, ValueError, zlib.error) as e:
         raise ImageFileError(f"{where}: geoimg's record does not fit its pixels ({' '.join(str(e).split())[:120]})"
                              ) from None
 
 
-def read_jp2(path) -> GeometryImage:
+def read_jp2(path, max_bytes: int | None = None) -> GeometryImage:
     r"""The geometry image of a ``.jp2`` file written by ``geoimg compress`` (see :func:`decode`).
 
     Parameters
     ----------
     path : path-like
         The file.
+    max_bytes : int, optional
+        Read only its first bytes (see :func:`decode`): what a viewer streaming the file has so far.
 
     Returns
     -------
@@ -243,4 +301,7 @@ def read_jp2(path) -> GeometryImage:
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
-    return decode(path.read_bytes(), str(path))
+    if max_bytes is not None and not isinstance(max_bytes, bool) and isinstance(max_bytes, (int, np.integer)):
+        with open(path, "rb") as f:
+            return decode(f.read(max(int(max_bytes), 0)), str(path), max_bytes=max_bytes)
+    return decode(path.read_bytes(), str(path), max_bytes=max_bytes)
