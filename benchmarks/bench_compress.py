@@ -5,6 +5,7 @@ an AABB tree, 100,000 samples a side; PSNR = 20 log10(diagonal / RMS)).
     python benchmarks/bench_compress.py [--kb 2 4 8 16] [--json out.json] [--curve curve.png] [MESH ...]
     python benchmarks/bench_compress.py --stream MESH [--kb 1 2 4 8 16] [--picture stream.png]
     python benchmarks/bench_compress.py --bunny9k      # bunny.off decimated to 8,902 vertices, at 3,000 bytes
+    python benchmarks/bench_compress.py --normals MESH [--kb 4 8 16]    # what coding the normals costs
 
 For each mesh: Draco at 8, 10 and 11 quantization bits (its size and PSNR); geoimg at Draco q8's size and at
 each budget of ``--kb`` (resolution and rate chosen by ``compress``); the decoded quad mesh's boundary loops
@@ -92,6 +93,25 @@ def stream(path: Path, kbs: list[float], picture: Path | None) -> None:
         print(f"wrote {picture}")
 
 
+def normals_cost(path: Path, kbs: list[float]) -> None:
+    """Shape alone (normals from the decoded grid) against shape and coded normals, at each budget: PSNR and
+    the mean angle to the surface's exact normals at the image's pixels.
+    """
+    mesh = geoimg.load_mesh(path)
+    exact: dict = {}
+    print("| budget | shape only: PSNR, grid normals | with --normals: PSNR, coded normals |\n|---|---|---|")
+    for kb in kbs:
+        cells = []
+        for coded in (False, True):
+            c = geoimg.compress(mesh, max_bytes=int(kb * 1000), normals=coded)
+            psnr = surface_distance(mesh, c.image.to_mesh(), n=SAMPLES)["psnr_db"]
+            ref = exact.setdefault(c.resolution, geoimg.mesh_to_image(mesh, c.resolution, fidelity=False).normals)
+            got = c.image.normals if coded else geoimg.grid_normals(c.image.pixels, c.image.domain.orientation)
+            angle = float(np.degrees(np.arccos(np.clip((got * ref).sum(-1), -1, 1))).mean())
+            cells.append(f"{psnr:.1f} dB ({c.resolution}²), {angle:.2f}°")
+        print(f"| {kb:g} KB | " + " | ".join(cells) + " |", flush=True)
+
+
 def curve(rows: list[dict], out: Path) -> None:
     """PSNR against bytes, geoimg's budgets and Draco's bit depths, one panel per mesh."""
     import matplotlib
@@ -124,6 +144,7 @@ def main() -> None:
     ap.add_argument("--stream", type=Path, default=None, help="one mesh: what the first bytes of a file give")
     ap.add_argument("--picture", type=Path, default=None, help="with --stream: render the shapes to this PNG")
     ap.add_argument("--bunny9k", action="store_true", help="a 9k-vertex bunny (bunny.off decimated) at 3,000 B")
+    ap.add_argument("--normals", type=Path, default=None, help="one mesh: what coding its normals costs")
     args = ap.parse_args()
     warnings.simplefilter("ignore")
     if args.bunny9k:
@@ -135,6 +156,9 @@ def main() -> None:
         return
     if args.stream:
         stream(args.stream, args.kb or [1, 2, 4, 8, 16], args.picture)
+        return
+    if args.normals:
+        normals_cost(args.normals, args.kb or [4, 8, 16])
         return
     args.kb = args.kb or [2, 4, 8, 16]
     rows = []

@@ -203,12 +203,14 @@ def cmd_compress(args) -> int:
     progress = Progress(args.quiet, always=args.progress)
     source = Path(args.input)
     made = compress(source, args.output, max_bytes=args.bytes, psnr=args.psnr, resolutions=args.res,
-                    colors=args.colors, overwrite=args.force, progress=progress)
+                    colors=args.colors, normals=args.normals, overwrite=args.force, progress=progress)
     if not args.quiet:
         n = made.image.shape
         against = "the input image" if source.suffix.lower() in READ_IMAGE_FORMATS else "the mesh"
         budget = f" (budget {args.bytes})" if args.bytes else ""
-        tint = ", with its colours" if made.image.colors is not None else ""
+        extra = [what for what, got in (("colours", made.image.colors), ("normals", made.image.normals))
+                 if got is not None]
+        tint = f", with its {' and '.join(extra)}" if extra else ""
         print(f"wrote {args.output}: {made.nbytes} bytes{budget}, a {n[1]} x {n[0]} {made.image.domain.kind} "
               f"image{tint}, PSNR to {against} {made.psnr_db:.1f} dB")
         for t in made.tried:

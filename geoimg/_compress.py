@@ -137,21 +137,21 @@ def _error_db(reference, image: GeometryImage) -> float:
     return 20 * math.log10(diagonal / rms) if rms > 0 else math.inf
 
 
-def _level_for_bytes(image: GeometryImage, max_bytes: int, colors: bool) -> tuple[float, bytes] | int:
+def _level_for_bytes(image: GeometryImage, max_bytes: int, channels: dict) -> tuple[float, bytes] | int:
     """The highest level whose file fits ``max_bytes`` (lossless first, if it fits), and the file; or the
     least size this image can take, when even the lowest level does not fit.
     """
-    lossless = encode(image, LOSSLESS, colors=colors)
+    lossless = encode(image, LOSSLESS, **channels)
     if len(lossless) <= max_bytes:
         return LOSSLESS, lossless
     lo, hi = LEVELS
-    low = encode(image, lo, colors=colors)
+    low = encode(image, lo, **channels)
     if len(low) > max_bytes:
         return len(low)
     best = (lo, low)
     for _ in range(SEARCH_STEPS):
         mid = 0.5 * (lo + hi)
-        data = encode(image, mid, colors=colors)
+        data = encode(image, mid, **channels)
         if len(data) <= max_bytes:
             lo, best = mid, (mid, data)
         else:
@@ -160,11 +160,11 @@ def _level_for_bytes(image: GeometryImage, max_bytes: int, colors: bool) -> tupl
 
 
 def _level_for_psnr(image: GeometryImage, reference, target: float,
-                    colors: bool) -> tuple[float, bytes, float] | float:
+                    channels: dict) -> tuple[float, bytes, float] | float:
     """The lowest level whose decoded shape reaches ``target`` dB, its file and PSNR; or the best PSNR this
     image can reach (lossless), when that falls short.
     """
-    lossless = encode(image, LOSSLESS, colors=colors)
+    lossless = encode(image, LOSSLESS, **channels)
     top = _error_db(reference, decode(lossless))
     if top < target:
         return top
@@ -172,7 +172,7 @@ def _level_for_psnr(image: GeometryImage, reference, target: float,
     best: tuple[float, bytes, float] = (float(LOSSLESS), lossless, top)
     for _ in range(SEARCH_STEPS):
         mid = 0.5 * (lo + hi)
-        data = encode(image, mid, colors=colors)
+        data = encode(image, mid, **channels)
         got = _error_db(reference, decode(data))
         if got >= target:
             hi = mid
@@ -185,7 +185,7 @@ def _level_for_psnr(image: GeometryImage, reference, target: float,
 
 @fixed_order
 def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psnr: float | None = None,
-             resolutions: Any = None, colors: bool = False, overwrite: bool = False,
+             resolutions: Any = None, colors: bool = False, normals: bool = False, overwrite: bool = False,
              progress: Progress | None = None) -> Compressed:
     """Compress a shape into a JPEG 2000 geometry image of at most ``max_bytes`` bytes with the least error,
     or of the fewest bytes that reach ``psnr`` dB.
@@ -210,6 +210,9 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
     colors : bool, default False
         Also code the shape's colours (a textured or coloured mesh's, or the image's), within the same
         budget: three more channels at the coder's level.
+    normals : bool, default False
+        Also code the surface's exact normals (two more channels, their octahedral encoding), within the same
+        budget; without them a reader computes normals from the decoded grid.
     overwrite : bool
         Replace an existing file.
     progress : callable, optional
@@ -247,13 +250,14 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
         for image in images:
             image.metadata["source"] = Path(source).name
     say = progress or (lambda message: None)
+    channels = {"colors": bool(colors), "normals": bool(normals)}
     tried: list[dict] = []
     found: list[Compressed] = []
     for image in images:
         n = image.shape[0]
         say(f"searching the rate at {n} x {image.shape[1]}")
         if max_bytes is not None:
-            got = _level_for_bytes(image, int(max_bytes), colors)
+            got = _level_for_bytes(image, int(max_bytes), channels)
             if isinstance(got, int):
                 tried.append({"resolution": n, "least_bytes": got})
                 continue
@@ -261,7 +265,7 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
             decoded = decode(data)
             db = _error_db(reference, decoded)
         else:
-            got2 = _level_for_psnr(image, reference, float(psnr or 0.0), colors)
+            got2 = _level_for_psnr(image, reference, float(psnr or 0.0), channels)
             if isinstance(got2, float):
                 tried.append({"resolution": n, "best_psnr_db": round(got2, 2)})
                 continue

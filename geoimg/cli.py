@@ -585,6 +585,9 @@ COMMANDS: dict[str, Command] = {
                 help="the sides to try for a mesh (default 33 65 129 257 513); the best is kept"),
             arg("--colors", action="store_true",
                 help="also code the colours (a textured or coloured mesh's), within the same budget"),
+            arg("--normals", action="store_true",
+                help="also code the surface's exact normals (two more channels), within the same budget; without "
+                     "them a reader computes normals from the grid"),
             arg("--force", action="store_true", help="overwrite an existing file"),
         ],
     ),

@@ -177,3 +177,32 @@ def test_colours_are_coded_when_asked_and_cost_bytes(tmp_path, capsys):
     src = str(SPOT_TEXTURED)
     assert main(["compress", src, "-o", str(out), "--bytes", "6000", "--res", "33", "--colors"]) == 0
     assert "with its colours" in capsys.readouterr().out and geoimg.load_image(out).colors is not None
+
+
+def test_the_octahedral_encoding_of_normals_round_trips():
+    from geoimg.image._jp2 import _octahedral, _unoctahedral
+    rng = np.random.default_rng(3)
+    n = rng.normal(size=(2000, 3))
+    n = np.concatenate([n, np.eye(3), -np.eye(3), [[1, 1, -1e-9]]])
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    p = _octahedral(n)
+    assert np.abs(p).max() <= 1 + 1e-12 and np.allclose(_unoctahedral(p), n, atol=1e-12)
+
+
+def test_normals_are_coded_when_asked_and_cost_bytes(spot_image, tmp_path, capsys):
+    plain = decode(encode(spot_image, 70))
+    coded = decode(encode(spot_image, 70, normals=True))
+    assert plain.normals is None and coded.normals is not None
+    assert len(encode(spot_image, 70, normals=True)) > len(encode(spot_image, 70))
+    cos = np.clip((coded.normals * spot_image.normals).sum(axis=-1), -1, 1)
+    assert np.degrees(np.arccos(cos)).mean() < 2.0                         # close to the surface's exact normals
+    lossless = decode(encode(spot_image, 0, normals=True)).normals
+    assert np.degrees(np.arccos(np.clip((lossless * spot_image.normals).sum(-1), -1, 1))).max() < 0.1
+    glue = spot_image.domain.glue(spot_image.shape)
+    if glue is not None:                                                   # glued pixels share one normal
+        flat = coded.normals.reshape(-1, 3)
+        reps, group = glue
+        assert np.allclose(flat, flat[reps[group]], atol=1e-6)
+    src, out = str(data_file("spot_low_resolution.obj")), tmp_path / "n.jp2"
+    assert main(["compress", src, "-o", str(out), "--bytes", "3000", "--res", "33", "--normals"]) == 0
+    assert "with its normals" in capsys.readouterr().out and geoimg.load_image(out).normals is not None

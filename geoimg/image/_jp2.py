@@ -48,6 +48,9 @@ LOSSLESS = 0             # the level that asks the coder for reversible coding
 # colours on 12 bits' levels of the 16: at the coder's level for the shape, an error of a few levels of 4095
 # (a fraction of 8-bit colour's step) instead of spending the budget on colour the eye cannot see
 COLOR_TOP = 4095
+# normals as two channels (the octahedral encoding of a unit vector) on 12 bits' levels: a level is 1/2048 of
+# the square, a few hundredths of a degree
+NORMAL_TOP = 4095
 # the metadata a compressed file keeps besides the domain's fields (every byte counts at a few kilobytes)
 KEPT = ("source", "parametrization", "up", "component", "components", "harmonics_lmax")
 
@@ -94,7 +97,24 @@ def _quantized(image: GeometryImage) -> tuple[np.ndarray, dict]:
     return q.astype(np.uint16), record
 
 
-def encode(image: GeometryImage, level: float, *, resolutions: int | None = None, colors: bool = False) -> bytes:
+def _octahedral(n: np.ndarray) -> np.ndarray:
+    """Unit vectors (..., 3) as points of the square [-1, 1]^2 (the octahedral encoding)."""
+    p = n[..., :2] / np.maximum(np.abs(n).sum(axis=-1, keepdims=True), 1e-300)
+    folded = (1.0 - np.abs(p[..., ::-1])) * np.where(p >= 0, 1.0, -1.0)
+    return np.where(n[..., 2:3] < 0, folded, p)
+
+
+def _unoctahedral(p: np.ndarray) -> np.ndarray:
+    """Points of the square [-1, 1]^2 back to unit vectors (..., 3)."""
+    z = 1.0 - np.abs(p).sum(axis=-1)
+    t = np.maximum(-z, 0.0)[..., None]
+    xy = p - t * np.where(p >= 0, 1.0, -1.0)
+    n = np.concatenate([xy, z[..., None]], axis=-1)
+    return n / np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-300)
+
+
+def encode(image: GeometryImage, level: float, *, resolutions: int | None = None, colors: bool = False,
+           normals: bool = False) -> bytes:
     """A JP2 file of ``image``: coded to about ``level`` dB of the coder's own PSNR (over the 16-bit range;
     ``0``: reversible, lossless after the quantization), geoimg's record in a box before the codestream.
 
@@ -109,6 +129,9 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
     colors : bool, default False
         Also code the image's colours (three more channels, on :data:`COLOR_TOP` levels, at the same level),
         when it has them.
+    normals : bool, default False
+        Also code the image's normals (two more channels: the octahedral encoding of each unit normal, on
+        :data:`NORMAL_TOP` levels), when it has them; otherwise a reader computes them from the grid.
 
     Returns
     -------
@@ -127,6 +150,10 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
         rgb = np.round(np.clip(np.asarray(image.colors[..., :3], np.float64), 0.0, 1.0) * COLOR_TOP).astype(np.uint16)
         q = np.concatenate([q, rgb], axis=2)
         record["colors"] = 3
+    if normals and image.normals is not None:
+        oct_ = _octahedral(np.asarray(image.normals, np.float64))
+        q = np.concatenate([q, np.round((oct_ + 1.0) * 0.5 * NORMAL_TOP).astype(np.uint16)], axis=2)
+        record["normals"] = 2
     if resolutions is None:
         resolutions = int(max(1, min(6, np.floor(np.log2(min(q.shape[:2]))))))
     codec = _codec()
@@ -248,11 +275,16 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
     except Exception as e:                   # imagecodecs' own error type: a truncated or damaged codestream
         raise ImageFileError(f"{where}: the JPEG 2000 codestream cannot be decoded, truncated or damaged "
                              f"({' '.join(str(e).split())[:120]})") from None
-    channels = 3 + (3 if record.get("colors") else 0)
+    colored, normal = bool(record.get("colors")), bool(record.get("normals"))
+    channels = 3 + 3 * colored + 2 * normal
     if q.ndim != 3 or q.shape[2] != channels or q.dtype != np.uint16:
         raise ImageFileError(f"{where}: pixels of shape {q.shape} and type {q.dtype}; its record asks for "
                              f"{channels} 16-bit channels")
-    colors = np.clip(q[..., 3:6].astype(np.float32) / COLOR_TOP, 0.0, 1.0) if channels == 6 else None
+    colors = np.clip(q[..., 3:6].astype(np.float32) / COLOR_TOP, 0.0, 1.0) if colored else None
+    normals = None
+    if normal:
+        square = np.clip(q[..., channels - 2:].astype(np.float64) / NORMAL_TOP * 2.0 - 1.0, -1.0, 1.0)
+        normals = _unoctahedral(square)
     q = q[..., :3]
     meta = dict(record["meta"])
     try:
@@ -264,10 +296,13 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
             mask = np.unpackbits(bits)[: q.shape[0] * q.shape[1]].reshape(q.shape[:2]).astype(bool)
         pixels = (q.astype(np.float64) - float(record["headroom"])) * step + offset
         pixels = domain.average_glued(pixels)
+        if normals is not None:                  # glued normals: one direction, the group's mean
+            normals = domain.average_glued(normals)
+            normals = (normals / np.maximum(np.linalg.norm(normals, axis=-1, keepdims=True), 1e-300)).astype(np.float32)
         meta.update(jpeg2000_bytes=min(len(data), max_bytes or len(data)))
         if levels is not None:
             meta["jpeg2000_levels"] = levels
-        return GeometryImage(pixels.astype(np.float32), mask, domain, metadata=meta, colors=colors)
+        return GeometryImage(pixels.astype(np.float32), mask, domain, normals=normals, metadata=meta, colors=colors)
     except (TypeError, ValueError, zlib.error) as e:
         raise ImageFileError(f"{where}: geoimg's record does not fit its pixels ({' '.join(str(e).split())[:120]})"
                              ) from None
