@@ -117,19 +117,27 @@ def curve(rows: list[dict], out: Path) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    n = len(rows)
-    fig, axes = plt.subplots(1, n, figsize=(3.0 * n, 3.2), sharey=True)
-    for ax, row in zip(np.atleast_1d(axes), rows):
+    cols = min(4, len(rows))
+    nrows = -(-len(rows) // cols)
+    fig, axes = plt.subplots(nrows, cols, figsize=(3.4 * cols, 3.0 * nrows), sharey=True, squeeze=False)
+    ticks = [1000, 2000, 4000, 8000, 16000, 32000]
+    for ax, row in zip(axes.ravel(), rows):
         ours_ = sorted((b["bytes"], b["psnr_db"]) for b in row["geoimg"] + [row["geoimg_at_q8"]] if "bytes" in b)
         drc = sorted((d["bytes"], d["psnr_db"]) for d in row["draco"].values())
         ax.plot(*zip(*ours_), "o-", label="geoimg (JPEG 2000)")
         ax.plot(*zip(*drc), "s--", label="Draco q8, q10, q11")
         ax.set_xscale("log")
-        ax.set_title(f"{row['mesh']} ({row['vertices']} v)", fontsize=9)
+        ax.set_xticks(ticks, [f"{t // 1000}K" for t in ticks])
+        ax.minorticks_off()
+        ax.set_xlim(900, 50000)
+        ax.set_title(f"{row['mesh']} ({row['vertices']} vertices)", fontsize=9)
         ax.set_xlabel("bytes")
         ax.grid(alpha=0.3)
-    np.atleast_1d(axes)[0].set_ylabel("PSNR (dB)")
-    np.atleast_1d(axes)[0].legend(fontsize=7)
+    for ax in axes.ravel()[len(rows):]:
+        ax.set_visible(False)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("PSNR (dB)")
+    axes[0, 0].legend(fontsize=7, loc="lower right")
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print(f"wrote {out}")
@@ -141,6 +149,7 @@ def main() -> None:
     ap.add_argument("--kb", nargs="*", type=float, default=None)
     ap.add_argument("--json", type=Path, default=None)
     ap.add_argument("--curve", type=Path, default=None, help="draw PSNR against bytes to this PNG")
+    ap.add_argument("--from-json", type=Path, default=None, help="draw --curve from an earlier run's --json")
     ap.add_argument("--stream", type=Path, default=None, help="one mesh: what the first bytes of a file give")
     ap.add_argument("--picture", type=Path, default=None, help="with --stream: render the shapes to this PNG")
     ap.add_argument("--bunny9k", action="store_true", help="a 9k-vertex bunny (bunny.off decimated) at 3,000 B")
@@ -159,6 +168,9 @@ def main() -> None:
         return
     if args.normals:
         normals_cost(args.normals, args.kb or [4, 8, 16])
+        return
+    if args.from_json:
+        curve(json.loads(args.from_json.read_text()), args.curve or Path("compress_curve.png"))
         return
     args.kb = args.kb or [2, 4, 8, 16]
     rows = []
