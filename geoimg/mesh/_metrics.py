@@ -7,6 +7,7 @@ from scipy.spatial import cKDTree
 
 from ..errors import InputError, InputTypeError
 from ._mesh import Mesh
+from ._topology import boundary_edges
 
 __all__ = ["point_mesh_distance", "sample_surface", "surface_distance", "boundary_distance", "nearest_on_segments"]
 
@@ -149,13 +150,8 @@ def surface_distance(reference: Mesh, other: Mesh, n: int = 200000) -> dict:
 
 def _boundary_segments(mesh: Mesh) -> np.ndarray:
     """The edges used by one face, (B, 2, 3)."""
-    f = mesh.faces
-    valid = f >= 0
-    a, b = f[valid], mesh.next_vertices()[valid]
-    key = np.minimum(a, b) * mesh.n_vertices + np.maximum(a, b)
-    _, inv, counts = np.unique(key, return_inverse=True, return_counts=True)
-    lone = counts[inv] == 1
-    return np.stack([mesh.vertices[a[lone]], mesh.vertices[b[lone]]], axis=1).astype(np.float64)
+    a, b = boundary_edges(mesh)
+    return np.stack([mesh.vertices[a], mesh.vertices[b]], axis=1).astype(np.float64)
 
 
 def _along(seg: np.ndarray, step: float) -> np.ndarray:

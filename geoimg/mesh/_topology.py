@@ -213,6 +213,34 @@ def _pinch_vertices(mesh: Mesh) -> int:
     return int((per_vertex > 1).sum())
 
 
+def boundary_edges(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """The edges used by one face, as their faces run them: start and end vertex indices.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh.
+
+    Returns
+    -------
+    start, end : numpy.ndarray
+        (B,) vertex indices each.
+
+    Examples
+    --------
+    >>> a, b = boundary_edges(Mesh(np.eye(4, 3), [[0, 1, 2], [0, 2, 3]]))
+    >>> sorted(zip(a.tolist(), b.tolist()))
+    [(0, 1), (1, 2), (2, 3), (3, 0)]
+    """
+    f = mesh.faces
+    valid = f >= 0
+    a, b = f[valid], mesh.next_vertices()[valid]
+    key = np.minimum(a, b) * mesh.n_vertices + np.maximum(a, b)
+    _, inv, counts = np.unique(key, return_inverse=True, return_counts=True)
+    lone = counts[inv] == 1
+    return a[lone], b[lone]
+
+
 def boundary_loops(mesh: Mesh) -> list[np.ndarray]:
     """The boundary loops of a manifold mesh as ordered vertex indices, each running the way its faces'
     edges do (counter-clockwise around the surface for counter-clockwise faces).
@@ -237,14 +265,9 @@ def boundary_loops(mesh: Mesh) -> list[np.ndarray]:
     >>> [loop.tolist() for loop in boundary_loops(Mesh(np.eye(4, 3), [[0, 1, 2], [0, 2, 3]]))]
     [[0, 1, 2, 3]]
     """
-    f = mesh.faces
-    valid = f >= 0
-    a, b = f[valid], mesh.next_vertices()[valid]
-    key = np.minimum(a, b) * mesh.n_vertices + np.maximum(a, b)
-    _, inv, counts = np.unique(key, return_inverse=True, return_counts=True)
-    on_bnd = counts[inv] == 1
+    a, b = boundary_edges(mesh)
     nxt = {}
-    for s, t in zip(a[on_bnd].tolist(), b[on_bnd].tolist()):
+    for s, t in zip(a.tolist(), b.tolist()):
         if s in nxt:
             raise InputError("boundary_loops: a vertex starts two boundary edges (the boundary is not manifold)")
         nxt[s] = t
