@@ -305,9 +305,10 @@ def resolution_ends(cs: bytes) -> list[int]:
     return ends
 
 
-def cut_after(cs: bytes, r: int) -> bytes:
+def cut_after(cs: bytes, r: int, ends: list[int] | None = None) -> bytes:
     """A complete codestream of ``cs``'s packets up to resolution ``r`` (0: the coarsest), every later packet
-    empty: the same image with its finer details zero.
+    empty: the same image with its finer details zero; ``ends`` is :func:`resolution_ends` of ``cs`` when the
+    caller has read it already.
 
     Raises
     ------
@@ -315,7 +316,7 @@ def cut_after(cs: bytes, r: int) -> bytes:
         When ``cs`` does not hold resolution ``r`` whole, or is of another kind.
     """
     layout = read_layout(cs)
-    ends = resolution_ends(cs)
+    ends = resolution_ends(cs) if ends is None else ends
     if not 0 <= r < len(ends):
         raise ImageFileError(f"the codestream holds {len(ends)} whole resolution levels, not {r + 1}")
     empty = EMPTY_PACKET * sum(len(_packets(layout, k)) for k in range(r + 1, layout.levels + 1))

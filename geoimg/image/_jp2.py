@@ -228,7 +228,7 @@ def _prefix(data: bytes, max_bytes: int | None, where: str) -> tuple[bytes, str 
     if not asked:
         warnings.warn(f"{where}: truncated after {len(data)} bytes: decoded its first {r + 1} of "
                       f"{layout.levels + 1} resolution levels", stacklevel=4)
-    body = cut_after(cs, r)
+    body = cut_after(cs, r, ends)
     return head[:start] + struct.pack(">I4s", 8 + len(body), b"jp2c") + body, f"{r + 1} of {layout.levels + 1}"
 
 

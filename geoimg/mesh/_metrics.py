@@ -154,14 +154,14 @@ def _boundary_segments(mesh: Mesh) -> np.ndarray:
     return np.stack([mesh.vertices[a], mesh.vertices[b]], axis=1).astype(np.float64)
 
 
-def _along(seg: np.ndarray, step: float) -> np.ndarray:
-    """Points every ``step`` or closer along segments, their ends included."""
+def _along(seg: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """Points every ``step`` or closer along segments, their ends included, and the segment of each."""
     length = np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1)
     count = np.ceil(length / step).astype(np.int64) + 1
     owner = np.repeat(np.arange(len(seg)), count)
-    step = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
-    frac = step / np.repeat(np.maximum(count - 1, 1), count)
-    return seg[owner, 0] + frac[:, None] * (seg[owner, 1] - seg[owner, 0])
+    k = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
+    frac = k / np.repeat(np.maximum(count - 1, 1), count)
+    return seg[owner, 0] + frac[:, None] * (seg[owner, 1] - seg[owner, 0]), owner
 
 
 def boundary_distance(reference: Mesh, other: Mesh, step: float | None = None) -> dict:
@@ -207,7 +207,7 @@ def boundary_distance(reference: Mesh, other: Mesh, step: float | None = None) -
     step = step if step > 0 else 1.0
     out = {}
     for name, mine, theirs in (("other", segs[1], segs[0]), ("reference", segs[0], segs[1])):
-        _, d, _ = nearest_on_segments(_along(mine, step), theirs, step)
+        _, d, _ = nearest_on_segments(_along(mine, step)[0], theirs, step)
         out[f"{name}_max"], out[f"{name}_p95"] = float(d.max()), float(np.percentile(d, 95))
     return out
 
@@ -241,11 +241,7 @@ def nearest_on_segments(pts: np.ndarray, seg: np.ndarray, h: float) -> tuple:
     a, b = seg[:, 0], seg[:, 1]
     length = np.linalg.norm(b - a, axis=1)
     h = h if h > 0 else float(length.max() or 1.0)
-    count = np.ceil(length / h).astype(np.int64) + 1
-    owner = np.repeat(np.arange(len(seg)), count)
-    step = np.arange(len(owner)) - np.repeat(np.cumsum(count) - count, count)
-    frac = step / np.repeat(np.maximum(count - 1, 1), count)
-    samples = a[owner] + frac[:, None] * (b - a)[owner]
+    samples, owner = _along(seg, h)
     tree = cKDTree(samples)
     d0, _ = tree.query(pts)
     near = tree.query_ball_point(pts, d0 + 0.5 * h * (1 + 1e-9) + 1e-300)

@@ -368,7 +368,7 @@ def fit_coverage_surface(mesh: Mesh, coords: np.ndarray, domain: Domain, s: floa
     tris = _quads_unfolded(mesh, tris, owner, coords)
     tri_mesh = Mesh(mesh.vertices, tris)
     polygons = coords[tris] if planar else None
-    rim = boundary_segments(tris, coords) if planar else None
+    rim = boundary_segments(tri_mesh, coords) if planar else None
     if planar:        # faces a cut glues across the square's sides continue beyond them, as copies
         d = enclosing_circle_radius(coords[tris])
         ghosts = domain.ghosts(coords[tris].mean(axis=1), 4.0 * d + 8.0 * s * float(d.mean()), d)

@@ -13,24 +13,27 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..mesh import Mesh
 from ..mesh._metrics import nearest_on_segments
+from ..mesh._topology import boundary_edges
 
 __all__ = ["boundary_segments", "rim_pixels", "snap_rim", "ON_BOUNDARY"]
 
 ON_BOUNDARY = 1e-9      # a rim pixel this share of a pixel spacing from the boundary is on it: left alone
 
 
-def boundary_segments(tris: np.ndarray, coords: np.ndarray) -> np.ndarray:
-    """The ends of the mesh's boundary edges (used by one triangle) in the parameter domain, (B, 2, 2).
+def boundary_segments(mesh: Mesh, coords: np.ndarray) -> np.ndarray:
+    """The ends of the mesh's boundary edges (:func:`geoimg.mesh._topology.boundary_edges`) in the parameter
+    domain, (B, 2, 2).
 
     Examples
     --------
-    >>> boundary_segments(np.array([[0, 1, 2]]), np.array([[0.0, 0], [1, 0], [0, 1]])).shape
+    >>> uv = np.array([[0.0, 0], [1, 0], [0, 1]])
+    >>> boundary_segments(Mesh(np.c_[uv, np.zeros(3)], [[0, 1, 2]]), uv).shape
     (3, 2, 2)
     """
-    e = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
-    _, first, counts = np.unique(np.sort(e, axis=1), axis=0, return_index=True, return_counts=True)
-    return coords[e[first[counts == 1]]].astype(np.float64)
+    a, b = boundary_edges(mesh)
+    return np.stack([coords[a], coords[b]], axis=1).astype(np.float64)
 
 
 def rim_pixels(valid: np.ndarray) -> np.ndarray:
@@ -76,7 +79,7 @@ def snap_rim(valid: np.ndarray, u: np.ndarray, v: np.ndarray, seg_uv: np.ndarray
     Examples
     --------
     >>> uv = np.array([[0.0, 0], [1, 0], [0, 1]])
-    >>> seg = boundary_segments(np.array([[0, 1, 2]]), uv)
+    >>> seg = boundary_segments(Mesh(np.c_[uv, np.zeros(3)], [[0, 1, 2]]), uv)
     >>> g = np.linspace(0, 1, 5)
     >>> valid = g[None, :] + g[:, None] <= 1.1
     >>> rows, cols, to = snap_rim(valid, g, g, seg)
