@@ -41,6 +41,7 @@ from ._j2k_packets import cut_after, read_layout, resolution_ends
 
 __all__ = ["encode", "decode", "read_jp2", "RECORD_UUID", "HEADROOM", "TOP"]
 
+SIGNATURE = b"\x00\x00\x00\x0cjP  \r\n\x87\n"      # the JP2 signature box
 RECORD_UUID = bytes.fromhex("9c0e6e2d4a3b4f1ca1d76765_6f696d67".replace("_", ""))   # ends in "geoimg"
 HEADROOM = 2048          # levels left free at both ends: lossy coding overshoots, and some coders wrap past 65535
 TOP = 65535 - 2 * HEADROOM
@@ -177,7 +178,10 @@ def _with_record(data: bytes, record: dict) -> bytes:
 
 def _record(data: bytes, where: str) -> dict:
     """The geoimg record of a JP2 file's bytes, or an ImageFileError saying what the file is."""
-    if not data.startswith(b"\x00\x00\x00\x0cjP  \r\n\x87\n"):
+    if not data.startswith(SIGNATURE):
+        if 0 < len(data) < len(SIGNATURE) and SIGNATURE.startswith(data):
+            raise ImageFileError(f"{where}: it ends after {len(data)} bytes, inside the JP2 signature; read more of "
+                                 "the file")
         what = "a raw JPEG 2000 codestream (.j2k)" if data.startswith(b"\xff\x4f\xff\x51") else "not a JP2 file"
         raise ImageFileError(f"{where}: {what}; geoimg reads the JP2 files that geoimg compress writes")
     boxes = _boxes(data)
@@ -337,6 +341,6 @@ def read_jp2(path, max_bytes: int | None = None) -> GeometryImage:
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no such file")
     if max_bytes is not None and not isinstance(max_bytes, bool) and isinstance(max_bytes, (int, np.integer)):
-        with open(path, "rb") as f:
-            return decode(f.read(max(int(max_bytes), 0)), str(path), max_bytes=max_bytes)
+        with open(path, "rb") as f:                   # no more than the file holds, however many are asked
+            return decode(f.read(max(min(int(max_bytes), path.stat().st_size), 0)), str(path), max_bytes=max_bytes)
     return decode(path.read_bytes(), str(path), max_bytes=max_bytes)

@@ -81,6 +81,10 @@ def test_a_truncated_file_is_decoded_with_a_warning(images, tmp_path):
     assert out.shape == (129, 129)
     first = geoimg.load_image(tmp_path / "cut.jp2", max_bytes=len(data) // 4)
     assert first.metadata["jpeg2000_bytes"] == len(data) // 4
+    whole = geoimg.load_image(tmp_path / "cut.jp2", max_bytes=10 ** 30)      # more than the file: all of it
+    assert whole.metadata["jpeg2000_levels"] == out.metadata["jpeg2000_levels"]
+    with pytest.raises(ImageFileError, match="inside the JP2 signature; read more"):
+        geoimg.load_image(tmp_path / "cut.jp2", max_bytes=10)
     with pytest.raises(InputError, match="only a compressed .jp2"):
         geoimg.load_image(tmp_path / "x.exr", max_bytes=100)
     with pytest.raises(InputError, match="max_bytes"):
