@@ -42,6 +42,27 @@ def test_lossless_coding_is_within_half_a_step_and_keeps_domain_mask_and_metadat
     assert back.metadata["source"] == "m.obj" and back.metadata["up"] == terrain.metadata["up"]
 
 
+def test_a_file_spends_its_bytes_on_the_shape(spot_image):
+    # no coder's comment (COM segment) in the codestream; the record (DEFLATE with a fixed dictionary) small
+    import imagecodecs
+    data = encode(spot_image, 70)
+    start = data.index(b"jp2c") + 4
+    assert b"\xff\x64" not in data[start:start + 200] and b"OpenJPEG" not in data
+    assert data.index(b"jp2c") - data.index(b"uuid") < 90
+    assert imagecodecs.jpeg2k_decode(data).shape == (33, 33, 3)          # still a standard file
+
+
+def test_files_with_the_first_record_format_are_read():
+    # written by geoimg 2026-12-06 before the compact record (zlib'd JSON, the mask in base64): a curled,
+    # notched petal at 17^2, coded at level 70
+    import meshes
+    image = geoimg.mesh_to_image(meshes.petal(300), 17, fidelity=False)
+    back = geoimg.load_image(data_file("petal_v0_record.jp2"))
+    assert back.domain == image.domain and np.array_equal(back.mask, image.mask)
+    size = np.ptp(image.pixels[image.valid], axis=0).max()
+    assert np.abs(back.pixels - image.pixels)[image.valid].max() < 0.01 * size
+
+
 def test_the_budget_is_honoured_and_a_closed_shape_comes_back_closed(spot, tmp_path):
     path = tmp_path / "spot.jp2"
     made = geoimg.compress(spot, path, max_bytes=2500, resolutions=(33, 65))
@@ -128,6 +149,8 @@ def test_files_that_are_not_geoimg_jpeg_2000_are_refused_in_one_line(spot_image,
              "short.jp2": (good[:60], "before geoimg's record and the codestream"),
              "damaged.jp2": (good.replace(b"\xff\x51", b"\xff\x01", 1), "truncated or damaged"),
              "record.jp2": (good[:start] + b"\x00" * 8 + good[start + 8:], "record is damaged"),
+             "record1.jp2": (good[:start] + b"\x01" + b"\xff" * 7 + good[start + 8:], "record is damaged"),
+             "record2.jp2": (good[:start] + b"\x02" + good[start + 1:], "record is damaged"),
              "empty.jp2": (b"", "not a JP2 file")}
     for name, (data, message) in cases.items():
         (tmp_path / name).write_bytes(data)

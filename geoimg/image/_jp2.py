@@ -37,7 +37,7 @@ from .._optional import require
 from ..errors import ImageError, ImageFileError, InputError
 from ._domain import Domain
 from ._image import GeometryImage
-from ._j2k_packets import cut_after, read_layout, resolution_ends
+from ._j2k_packets import cut_after, read_layout, resolution_ends, without_comments
 
 __all__ = ["encode", "decode", "read_jp2", "RECORD_UUID", "HEADROOM", "TOP"]
 
@@ -52,6 +52,14 @@ COLOR_TOP = 4095
 # normals as two channels (the octahedral encoding of a unit vector) on 12 bits' levels: a level is 1/2048 of
 # the square, a few hundredths of a degree
 NORMAL_TOP = 4095
+# the record's format: 1, DEFLATE with this dictionary (fixed for good: files carry no copy of it); the first
+# files' records, zlib'd JSON, begin with 0x78 and are read too
+RECORD_VERSION = b"\x01"
+RECORD_DICTIONARY = (b'"parametrization":"heightfield","disk","cut","charts","uv","planar",'
+                     b'"components":1,"component":0,'
+                     b'"harmonics_lmax":"normals":2,"colors":3,"mask":1,"up":"z","segments":[[0,'
+                     b'{"headroom":2048,"meta":{"domain":"octahedral","extent":[1.0,1.0],"orientation":1,'
+                     b'"parametrization":"sphere","source":""},"offset":[0.,-0.,"step":0.0000')
 # the metadata a compressed file keeps besides the domain's fields (every byte counts at a few kilobytes)
 KEPT = ("source", "parametrization", "up", "component", "components", "harmonics_lmax")
 
@@ -89,13 +97,60 @@ def _quantized(image: GeometryImage) -> tuple[np.ndarray, dict]:
         raise ImageError("pixels: NaN or infinite coordinates cannot be coded")
     lo = p[valid].min(axis=0)
     step = max(float((p[valid].max(axis=0) - lo).max()), 1e-300) / TOP
+    # the offset and step as few digits as keep them within 1/64 of a step (both quantize with what is written)
+    step = _short(step, step / 64 / TOP)
+    lo = np.array([_short(x, step / 64) for x in lo])
     q = np.clip(np.round((p - lo) / step) + HEADROOM, 0, 65535)
     q[~valid] = HEADROOM
     kept = {k: v for k, v in image.metadata_record().items() if k in KEPT or k in type(image.domain).METADATA_KEYS}
     record = {"offset": lo.tolist(), "step": step, "headroom": HEADROOM, "meta": kept}
     if image.mask is not None:
-        record["mask"] = base64.b64encode(zlib.compress(np.packbits(image.mask.ravel()).tobytes(), 9)).decode()
+        record["mask"] = np.packbits(image.mask.ravel()).tobytes()
     return q.astype(np.uint16), record
+
+
+def _short(x: float, within: float) -> float:
+    """``x`` with the fewest significant digits that stay ``within`` of it."""
+    for digits in range(4, 17):
+        y = float(f"{x:.{digits}g}")
+        if abs(y - x) <= within:
+            return y
+    return float(x)
+
+
+def _pack_record(record: dict) -> bytes:
+    """The record box's payload after the UUID: version 1, raw DEFLATE with :data:`RECORD_DICTIONARY` of the
+    record's JSON, a NUL, and the mask's packed bits (about 70 bytes without a mask, where zlib'd JSON with the
+    mask in base64 took 170 and more).
+    """
+    fields = {k: v for k, v in record.items() if k != "mask"}
+    mask = record.get("mask")
+    if mask is not None:
+        fields["mask"] = 1
+    text = json.dumps(fields, separators=(",", ":"), sort_keys=True).encode()
+    packer = zlib.compressobj(9, zlib.DEFLATED, -15, 9, zlib.Z_DEFAULT_STRATEGY, RECORD_DICTIONARY)
+    return RECORD_VERSION + packer.compress(text + b"\0" + (mask or b"")) + packer.flush()
+
+
+def _unpack_record(payload: bytes) -> dict:
+    """A record from its payload: version 1 (:func:`_pack_record`), or the first files' zlib'd JSON (mask in
+    base64); the mask as packed bits. Raises zlib.error or ValueError on damage.
+    """
+    if payload[:1] == RECORD_VERSION:
+        unpacker = zlib.decompressobj(-15, RECORD_DICTIONARY)
+        raw = unpacker.decompress(payload[1:], 1 << 24)
+        if unpacker.unconsumed_tail or b"\0" not in raw:
+            raise ValueError("a record that does not end where its box does")
+        text, _, mask = raw.partition(b"\0")
+        record = json.loads(text)
+        if isinstance(record, dict) and "mask" in record:
+            record["mask"] = mask
+        return record
+    unpacker = zlib.decompressobj()
+    record = json.loads(unpacker.decompress(payload, 1 << 24))
+    if isinstance(record, dict) and isinstance(record.get("mask"), str):
+        record["mask"] = zlib.decompressobj().decompress(base64.b64decode(record["mask"]), 1 << 24)
+    return record
 
 
 def _octahedral(n: np.ndarray) -> np.ndarray:
@@ -167,12 +222,16 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
 
 
 def _with_record(data: bytes, record: dict) -> bytes:
-    """``data`` (a JP2 file) with a ``uuid`` box holding ``record`` before its codestream box."""
-    payload = RECORD_UUID + zlib.compress(json.dumps(record, separators=(",", ":"), sort_keys=True).encode(), 9)
+    """``data`` (a JP2 file) with a ``uuid`` box holding ``record`` before its codestream box, and the
+    codestream without the coder's comment.
+    """
+    payload = RECORD_UUID + _pack_record(record)
     box = struct.pack(">I4s", 8 + len(payload), b"uuid") + payload
-    for kind, start, _ in _boxes(data):
+    for kind, start, end in _boxes(data):
         if kind == b"jp2c":
-            return data[:start] + box + data[start:]
+            header = 16 if struct.unpack(">I", data[start:start + 4])[0] == 1 else 8
+            cs = without_comments(data[start + header:end])
+            return data[:start] + box + struct.pack(">I4s", 8 + len(cs), b"jp2c") + cs + data[end:]
     raise ImageError("the coder wrote no JPEG 2000 codestream box")
 
 
@@ -191,7 +250,7 @@ def _record(data: bytes, where: str) -> dict:
                 raise ImageFileError(f"{where}: it ends after {len(data)} bytes, inside geoimg's record; read more "
                                      "of the file")
             try:
-                record = json.loads(zlib.decompress(data[start + 24:end]))
+                record = _unpack_record(data[start + 24:end])
             except (zlib.error, ValueError) as e:
                 raise ImageFileError(f"{where}: geoimg's record is damaged ({type(e).__name__})") from None
             if not isinstance(record, dict) or not {"offset", "step", "headroom", "meta"} <= set(record):
@@ -296,7 +355,7 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
         domain = Domain.from_metadata(meta.pop("domain", "planar"), meta)
         mask = None
         if "mask" in record:
-            bits = np.frombuffer(zlib.decompress(base64.b64decode(record["mask"])), np.uint8)
+            bits = np.frombuffer(record["mask"], np.uint8)
             mask = np.unpackbits(bits)[: q.shape[0] * q.shape[1]].reshape(q.shape[:2]).astype(bool)
         pixels = (q.astype(np.float64) - float(record["headroom"])) * step + offset
         pixels = domain.average_glued(pixels)
