@@ -15,24 +15,13 @@ import numpy as np
 
 import filters
 from ._choices import COMPRESSED_FORMATS, DEFAULT_CURVATURE_SCALE, READ_IMAGE_FORMATS
-from ._compress import compress
-from ._convert import COMPONENT_CHOICES, measure_fidelity, mesh_to_image, mesh_to_images
-from ._options import ConversionOptions
-from .batch._options import BatchOptions
-from .surface import CoverageWeights, make_weights
 from ._atomic import check_writable, write_all
 from ._budget import check_memory
-from ._steps import apply_steps
-from .batch import convert as convert_batch
 from ._optional import MissingDependency, require
-from .animation import RenderError, Renderer, frame_jobs, label_points, morph, save_animation, save_glb, save_png
 from .errors import InputError
 from .image import (IMAGE_FORMATS, grid_normals, image_curvature, image_region,
                     load_image, load_mask, save_colormap, save_normal_map, save_scalar, uv_region)
-from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh, suggest_landmarks, topology
-from .spectrum import harmonics
-from .spectrum._harmonics import IMAGE_SUFFIXES
-from .spectrum._transform import check_lmax
+from .mesh import MESH_FORMATS, load_mesh, mesh_file_jobs, save_mesh
 
 SAMPLE_MESH = Path(__file__).resolve().parent / "data" / "mountain.obj"    # package data: works from a wheel
 DEMO_MARKER = ".geoimg-demo"
@@ -115,11 +104,14 @@ def _check_outputs(force: bool, *outputs) -> None:
         check_writable(path, force)
 
 
-def _conversion_options(args, cls=ConversionOptions, **values):
+def _conversion_options(args, cls=None, **values):
     """The conversion's options from the command line: each field of ``cls`` from the flag of its name (a new
     option is a field and a flag, nothing here), the weights from ``--weights``, ``--s``, ``--n``, ``--tol``
-    and ``--sliver-rule``, then ``values``.
+    and ``--sliver-rule``, then ``values`` (``cls``: :class:`~geoimg.ConversionOptions` unless given).
     """
+    from ._options import ConversionOptions
+    from .surface import make_weights
+    cls = ConversionOptions if cls is None else cls
     flags = {f.name: getattr(args, f.name) for f in dataclasses.fields(cls) if hasattr(args, f.name)}
     flags.pop("component", None)
     weights = make_weights(args.weights, s=args.s, n=args.n, tol=args.tol, sliver_rule=args.sliver_rule)
@@ -129,6 +121,7 @@ def _conversion_options(args, cls=ConversionOptions, **values):
 
 
 def cmd_image(args) -> int:
+    from ._convert import mesh_to_images
     _check_outputs(args.force, (args.output, IMAGE_FORMATS, "the geometry image"),
                    (args.preview, (".png",), "the preview"))
     progress = Progress(args.quiet, always=args.progress)
@@ -157,6 +150,10 @@ def cmd_image(args) -> int:
 
 
 def cmd_harmonics(args) -> int:
+    from ._convert import measure_fidelity
+    from .spectrum import harmonics
+    from .spectrum._harmonics import IMAGE_SUFFIXES
+    from .spectrum._transform import check_lmax
     check_lmax(args.lmax)                                       # before any work or file
     _check_outputs(args.force, (args.output, (".npz",), "the coefficients"),
                    (args.mesh, MESH_FORMATS, "the rebuilt mesh"), (args.image, IMAGE_FORMATS, "the rebuilt image"))
@@ -197,6 +194,7 @@ def cmd_harmonics(args) -> int:
 
 
 def cmd_compress(args) -> int:
+    from ._compress import compress
     if (args.bytes is None) == (args.psnr is None):
         raise InputError("give --bytes N (a budget) or --psnr DB (an error to reach), one of the two")
     _check_outputs(args.force, (args.output, COMPRESSED_FORMATS, "the compressed image"))
@@ -222,6 +220,7 @@ def cmd_compress(args) -> int:
 
 
 def _component(text: str) -> str | int:
+    from ._convert import COMPONENT_CHOICES
     if text in COMPONENT_CHOICES:
         return text
     try:
@@ -244,11 +243,13 @@ def cmd_mesh(args) -> int:
 
 
 def cmd_landmarks(args) -> int:
+    from .animation import Renderer, label_points, save_png
     _check_outputs(args.force, (args.output, (".csv",), "the landmarks"), (args.picture, (".png",), "the picture"))
     if args.picture:
         require("moderngl", "rendering")
         require("imageio", "writing pictures")
     mesh = load_mesh(args.mesh)
+    from .mesh import suggest_landmarks
     index = suggest_landmarks(mesh, args.count, spread=args.spread)
     points = mesh.vertices[index]
     rows = "".join(f"{i},{x!r},{y!r},{z!r}\n" for i, (x, y, z) in zip(index.tolist(), points.tolist()))
@@ -273,6 +274,7 @@ def _point(p) -> str:
 
 
 def cmd_info(args) -> int:
+    from .mesh import topology
     path = Path(args.file)
     if path.suffix.lower() in READ_IMAGE_FORMATS:
         img = _read_image(path, args)
@@ -316,6 +318,7 @@ def _demo_pictures(image, stem: Path, progress) -> list:
     """A rendering of the quad mesh, of it mean-filtered, and a mean-curvature map; none when there is
     no headless OpenGL (the reason is printed).
     """
+    from .animation import RenderError, Renderer, save_png
     scale = DEFAULT_CURVATURE_SCALE
     written = [save_colormap(image_curvature(image, scale)[1], stem.with_name(stem.name + "_mean_curvature.png"),
                              image.valid, overwrite=True, title=_curvature_title("mean", scale))]
@@ -334,6 +337,8 @@ def _demo_pictures(image, stem: Path, progress) -> list:
 
 
 def cmd_demo(args) -> int:
+    from ._convert import mesh_to_image
+    from .surface import CoverageWeights
     progress = Progress(args.quiet, always=args.progress)
     src = Path(args.mesh) if args.mesh else SAMPLE_MESH
     if not src.is_file():
@@ -374,6 +379,7 @@ def cmd_demo(args) -> int:
 
 
 def cmd_filter(args) -> int:
+    from ._steps import apply_steps
     if not getattr(args, "ops", None):
         raise InputError("no operation given: add e.g. --mean 5 or --sharpen 3 (see geoimg filter --help)")
     _check_outputs(args.force, (args.output, IMAGE_FORMATS, "the geometry image"),
@@ -432,6 +438,7 @@ def cmd_curvature(args) -> int:
 
 
 def cmd_render(args) -> int:
+    from .animation import Renderer, save_png
     _check_outputs(args.force, (args.output, (".png",), "the picture"))
     shape = _load_shape(args.file, args)
     with Renderer(args.width, args.height, background=None if args.transparent else (1.0, 1.0, 1.0)) as r:
@@ -464,6 +471,8 @@ def read_landmarks(path, keys: int) -> np.ndarray:
 
 
 def cmd_morph(args) -> int:
+    from .animation import Renderer, frame_jobs, morph, save_animation, save_glb
+    from .spectrum._transform import check_lmax
     progress = Progress(args.quiet, always=args.progress)
     if not (args.output or args.gif or args.mp4 or args.frames_dir):
         raise InputError("nothing to write: give -o OUT.glb, --gif, --mp4 or --frames-dir")
@@ -587,6 +596,8 @@ def _duration(seconds: float) -> str:
 
 
 def cmd_batch(args) -> int:
+    from .batch._options import BatchOptions
+    from .batch import convert as convert_batch
     opts = _conversion_options(args, BatchOptions, normals=not args.no_normals, steps=args.ops or (),
                                quads=args.quads is not None, quads_format=args.quads or "obj", psnr=not args.no_psnr)
     options = {f.name: getattr(opts, f.name) for f in dataclasses.fields(opts)}

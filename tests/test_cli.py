@@ -240,11 +240,14 @@ def test_every_option_has_help_and_shows_its_default():
 ])
 def test_outputs_are_checked_before_any_work(tmp_path, monkeypatch, capsys, argv, message):
     import geoimg._commands as commands
+    import geoimg._convert as convert
+    import geoimg.animation as animation
 
     def no_work(*args, **kwargs):
         raise AssertionError("work started before the outputs were checked")
-    for name in ("mesh_to_images", "load_image", "load_mesh", "morph"):
-        monkeypatch.setattr(commands, name, no_work)
+    for module, name in ((convert, "mesh_to_images"), (commands, "load_image"), (commands, "load_mesh"),
+                         (animation, "morph")):
+        monkeypatch.setattr(module, name, no_work)
     monkeypatch.chdir(tmp_path)
     argv = [str(MOUNTAIN) if a == "M" else "in.exr" if a == "I" else a for a in argv]
     assert main(argv) == 2

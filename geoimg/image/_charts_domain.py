@@ -8,8 +8,8 @@ import numpy as np
 
 import filters
 from ..errors import ImageError
-from ..parametrization._cut import perimeter_point, twin_positions
-from ..parametrization._charts import MIN_SCALE, layout_extent, layout_span, tile_points, weld_defects
+from ..parametrization._layout import (MIN_SCALE, layout_extent, layout_span, perimeter_point, tile_points,
+                                      twin_positions, weld_defects)
 
 from ._domain import Domain, grid_normals
 from ._perimeter import (copy_across, corners_within, ghost_copies, glue_groups, perimeter_cells, perimeter_sides,

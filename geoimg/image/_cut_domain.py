@@ -8,7 +8,7 @@ import numpy as np
 
 import filters
 from ..errors import ImageError
-from ..parametrization._cut import perimeter_point, twin_positions
+from ..parametrization._layout import perimeter_point, twin_positions
 
 from ._domain import Domain
 from ._perimeter import (copy_across, corners_within, ghost_copies, glue_groups, perimeter_pixels, perimeter_sides,

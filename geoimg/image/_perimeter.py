@@ -8,8 +8,6 @@ and a filter reads across it the pixels inward of the other side (:func:`copy_ac
 from __future__ import annotations
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse.csgraph import connected_components
 
 __all__ = ["perimeter_pixels", "perimeter_cells", "perimeter_sides", "INWARD", "corners_within", "straight_pieces",
            "glue_groups", "ghost_copies", "copy_across"]
@@ -102,6 +100,8 @@ def glue_groups(size: int, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np
     >>> [x.tolist() for x in glue_groups(4, np.array([0, 3]), np.array([2, 2]))]
     [[0, 1], [0, 1, 0, 0]]
     """
+    from scipy import sparse                      # here: reading an image needs no scipy at import
+    from scipy.sparse.csgraph import connected_components
     graph = sparse.coo_matrix((np.ones(len(a)), (a, b)), shape=(size, size))
     _, label = connected_components(graph, directed=False)
     first = np.full(label.max() + 1, size, np.int64)

@@ -15,8 +15,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import sparse
-from scipy.sparse.csgraph import connected_components
 
 from ._mesh import Mesh
 
@@ -98,6 +96,8 @@ def _seam_representatives(mesh: Mesh, group: np.ndarray) -> np.ndarray:
     links = (lo != lo[head]) | (hi != hi[head])
     rows = np.concatenate([lo[links], hi[links]])
     cols = np.concatenate([lo[head][links], hi[head][links]])
+    from scipy import sparse                      # here: reading and writing meshes need no scipy at import
+    from scipy.sparse.csgraph import connected_components
     _, label = connected_components(sparse.coo_matrix((np.ones(len(rows)), (rows, cols)), shape=(n, n)),
                                     directed=False)
     smallest = np.full(label.max() + 1, n, np.int64)

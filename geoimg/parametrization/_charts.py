@@ -35,19 +35,18 @@ import igl
 import numpy as np
 from scipy.optimize import Bounds, LinearConstraint, milp
 from scipy.sparse import coo_matrix, hstack, identity
-from scipy.sparse.csgraph import connected_components, dijkstra
+from scipy.sparse.csgraph import dijkstra
 
 from .._choices import DEFAULT_DISK_BALANCE, DISK_BALANCES
 from .._types import Progress
 from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
-from ._cut import (_closed_for_map, _split_at_corners, _split_chords, cut_along, edge_keys, perimeter_point,
-                   twin_positions)
+from ._cut import _closed_for_map, _split_at_corners, _split_chords, cut_along, edge_keys
+from ._layout import MIN_SCALE, layout_span, perimeter_point, tile_points, weld_defects
 from ._disk import planar_interior
 from ._laplacian import planar_cross, starved_share, triangle_areas
 
-__all__ = ["chart_coords", "tile_points", "layout_extent", "layout_span", "pack_squares", "segment_charts",
-           "weld_defects", "MIN_SCALE", "CHART_GUTTER", "DEFAULT_CHARTS"]
+__all__ = ["chart_coords", "pack_squares", "segment_charts", "CHART_GUTTER", "DEFAULT_CHARTS"]
 
 LAYOUT_QUANTA = 64        # the layout's longer side, in quanta, that the squares' sizes aim at
 CHART_GUTTER = 2          # quanta between neighbouring squares (filters read across a border half as far)
@@ -57,75 +56,8 @@ MAX_CHARTS = 256
 MIN_CHART_FACES = 8       # charts to start from at most one per this many faces (a chart of one triangle
                           # onto a square leaves part of it uncovered: trimesh's L.off as 4 charts, 14 % off)
 MAX_SEGMENTS = 64         # a chart whose border has more segments (slits cut inside it) gets a second seed
-MIN_SCALE = 2             # pixels per quantum at least: a border of one quantum then has a pixel inside it
 LLOYD_ROUNDS = 3          # seeds moved to their charts' centres this many times
 SIZE_WEIGHT = 8.0         # cost of a quantum of a square's side off its area's share (a segment's: 1)
-
-
-def layout_span(squares: Sequence) -> tuple[int, int]:
-    """Quanta across and down a layout of ``squares`` (``(row, column, side)`` per square, in quanta).
-
-    Examples
-    --------
-    >>> layout_span([(0, 0, 4), (0, 6, 2)])
-    (8, 4)
-    """
-    sq = np.asarray(squares, np.int64).reshape(-1, 3)
-    return int((sq[:, 1] + sq[:, 2]).max()), int((sq[:, 0] + sq[:, 2]).max())
-
-
-def tile_points(tile: np.ndarray, uv: np.ndarray, squares: Sequence) -> np.ndarray:
-    """Points ``uv`` (K, 2) of the unit square of each ``tile`` (K,) of a layout of ``squares`` (``(row,
-    column, side)`` per square, in quanta), scaled so that the layout's longer side is 1.
-
-    Parameters
-    ----------
-    tile : numpy.ndarray
-        (K,) square indices.
-    uv : numpy.ndarray
-        (K, 2) points of the unit square (u along columns, v along rows).
-    squares : sequence
-        ``(row, column, side)`` per square.
-
-    Returns
-    -------
-    numpy.ndarray
-        (K, 2) parameter points.
-
-    Examples
-    --------
-    >>> tile_points(np.array([0, 1]), np.array([[0.0, 0.0], [1.0, 1.0]]), [(0, 0, 4), (0, 6, 4)]).tolist()
-    [[0.0, 0.0], [1.0, 0.4]]
-    """
-    tile = np.asarray(tile, np.int64)
-    sq = np.asarray(squares, np.int64).reshape(-1, 3)[tile]
-    big = max(layout_span(squares))
-    corner = np.stack([sq[:, 1], sq[:, 0]], axis=1)
-    return (corner + np.asarray(uv, np.float64) * sq[:, 2:3]) / big
-
-
-def layout_extent(layout: dict) -> tuple[float, float]:
-    """The parameter rectangle of a layout of squares (``layout``: a :class:`~geoimg.image.ChartsDomain`'s
-    fields), its longer side 1.
-
-    Parameters
-    ----------
-    layout : dict
-        ``squares`` (``(row, column, side)`` per square, in quanta).
-
-    Returns
-    -------
-    tuple of float
-        (width, height).
-
-    Examples
-    --------
-    >>> layout_extent({"squares": [(0, 0, 4), (0, 6, 4)], "gutter": 2})
-    (1.0, 0.4)
-    """
-    across, down = layout_span(layout["squares"])
-    big = max(across, down)
-    return across / big, down / big
 
 
 def _shelves(order: list, sides: list, gutter: int, width: int) -> tuple[dict, int, int]:
@@ -185,39 +117,6 @@ def _to_span(squares: list, span: int) -> list:
         return squares
     dr, dc = (span - down, 0) if down >= across else (0, span - across)
     return [(r + dr, c + dc, n) for r, c, n in squares]
-
-
-def weld_defects(segments: list | tuple, sides: Sequence, scale: int) -> int:
-    """How many perimeter edges of a layout of square charts (``segments``: ``(tile, start, length, twin)`` in
-    quanta, square ``k`` ``sides[k]`` quanta a side) would not weld into a manifold quad mesh on an image of
-    ``scale`` pixels per quantum: an edge whose two ends are glued into one vertex, more than two edges glued
-    into one (a border of one quantum beside its own twin's neighbour at ``scale = 1``), or a square's corner
-    whose two sides are glued there (the tip of a slit at a corner folds the corner's quad onto itself).
-
-    Examples
-    --------
-    >>> weld_defects([(0, 0, 16, 1), (1, 0, 16, 0)], [4, 4], 1)         # two squares glued round their rims
-    0
-    >>> weld_defects([(0, 0, 8, 1), (0, 8, 8, 0)], [4], 2)              # one square folded: tips at two corners
-    2
-    """
-    per = 4 * np.asarray(sides, np.int64) * scale
-    off = np.concatenate([[0], np.cumsum(per)])
-    tp, p, tq, q = twin_positions(segments, scale)
-    n = int(off[-1])
-    _, group = connected_components(coo_matrix((np.ones(len(p)), (off[tp] + p % per[tp], off[tq] + q % per[tq])),
-                                               shape=(n, n)), directed=False)
-    used = np.unique([s[0] for s in segments])
-    i = np.concatenate([off[t] + np.arange(per[t]) for t in used])
-    j = np.concatenate([off[t] + (np.arange(per[t]) + 1) % per[t] for t in used])
-    x, y = group[i], group[j]
-    collapsed = int(np.sum(x == y))
-    _, counts = np.unique(np.minimum(x, y)[x != y] * n + np.maximum(x, y)[x != y], return_counts=True)
-    folded = 0                                  # a slit's tip at a corner folds its quad
-    for t in used:
-        corner = np.arange(0, per[t], per[t] // 4)
-        folded += int(np.sum(group[off[t] + (corner - 1) % per[t]] == group[off[t] + (corner + 1) % per[t]]))
-    return collapsed + int(np.sum(counts[counts > 2])) + folded
 
 
 def _dual_graph(vertices: np.ndarray, tris: np.ndarray):

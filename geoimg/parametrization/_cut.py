@@ -30,7 +30,6 @@ from typing import Any, NamedTuple
 
 import igl
 import numpy as np
-from numpy.typing import ArrayLike
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
@@ -40,8 +39,9 @@ from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._disk import _folds, planar_interior
 from ._laplacian import STARVED_SHARE, planar_cross, starved_share, triangle_areas
+from ._layout import perimeter_point
 
-__all__ = ["cut_coords", "layout_quanta", "perimeter_point", "twin_positions", "QUANTA_PER_SIDE"]
+__all__ = ["cut_coords", "layout_quanta", "QUANTA_PER_SIDE"]
 
 QUANTA_PER_SIDE = 64
 SMALL_HOLE_EDGES = 8      # a hole of at most this many edges is closed for the map (it would cost a cut path):
@@ -283,74 +283,6 @@ def _quantize(seg_len: np.ndarray, twin: np.ndarray, quanta: int) -> np.ndarray:
     if left:                                        # an odd quantum left and only pairs: give it to a rim
         raise ParametrizationError("method='cut': could not lay the boundary out on the square evenly")
     return q[unit_of]
-
-
-def perimeter_point(t: ArrayLike, quanta_per_side: int) -> np.ndarray:
-    """(u, v) on the unit square's outline at perimeter positions ``t`` (in quanta, 0 to 4 Q):
-    counter-clockwise from (0, 0) in (u, v), i.e. along row 0, down the last column, back along the last
-    row, up column 0.
-
-    Parameters
-    ----------
-    t : array_like
-        Perimeter positions, in quanta.
-    quanta_per_side : int
-        Quanta per side of the square.
-
-    Returns
-    -------
-    numpy.ndarray
-        (..., 2) (u, v).
-
-    Examples
-    --------
-    >>> perimeter_point([0, 2, 5, 7.5], 2).tolist()
-    [[0.0, 0.0], [1.0, 0.0], [0.5, 1.0], [0.0, 0.25]]
-    """
-    s = np.asarray(t, np.float64) / quanta_per_side
-    side = np.clip(np.floor(s).astype(int), 0, 3)
-    f = s - side
-    u = np.choose(side, [f, np.ones_like(f), 1 - f, np.zeros_like(f)])
-    v = np.choose(side, [np.zeros_like(f), f, np.ones_like(f), 1 - f])
-    return np.stack([u, v], axis=1)
-
-
-def twin_positions(segments: list | tuple, scale: int) -> tuple:
-    """Every glued perimeter pixel and its twin, both directions: ``(tile, position, twin's tile, twin's
-    position)`` arrays, positions in pixels along a square's perimeter (``start * scale`` to ``(start +
-    length) * scale``, not reduced modulo the perimeter), for ``segments`` ``(tile, start, length, twin)`` in
-    quanta on squares of ``scale`` pixels per quantum. Offset ``j`` along a segment is offset ``length - j``
-    along its twin.
-
-    Parameters
-    ----------
-    segments : list or tuple
-        ``(tile, start, length, twin)`` per segment (``twin`` an index into ``segments``, -1 for none).
-    scale : int
-        Pixels per quantum.
-
-    Returns
-    -------
-    tuple of numpy.ndarray
-        ``(tile, position, twin's tile, twin's position)``.
-
-    Examples
-    --------
-    >>> [a.tolist() for a in twin_positions([(0, 0, 2, 1), (0, 2, 2, 0)], 1)]
-    [[0, 0, 0, 0, 0, 0], [0, 1, 2, 2, 3, 4], [0, 0, 0, 0, 0, 0], [4, 3, 2, 2, 1, 0]]
-    """
-    out: list = [[], [], [], []]
-    for tile, start, length, twin in segments:
-        if twin < 0:
-            continue
-        j = np.arange(length * scale + 1)
-        out[0].append(np.full(len(j), tile))
-        out[1].append(start * scale + j)
-        out[2].append(np.full(len(j), segments[twin][0]))
-        out[3].append(segments[twin][1] * scale + length * scale - j)
-    if not out[0]:
-        return tuple(np.zeros(0, np.int64) for _ in range(4))
-    return tuple(np.concatenate(x) for x in out)
 
 
 def layout_quanta(segments: int, quanta_per_side: int | None = None) -> int:

@@ -15,12 +15,9 @@ The map preserves orientation: ``d p / d u x d p / d v`` points out of the spher
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
-from numba import njit, prange
 from numpy.typing import ArrayLike
-from scipy.spatial.transform import Rotation
 
 from ..errors import InputError
 
@@ -107,29 +104,10 @@ def grid_directions(n: int) -> np.ndarray:
     ((5, 5, 3), [0.0, 0.0, 1.0], True)
     """
     n = check_size(n)
+    from ._octahedral_kernels import grid_unit     # numba: imported where a grid is made, not with the domains
     out = np.empty((n, n, 3))
-    _grid_unit(n, out)
+    grid_unit(n, out)
     return out
-
-
-@njit(parallel=True, cache=True)
-def _grid_unit(n, out):
-    """:func:`grid_directions` into ``out`` (n, n, 3), rows in parallel: the arithmetic of :func:`_unfold` and
-    of dividing by the norm, in the same order (the same bits as numpy's, 8 times faster at 513^2).
-    """
-    m = n - 1
-    for i in prange(n):
-        b = (2.0 * i - m) / m
-        for j in range(n):
-            a = (2.0 * j - m) / m
-            z = 1.0 - abs(a) - abs(b)
-            if z < 0:
-                x = math.copysign(1.0 - abs(b), a)
-                y = math.copysign(1.0 - abs(a), b)
-            else:
-                x, y = a, b
-            r = math.sqrt(x * x + y * y + z * z)
-            out[i, j, 0], out[i, j, 1], out[i, j, 2] = x / r, y / r, z / r
 
 
 def square_to_sphere(uv: np.ndarray) -> np.ndarray:
@@ -341,6 +319,7 @@ def sampling_rotation(s: np.ndarray, x: np.ndarray, tris: np.ndarray,
         weight = weight * np.asarray(bend, np.float64)[::every][ok]
     c = s[tris[ok]].mean(axis=1)
     c /= np.maximum(np.linalg.norm(c, axis=1, keepdims=True), 1e-300)
+    from scipy.spatial.transform import Rotation
     turns = np.concatenate([np.eye(3)[None], Rotation.random(SAMPLING_ROTATIONS, random_state=0).as_matrix()])
     # 1 / r(q) = (|x| + |y| + |z|)^3 for unit q
     error = np.array([weight @ (np.abs(c @ R.T).sum(axis=1) ** 6) for R in turns])

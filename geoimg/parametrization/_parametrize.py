@@ -18,7 +18,8 @@ from scipy.spatial import ConvexHull
 from .._choices import AXES, DEFAULT_DISK_BALANCE, PARAMETRIZATION_METHODS
 from ..errors import InputTypeError, ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
-from ._charts import DEFAULT_CHARTS, chart_coords, layout_extent
+from ._charts import DEFAULT_CHARTS, chart_coords
+from ._layout import layout_extent
 from ._cut import cut_coords
 from ._disk import disk_coords, resampling_error
 from ._laplacian import planar_cross, starved_share, triangle_areas

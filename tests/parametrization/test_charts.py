@@ -8,8 +8,8 @@ import geoimg
 from geoimg import ChartsDomain, ImageError, InputError, ParametrizationError
 from geoimg.mesh import point_mesh_distance, surface_distance, topology
 from geoimg.parametrization import chart_coords
-from geoimg.parametrization._charts import layout_extent, tile_points
-from geoimg.parametrization._charts import layout_span, pack_squares, segment_charts, weld_defects
+from geoimg.parametrization._charts import pack_squares, segment_charts
+from geoimg.parametrization._layout import layout_extent, layout_span, tile_points, weld_defects
 from geoimg.parametrization._laplacian import planar_cross, starved_share, triangle_areas
 from geoimg.parametrization._parametrize import _charts, _image_error, _starved_to_charts
 from geoimg.surface._attributes import locate

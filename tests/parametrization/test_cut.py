@@ -9,7 +9,7 @@ import geoimg
 from geoimg import CutDomain, ImageError, ParametrizationError
 from geoimg.mesh import boundary_loops, surface_distance, topology
 from geoimg.parametrization import cut_coords
-from geoimg.parametrization._cut import perimeter_point
+from geoimg.parametrization._layout import perimeter_point
 
 import meshes
 from helpers import glue_spread, load_data
