@@ -1,5 +1,6 @@
-"""Start-up times (issue 14): `import geoimg`, `import filters`, `geoimg --help`, and a small mesh through
-one CLI call, each the median of several fresh processes.
+"""Start-up times (issue 14): `import geoimg`, `import filters`, `geoimg --help`, a small mesh through
+one CLI call, and `geoimg mesh` of a 513^2 image into each mesh format (issue 53), each the median of several
+fresh processes.
 
     python benchmarks/bench_startup.py [--tree PATH] [--runs 7]
 
@@ -65,6 +66,12 @@ def main(argv=None):
                 "--force",
             ],
         }
+        image = Path(tmp) / "spot513.exr"          # made once, by this checkout: the same image for both trees
+        subprocess.run([py, "-m", "geoimg.cli", "image", str(HERE.parent / "tests" / "data" / "spot.obj"), "-o",
+                        str(image), "--res", "513", "-q"], cwd=HERE.parent, check=True)
+        for ext in ("obj", "ply", "stl", "glb"):
+            cases[f"geoimg mesh 513² image -> .{ext}"] = [py, "-m", "geoimg.cli", "mesh", str(image), "-o",
+                                                         str(Path(tmp) / f"q.{ext}"), "--force", "-q"]
         print(f"tree {tree}; median of {args.runs} fresh processes\n")
         print("| what | seconds |")
         print("|---|---:|")

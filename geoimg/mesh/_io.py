@@ -1,9 +1,9 @@
 """Reading and writing polygon meshes without triangulating, merging or reordering.
 
 OBJ, OFF (ASCII and binary) and PLY (ASCII and binary, ``face`` lists or ``tristrips``) are read and
-written here, so quads and n-gons survive. STL, GLB and glTF go through trimesh (``process=False``); they
-hold triangles only. Every format has its exactly coincident positions joined on reading (reported; see
-:mod:`geoimg.mesh._weld`).
+written here, so quads and n-gons survive. STL is written here too (binary, :mod:`._stl`) and read through
+trimesh, as GLB and glTF are read and written (``process=False``); they hold triangles only. Every format has
+its exactly coincident positions joined on reading (reported; see :mod:`geoimg.mesh._weld`).
 """
 from __future__ import annotations
 
@@ -20,6 +20,7 @@ from ._weld import weld_vertices
 from ._obj import read_obj, write_obj
 from ._off import read_off, write_off
 from ._ply import read_ply, write_ply
+from ._stl import write_stl
 from ._trimesh_io import read_with_trimesh, write_with_trimesh
 from .._types import PathLike, as_path
 
@@ -157,7 +158,7 @@ def mesh_file_jobs(mesh: Mesh, path: PathLike) -> list:
         ".obj": write_obj,
         ".off": write_off,
         ".ply": write_ply,
-        ".stl": write_with_trimesh,
+        ".stl": write_stl,
         ".glb": write_with_trimesh,
     }
     if ext not in writers:

@@ -186,6 +186,23 @@ def _obj_uv(f: np.ndarray, t: np.ndarray, tex: np.ndarray, n: int, path: Path):
 ROWS_AT_ONCE = 65536      # rows formatted by one % operation (in C), in blocks to bound the text held
 
 
+def _exact_format(values: np.ndarray) -> str:
+    """The ``%`` format that keeps ``values``: ``%.9g`` when every value is a float32 (a geometry image's quad
+    mesh: 9 significant digits name a float32 exactly, read back in single precision to the same bits and in
+    double within 3e-9 of each value, relatively; written in half the time of 17), else ``%.17g`` (a
+    float64's, read back to the same bits).
+
+    Examples
+    --------
+    >>> _exact_format(np.array([0.5, 0.1], np.float32).astype(np.float64)), _exact_format(np.array([0.1]))
+    ('%.9g', '%.17g')
+    """
+    values = np.asarray(values, np.float64)
+    with np.errstate(over="ignore", invalid="ignore"):
+        single = values.astype(np.float32).astype(np.float64)
+    return "%.9g" if np.array_equal(single, values) else "%.17g"
+
+
 def _rows(fh, line: str, values: np.ndarray) -> None:
     """Each row of ``values`` as ``line % row`` (the text numpy.savetxt writes, formatted in C a block at a
     time instead of a row at a time).
@@ -198,19 +215,20 @@ def _rows(fh, line: str, values: np.ndarray) -> None:
 
 def _faces(fh, mesh: Mesh, vt: np.ndarray | None) -> None:
     """The ``f`` lines: each corner ``v``, ``v/t``, ``v//n`` or ``v/t/n`` (normals are per vertex, so ``n`` is
-    ``v``), one line per face in order.
+    ``v``), one line per face in order: the text of ``%d`` formatting.
     """
     one = mesh.faces + 1
+    if mesh.face_uv is None:                  # every index of a corner is its vertex's
+        token = {(False, False): "{v}", (True, False): "{v}/{v}", (False, True): "{v}//{v}",
+                 (True, True): "{v}/{v}/{v}"}[(vt is not None, mesh.normals is not None)]
+        chars, lengths = _vertex_tokens(mesh.n_vertices, token)
+        for start in range(0, len(one), ROWS_AT_ONCE):
+            fh.write(_token_lines(one[start:start + ROWS_AT_ONCE], chars, lengths))
+        return
     used = mesh.faces >= 0
-    parts: tuple[np.ndarray, ...]
-    if vt is not None and mesh.normals is not None:
-        token, parts = "%d/%d/%d", (one, vt, one)
-    elif vt is not None:
-        token, parts = "%d/%d", (one, vt)
-    elif mesh.normals is not None:
-        token, parts = "%d//%d", (one, one)
-    else:
-        token, parts = "%d", (one,)
+    assert vt is not None
+    parts: tuple[np.ndarray, ...] = (one, vt, one) if mesh.normals is not None else (one, vt)
+    token = "%d/%d/%d" if mesh.normals is not None else "%d/%d"
     templates = {int(k): "f " + " ".join([token] * int(k)) + "\n" for k in np.unique(mesh.face_sizes)}
     sizes = mesh.face_sizes.tolist()
     args = np.stack([p[used] for p in parts], axis=1)             # the corners in face order, row by row
@@ -222,6 +240,52 @@ def _faces(fh, mesh: Mesh, vt: np.ndarray | None) -> None:
         fh.write(text % tuple(args[lo:hi].ravel().tolist()))
 
 
+def _vertex_tokens(n: int, token: str) -> tuple[np.ndarray, np.ndarray]:
+    """The corner text of each 1-based vertex index ``1 .. n`` (``token`` with ``{v}`` for the index, e.g.
+    ``"{v}/{v}/{v}"``) as rows of a character array, left-aligned, and their lengths.
+
+    Examples
+    --------
+    >>> chars, lengths = _vertex_tokens(10, "{v}//{v}")
+    >>> chars[0, :4].tobytes(), chars[9].tobytes(), lengths[[0, 9]].tolist()
+    (b'1//1', b'10//10', [4, 6])
+    """
+    pieces = [np.frombuffer(piece.encode(), np.uint8) for piece in token.split("{v}")]
+    width = len(str(n))
+    size = sum(len(piece) for piece in pieces) + (len(pieces) - 1) * width
+    out = np.zeros((n, size), np.uint8)
+    lengths = np.zeros(n, np.int64)
+    for d in range(1, width + 1):             # the indices of d digits: a run of rows, one slice each
+        lo, hi = 10 ** (d - 1), min(10 ** d - 1, n)
+        index = np.arange(lo, hi + 1, dtype=np.int64)
+        digits = (index[:, None] // 10 ** np.arange(d - 1, -1, -1, dtype=np.int64) % 10 + 48).astype(np.uint8)
+        parts = [np.broadcast_to(pieces[0], (len(index), len(pieces[0])))]
+        for piece in pieces[1:]:
+            parts += [digits, np.broadcast_to(piece, (len(index), len(piece)))]
+        row = np.concatenate(parts, axis=1)
+        out[lo - 1:hi, :row.shape[1]] = row
+        lengths[lo - 1:hi] = row.shape[1]
+    return out, lengths
+
+
+def _token_lines(faces: np.ndarray, chars: np.ndarray, lengths: np.ndarray) -> str:
+    """``f`` lines of faces given by 1-based vertex indices (0 or less: a shorter polygon's padding), each
+    corner the vertex's token (:func:`_vertex_tokens`): gathered and masked as one character array, about
+    five times faster than ``%d`` formatting a face at a time.
+    """
+    n, k = faces.shape
+    present = faces > 0
+    row = np.where(present, faces - 1, 0)
+    width = chars.shape[1]
+    body = np.concatenate([np.full((n, k, 1), 32, np.uint8), chars[row]], axis=2)          # " " + token
+    keep = np.concatenate([present[..., None], (np.arange(width)[None, None, :] < lengths[row][..., None])
+                           & present[..., None]], axis=2)
+    text = np.concatenate([np.full((n, 1), 102, np.uint8), body.reshape(n, -1), np.full((n, 1), 10, np.uint8)],
+                          axis=1)
+    mask = np.concatenate([np.ones((n, 1), bool), keep.reshape(n, -1), np.ones((n, 1), bool)], axis=1)
+    return text[mask].tobytes().decode("ascii")
+
+
 def write_obj(mesh: Mesh, tmp: Path, _ext: str, material: str | None = None) -> None:
     """OBJ: ``v`` (with ``r g b`` when the mesh has colours), ``vt`` per vertex or, with ``face_uv``, per
     distinct corner value, ``vn``; ``material`` names the MTL library (written beside) to use.
@@ -230,17 +294,20 @@ def write_obj(mesh: Mesh, tmp: Path, _ext: str, material: str | None = None) -> 
         fh.write("# written by geoimg\n")
         if material is not None:
             fh.write(f"mtllib {material}.mtl\n")
+        g = _exact_format(mesh.vertices)
         if mesh.colors is not None:
-            _rows(fh, "v %.17g %.17g %.17g %.6g %.6g %.6g\n", np.hstack([mesh.vertices, mesh.colors[:, :3]]))
+            _rows(fh, f"v {g} {g} {g} %.6g %.6g %.6g\n", np.hstack([mesh.vertices, mesh.colors[:, :3]]))
         else:
-            _rows(fh, "v %.17g %.17g %.17g\n", mesh.vertices)
+            _rows(fh, f"v {g} {g} {g}\n", mesh.vertices)
         vt: np.ndarray | None = None
         if mesh.face_uv is not None:
             table, inverse = np.unique(mesh.face_uv.reshape(-1, 2), axis=0, return_inverse=True)
-            _rows(fh, "vt %.17g %.17g\n", table)
+            g = _exact_format(table)
+            _rows(fh, f"vt {g} {g}\n", table)
             vt = inverse.reshape(mesh.faces.shape) + 1
         elif mesh.uv is not None:
-            _rows(fh, "vt %.17g %.17g\n", mesh.uv)
+            g = _exact_format(mesh.uv)
+            _rows(fh, f"vt {g} {g}\n", mesh.uv)
             vt = mesh.faces + 1
         if mesh.normals is not None:
             _rows(fh, "vn %.9g %.9g %.9g\n", mesh.normals)

@@ -86,8 +86,8 @@ def _trimesh_look(loaded, n: int, faces: np.ndarray) -> dict:
 
 
 def write_with_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:
-    """STL (triangles only) and GLB (triangles with colours, or texture coordinates and the texture,
-    vertices split at UV seams).
+    """GLB (triangles with colours, or texture coordinates and the texture, vertices split at UV seams), or STL
+    (triangles only; geoimg writes its STL files itself, :mod:`._stl`).
     """
     import trimesh
     visual: Any = None

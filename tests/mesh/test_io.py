@@ -191,3 +191,37 @@ def test_ascii_off_with_bad_indices_is_refused_either_way(tmp_path):
         (tmp_path / "f.off").write_text("OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n" + faces)
         with pytest.raises(MeshFileError):
             load_mesh(tmp_path / "f.off")
+
+
+def test_face_lines_are_the_text_of_d_formatting(tmp_path):
+    # the f lines are gathered from each vertex's token as one character array: the same text as formatting
+    # each face with %d, for every kind of corner and for polygons of several sizes (-1 padding left out)
+    rng = np.random.default_rng(3)
+    n = 12_345
+    faces = [rng.choice(n, k, replace=False).tolist() for k in rng.choice([3, 4, 5, 7], 300)]
+    faces += [[0, 9, 10, 99], [100, 999, 1000, 9999], [10_000, 12_344, 5]]
+    v = rng.normal(size=(n, 3))
+    normals = np.tile([0.0, 0.0, 1.0], (n, 1))
+    kinds = {"%d": {}, "%d/%d": {"uv": rng.random((n, 2))}, "%d//%d": {"normals": normals},
+             "%d/%d/%d": {"uv": rng.random((n, 2)), "normals": normals}}
+    for corner, extra in kinds.items():
+        path = tmp_path / f"{corner.count('%')}{corner.count('/')}.obj"
+        save_mesh(Mesh(v, faces, **extra), path)
+        lines = [ln for ln in path.read_text().splitlines() if ln.startswith("f ")]
+        expected = ["f " + " ".join(corner % ((i + 1,) * corner.count("%")) for i in face) for face in faces]
+        assert lines == expected, corner
+
+
+def test_stl_is_written_as_trimesh_writes_it(tmp_path, mixed):
+    # geoimg writes binary STL itself (trimesh's import alone took longer than writing a 513^2 quad mesh):
+    # the same triangles (quads split along the shorter diagonal), corners and unit normals as trimesh's
+    import trimesh
+    from geoimg.mesh._stl import STL_RECORD
+    flat = Mesh([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0]], [[0, 1, 2], [0, 1, 3]])     # one degenerate
+    for mesh in (mixed, flat, meshes.quad_disk(6)):
+        ours = np.frombuffer(save_mesh(mesh, tmp_path / "m.stl", overwrite=True).read_bytes()[84:], STL_RECORD)
+        tris, _ = mesh.triangulate(quads="shorter")
+        theirs = np.frombuffer(trimesh.Trimesh(mesh.vertices, tris, process=False).export(file_type="stl")[84:],
+                               STL_RECORD)
+        assert np.array_equal(ours["corners"], theirs["corners"])
+        assert np.allclose(ours["normal"], theirs["normal"], atol=1e-6)
