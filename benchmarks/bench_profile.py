@@ -2,6 +2,7 @@
 after a warm-up (numba compiled), against one linear map of the same mesh in the same run.
 
     python benchmarks/bench_profile.py [--top 12]
+    python benchmarks/bench_profile.py --pieces 60      # a 60-piece assembly through mesh_to_images at 257^2
 
 Prints, per map: the wall time, the ratio to the linear map (one sparse cotangent solve: the spherical
 conformal map's first step for the sphere, the harmonic disk map for disks), and the functions that take
@@ -74,11 +75,63 @@ def profile(name: str, mesh: geoimg.Mesh, method: str, top: int) -> None:
         print(f"| {parts[3]} | {parts[0]} | {' '.join(parts[5:]).split('/work/main/')[-1]} |")
 
 
+def assembly(count: int, seed: int = 0) -> geoimg.Mesh:
+    """``count`` pieces in one mesh, as a CAD assembly or a vehicle model has them: boxes, closed cylinders,
+    tori and icospheres in turn (trimesh.creation), of random sizes, scattered (seed 0).
+    """
+    import trimesh
+    rng = np.random.default_rng(seed)
+    parts = []
+    for i in range(count):
+        kind = i % 4
+        if kind == 0:
+            t = trimesh.creation.box(extents=rng.uniform(0.2, 2.0, 3))
+        elif kind == 1:
+            t = trimesh.creation.cylinder(radius=rng.uniform(0.1, 0.5), height=rng.uniform(0.5, 3), sections=24)
+        elif kind == 2:
+            t = trimesh.creation.torus(major_radius=0.5, minor_radius=0.15, major_sections=24, minor_sections=12)
+        else:
+            t = trimesh.creation.icosphere(subdivisions=2, radius=rng.uniform(0.2, 0.8))
+        t.apply_translation(rng.uniform(-5, 5, 3))
+        parts.append(t)
+    whole = trimesh.util.concatenate(parts)
+    return geoimg.Mesh(whole.vertices, whole.faces)
+
+
+def pieces(count: int) -> None:
+    """A ``count``-piece assembly through :func:`geoimg.mesh_to_images` at 257^2: seconds per stage, and one
+    piece's fidelity measurement split into its parts.
+    """
+    from geoimg.mesh import point_mesh_distance, sample_surface
+    mesh = assembly(count)
+    timings: dict = {}
+    t0 = time.perf_counter()
+    images = geoimg.mesh_to_images(mesh, 257, timings=timings)
+    wall = time.perf_counter() - t0
+    print(f"{count} pieces, {mesh.n_faces} faces, {len(images)} images at 257²: {wall:.1f} s; stages (s): "
+          + ", ".join(f"{k} {v:.2f}" for k, v in timings.items()))
+    piece = geoimg.mesh.repair(mesh)[1].mesh
+    quads = geoimg.mesh_to_image(piece, 257, fidelity=False).to_mesh()
+    a, b = sample_surface(piece, 20_000), sample_surface(quads, 20_000)
+    for name, fn in (("samples on the quad mesh", lambda: sample_surface(quads, 20_000)),
+                     ("the piece's samples to the quad mesh (its AABB tree built)",
+                      lambda: point_mesh_distance(a, quads)),
+                     ("the quad mesh's samples and vertices to the piece", lambda: point_mesh_distance(b, piece))):
+        fn()
+        t0 = time.perf_counter()
+        fn()
+        print(f"  one piece ({piece.n_faces} faces, {quads.n_faces} quads): {name} {time.perf_counter() - t0:.3f} s")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--top", type=int, default=12)
+    ap.add_argument("--pieces", type=int, default=None, help="only a PIECES-piece assembly through mesh_to_images")
     args = ap.parse_args()
     warnings.simplefilter("ignore")
+    if args.pieces:
+        pieces(args.pieces)
+        return
     warm = geoimg.load_mesh(ROOT / "tests" / "data" / "spot.obj")
     geoimg.parametrize(warm, "sphere")
     geoimg.parametrize(geoimg.load_mesh(ROOT / "tests" / "data" / "cube_no_bottom.obj"), "disk")

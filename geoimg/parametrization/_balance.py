@@ -221,8 +221,13 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
         project_moves(v, s, planar, moves, along)
         return v
 
+    columns = 2 if planar else 3              # on the plane z stays 0: its solve is skipped (the same bits)
+
     def sobolev(g, sigma):
-        d = tangent(-sigma * precond.solve(np.asfortranarray(sigma * g)))   # SuperLU takes columns: no copy
+        rhs = np.asfortranarray(sigma * g[:, :columns])                       # SuperLU takes columns: no copy
+        d = np.zeros_like(g)
+        d[:, :columns] = precond.solve(rhs)
+        d = tangent(-sigma * d)
         return d / max(np.abs(d).max(), 1e-300)
 
     def search(d, alpha):
