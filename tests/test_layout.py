@@ -127,7 +127,7 @@ def test_a_quad_mesh_is_written_without_the_conversion_libraries(tmp_path):
 
 
 def test_obj_off_and_ply_load_without_trimesh(tmp_path):
-    """trimesh (half a second to import) is for reading STL and for GLB alone: STL is written with numpy."""
+    """trimesh (half a second to import) is for reading STL, GLB and glTF alone: geoimg writes STL and GLB."""
     stl = repr(str(tmp_path / "t.stl"))
     code = (
         "import sys, geoimg; from geoimg.mesh import Mesh; m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]); "

@@ -1,8 +1,8 @@
 """Reading and writing polygon meshes without triangulating, merging or reordering.
 
 OBJ, OFF (ASCII and binary) and PLY (ASCII and binary, ``face`` lists or ``tristrips``) are read and
-written here, so quads and n-gons survive. STL is written here too (binary, :mod:`._stl`) and read through
-trimesh, as GLB and glTF are read and written (``process=False``); they hold triangles only. Every format has
+written here, so quads and n-gons survive. STL and GLB are written here too (:mod:`._stl`, :mod:`._glb`) and
+read through trimesh (``process=False``), as glTF is; they hold triangles only. Every format has
 its exactly coincident positions joined on reading (reported; see :mod:`geoimg.mesh._weld`).
 """
 from __future__ import annotations
@@ -20,8 +20,9 @@ from ._weld import weld_vertices
 from ._obj import read_obj, write_obj
 from ._off import read_off, write_off
 from ._ply import read_ply, write_ply
+from ._glb import write_glb
 from ._stl import write_stl
-from ._trimesh_io import read_with_trimesh, write_with_trimesh
+from ._trimesh_io import read_with_trimesh
 from .._types import PathLike, as_path
 
 __all__ = ["load_mesh", "save_mesh", "mesh_file_jobs", "MESH_FORMATS", "MESH_READ_FORMATS"]
@@ -159,7 +160,7 @@ def mesh_file_jobs(mesh: Mesh, path: PathLike) -> list:
         ".off": write_off,
         ".ply": write_ply,
         ".stl": write_stl,
-        ".glb": write_with_trimesh,
+        ".glb": write_glb,
     }
     if ext not in writers:
         raise MeshFileError(f"{path}: unknown mesh format {ext!r}; expected one of {', '.join(MESH_FORMATS)}")

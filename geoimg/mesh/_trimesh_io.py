@@ -1,4 +1,6 @@
-"""STL, GLB and glTF through trimesh (read as stored: ``process=False``), imported only for them."""
+"""STL, GLB and glTF read through trimesh (as stored: ``process=False``), imported only for them (geoimg writes
+STL and GLB itself: :mod:`._stl`, :mod:`._glb`).
+"""
 from __future__ import annotations
 
 import json
@@ -7,14 +9,12 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from PIL import Image
 
 from .._quiet import library_logs
 from ..errors import MeshFileError
-from ._appearance import split_corners
 from ._mesh import Mesh
 
-__all__ = ["check_stl", "check_gltf", "read_with_trimesh", "write_with_trimesh"]
+__all__ = ["check_stl", "check_gltf", "read_with_trimesh"]
 
 
 def check_stl(path: Path) -> None:
@@ -83,22 +83,3 @@ def _trimesh_look(loaded, n: int, faces: np.ndarray) -> dict:
         if rgba.shape == (n, 4):
             return {"colors": rgba if (rgba[:, 3] < 1).any() else rgba[:, :3]}
     return {}
-
-
-def write_with_trimesh(mesh: Mesh, tmp: Path, ext: str) -> None:
-    """GLB (triangles with colours, or texture coordinates and the texture, vertices split at UV seams), or STL
-    (triangles only; geoimg writes its STL files itself, :mod:`._stl`).
-    """
-    import trimesh
-    visual: Any = None
-    if ext == ".glb" and mesh.texture is not None:
-        source, uv, faces = split_corners(mesh)
-        texture = Image.fromarray(np.ascontiguousarray(mesh.texture))
-        mesh = Mesh(mesh.vertices[source], faces)
-        visual = trimesh.visual.TextureVisuals(uv=uv, image=texture)
-    elif ext == ".glb" and mesh.colors is not None:
-        visual = trimesh.visual.ColorVisuals(vertex_colors=np.round(mesh.colors * 255).astype(np.uint8))
-    tris, _ = mesh.triangulate(quads="shorter")         # as geometry images are drawn and measured
-    tm = trimesh.Trimesh(mesh.vertices, tris, process=False, visual=visual)
-    with open(tmp, "wb") as fh:
-        tm.export(fh, file_type=ext[1:])

@@ -225,3 +225,16 @@ def test_stl_is_written_as_trimesh_writes_it(tmp_path, mixed):
                                STL_RECORD)
         assert np.array_equal(ours["corners"], theirs["corners"])
         assert np.allclose(ours["normal"], theirs["normal"], atol=1e-6)
+
+
+def test_glb_holds_what_trimesh_would_write(tmp_path, mixed):
+    # geoimg writes GLB itself too: read back by trimesh, the same float32 positions and triangles (quads split
+    # along the shorter diagonal) as trimesh's own export of that triangulation
+    import trimesh
+    for mesh in (mixed, meshes.quad_disk(6)):
+        ours = trimesh.load(save_mesh(mesh, tmp_path / "m.glb", overwrite=True), force="mesh", process=False)
+        tris, _ = mesh.triangulate(quads="shorter")
+        theirs = trimesh.load(trimesh.util.wrap_as_stream(trimesh.Trimesh(mesh.vertices, tris, process=False)
+                                                           .export(file_type="glb")), file_type="glb",
+                              force="mesh", process=False)
+        assert np.array_equal(ours.vertices, theirs.vertices) and np.array_equal(ours.faces, theirs.faces)
