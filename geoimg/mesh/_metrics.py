@@ -45,7 +45,11 @@ def point_mesh_distance(points: np.ndarray, mesh: Mesh) -> np.ndarray:
     """
     if not isinstance(mesh, Mesh):
         raise InputTypeError(f"mesh: expected a geoimg.Mesh, got {type(mesh).__name__}")
-    tris, _ = mesh.triangulate(quads="shorter")
+    return _distances(points, mesh, mesh.triangulate(quads="shorter")[0])
+
+
+def _distances(points, mesh: Mesh, tris: np.ndarray) -> np.ndarray:
+    """:func:`point_mesh_distance` to ``mesh`` split into ``tris`` (its triangulation, made once by the caller)."""
     pts = np.ascontiguousarray(np.asarray(points, np.float64).reshape(-1, 3))
     if not np.isfinite(pts).all():
         raise InputError("points: contain NaN or infinite values")
@@ -81,7 +85,11 @@ def sample_surface(mesh: Mesh, n: int, seed: int = 0) -> np.ndarray:
     >>> sample_surface(square, 100).shape
     (104, 3)
     """
-    tris, _ = mesh.triangulate(quads="shorter")
+    return _samples(mesh, mesh.triangulate(quads="shorter")[0], n, seed)
+
+
+def _samples(mesh: Mesh, tris: np.ndarray, n: int, seed: int = 0) -> np.ndarray:
+    """:func:`sample_surface` of ``mesh`` split into ``tris`` (its triangulation, made once by the caller)."""
     p = mesh.vertices[tris]
     area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
     rng = np.random.default_rng(seed)
@@ -133,8 +141,9 @@ def surface_distance(reference: Mesh, other: Mesh, n: int = 200000) -> dict:
         if not isinstance(value, Mesh):
             raise InputTypeError(f"{name}: expected a geoimg.Mesh, got {type(value).__name__}")
     diag = reference.bounding_box_diagonal()
-    ab = point_mesh_distance(sample_surface(reference, n), other)
-    ba = point_mesh_distance(sample_surface(other, n), reference)
+    split = {id(m): m.triangulate(quads="shorter")[0] for m in (reference, other)}     # each split once
+    ab = _distances(_samples(reference, split[id(reference)], n), other, split[id(other)])
+    ba = _distances(_samples(other, split[id(other)], n), reference, split[id(reference)])
     rms_ab, rms_ba = float(np.sqrt(np.mean(ab[:n] ** 2))), float(np.sqrt(np.mean(ba[:n] ** 2)))
     rms = float(np.sqrt(0.5 * (rms_ab ** 2 + rms_ba ** 2)))
     hausdorff = float(max(ab.max(), ba.max()))
