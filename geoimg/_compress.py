@@ -23,7 +23,8 @@ from ._types import Progress
 from .errors import InputError, InputTypeError
 from .image import GeometryImage, load_image
 from .image._jp2 import LOSSLESS, decode, encode
-from .mesh import Mesh, load_mesh, surface_distance
+from .mesh import Mesh, load_mesh
+from .mesh._metrics import ReferenceDistances
 from .parametrization import parametrize
 
 __all__ = ["compress", "Compressed", "DEFAULT_RESOLUTIONS"]
@@ -127,9 +128,11 @@ def _candidates(source, resolutions, progress) -> tuple[list[GeometryImage], Any
 
 
 def _error_db(reference, image: GeometryImage) -> float:
-    """PSNR of ``image`` against the mesh (exact two-sided RMS) or against the source image (its pixels)."""
-    if isinstance(reference, Mesh):
-        return float(surface_distance(reference, image.to_mesh(), n=SAMPLES)["psnr_db"])
+    """PSNR of ``image`` against the mesh (exact two-sided RMS; ``reference`` the mesh's
+    :class:`~geoimg.mesh._metrics.ReferenceDistances`) or against the source image (its pixels).
+    """
+    if isinstance(reference, ReferenceDistances):
+        return float(reference.to(image.to_mesh())["psnr_db"])
     valid = reference.valid & image.valid
     a, b = reference.pixels[valid].astype(np.float64), image.pixels[valid].astype(np.float64)
     diagonal = float(np.linalg.norm(np.ptp(a, axis=0)))
@@ -249,6 +252,8 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
     if isinstance(source, (str, Path)) and isinstance(reference, Mesh):
         for image in images:
             image.metadata["source"] = Path(source).name
+    if isinstance(reference, Mesh):              # the mesh's samples and tree, made once for every candidate
+        reference = ReferenceDistances(reference, SAMPLES)
     say = progress or (lambda message: None)
     channels = {"colors": bool(colors), "normals": bool(normals)}
     tried: list[dict] = []

@@ -15,6 +15,7 @@ from ._options import ConversionOptions
 from .errors import InputTypeError, MeshError, ParametrizationError
 from .image import GeometryImage
 from .mesh import Mesh, load_mesh, repair, surface_distance
+from .mesh._metrics import ReferenceDistances
 from .parametrization import Parametrization, map_stretch, parametrize
 from .surface import CoverageWeights, SmoothnessMap, fit_surface
 from .surface._coverage import prefilter_s
@@ -254,9 +255,10 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, options: Con
     if serve and fidelity:      # the prefilter, or the mesh resampled as it is, whichever lies closer to it
         say("measuring the image against the mesh, and the mesh resampled as it is")
         with _timed(timings, "fidelity"):
-            measured = _distance(image, mesh)
+            against = ReferenceDistances(mesh, FIDELITY_SAMPLES)     # the mesh's samples and tree, made once
+            measured = against.to(image.to_mesh())
             plain = surface.with_s(LIMIT_S).sample(res, normals=normals)        # type: ignore[attr-defined]
-            other = _distance(plain, mesh)
+            other = against.to(plain.to_mesh())
             if other["psnr_db"] > measured["psnr_db"]:
                 image, measured = plain, other
     if opts.colors and (mesh.colors is not None or mesh.texture is not None):
