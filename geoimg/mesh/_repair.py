@@ -21,7 +21,7 @@ from scipy.sparse.csgraph import connected_components
 
 from ..errors import MeshError
 from ._mesh import Mesh, reverse_corners
-from ._topology import corner_fans
+from ._topology import corner_fans, edge_uses
 
 SOUP_SHARE = 0.05      # a mesh with more than this share of its edges shared by 3 faces or more is refused ...
 SOUP_EDGES = 100       # ... when they are at least this many
@@ -73,15 +73,6 @@ class Repair:
     pinches: int = 0
     nonmanifold_edges: int = 0
     flipped_faces: int = 0
-
-
-def _edge_face_counts(mesh: Mesh):
-    f = mesh.faces
-    valid = f >= 0
-    a, b = f[valid], mesh.next_vertices()[valid]
-    key = np.minimum(a, b) * mesh.n_vertices + np.maximum(a, b)
-    _, inv, counts = np.unique(key, return_inverse=True, return_counts=True)
-    return a, b, valid, inv, counts
 
 
 def drop_degenerate_faces(mesh: Mesh) -> tuple[Mesh, int]:
@@ -187,7 +178,7 @@ def drop_inner_walls(mesh: Mesh) -> tuple[Mesh, int]:
         return mesh, 0
     outer = mesh.derived(f[~wall], face_source=np.flatnonzero(~wall))
     one_copy, _ = drop_duplicate_faces(mesh)
-    if (_edge_face_counts(outer)[4] > 2).sum() >= (_edge_face_counts(one_copy)[4] > 2).sum():
+    if (edge_uses(outer)[4] > 2).sum() >= (edge_uses(one_copy)[4] > 2).sum():
         return mesh, 0
     return outer, int(wall.sum())
 
@@ -212,7 +203,7 @@ def refuse_face_soup(mesh: Mesh) -> None:
     --------
     >>> refuse_face_soup(Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]))     # a surface: nothing said
     """
-    counts = _edge_face_counts(mesh)[4]
+    counts = edge_uses(mesh)[4]
     shared = int((counts > 2).sum())
     if shared >= SOUP_EDGES and shared > SOUP_SHARE * len(counts):
         raise MeshError(f"mesh: {shared} of its {len(counts)} edges are shared by 3 to {int(counts.max())} faces: "
@@ -282,7 +273,7 @@ def split_fans(mesh: Mesh) -> tuple[Mesh, np.ndarray, int, int]:
     >>> m.n_vertices, pinches, edges, src[-1].item()
     (8, 1, 0, 0)
     """
-    _, _, _, _, counts = _edge_face_counts(mesh)
+    _, _, _, _, counts = edge_uses(mesh)
     n_nonmanifold = int((counts > 2).sum())
     corner_v, label = corner_fans(mesh, across_nonmanifold=False)
     n_corners = len(corner_v)
@@ -330,7 +321,7 @@ def orient_faces(mesh: Mesh) -> tuple[Mesh, int]:
     >>> orient_faces(geoimg.Mesh(m.vertices, [[0, 1, 2], [0, 3, 2]]))[1]
     1
     """
-    a, b, valid, inv, counts = _edge_face_counts(mesh)
+    a, b, valid, inv, counts = edge_uses(mesh)
     face_of = np.nonzero(valid)[0]
     manifold = counts[inv] == 2
     order = np.argsort(inv[manifold], kind="stable")

@@ -10,7 +10,7 @@ from scipy.sparse.csgraph import connected_components
 from ..errors import InputError
 from ._mesh import Mesh
 
-__all__ = ["Topology", "topology", "boundary_loops", "corner_fans"]
+__all__ = ["Topology", "topology", "boundary_loops", "boundary_edges", "edge_uses", "corner_fans"]
 
 
 @dataclass(frozen=True)
@@ -232,13 +232,28 @@ def boundary_edges(mesh: Mesh) -> tuple[np.ndarray, np.ndarray]:
     >>> sorted(zip(a.tolist(), b.tolist()))
     [(0, 1), (1, 2), (2, 3), (3, 0)]
     """
+    a, b, _, inv, counts = edge_uses(mesh)
+    lone = counts[inv] == 1
+    return a[lone], b[lone]
+
+
+def edge_uses(mesh: Mesh) -> tuple:
+    """Every face edge as its face runs it, and how many faces use its undirected edge: ``(start, end,
+    valid, inverse, counts)``, ``start``/``end`` the vertices of the corners ``mesh.faces[valid]`` and their
+    next ones, ``counts[inverse]`` each edge's number of faces.
+
+    Examples
+    --------
+    >>> a, b, valid, inv, counts = edge_uses(Mesh(np.eye(4, 3), [[0, 1, 2], [0, 2, 3]]))
+    >>> counts[inv].tolist()
+    [1, 1, 2, 2, 1, 1]
+    """
     f = mesh.faces
     valid = f >= 0
     a, b = f[valid], mesh.next_vertices()[valid]
     key = np.minimum(a, b) * mesh.n_vertices + np.maximum(a, b)
     _, inv, counts = np.unique(key, return_inverse=True, return_counts=True)
-    lone = counts[inv] == 1
-    return a[lone], b[lone]
+    return a, b, valid, inv, counts
 
 
 def boundary_loops(mesh: Mesh) -> list[np.ndarray]:
