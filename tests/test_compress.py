@@ -203,13 +203,14 @@ def test_colours_are_coded_when_asked_and_cost_bytes(tmp_path, capsys):
 
 
 def test_the_octahedral_encoding_of_normals_round_trips():
-    from geoimg.image._jp2 import _octahedral, _unoctahedral
+    # the coder's two normal channels are the octahedral map of the sphere's parametrization, in [0, 1]^2
+    from geoimg.parametrization import sphere_to_square, square_to_sphere
     rng = np.random.default_rng(3)
     n = rng.normal(size=(2000, 3))
     n = np.concatenate([n, np.eye(3), -np.eye(3), [[1, 1, -1e-9]]])
     n /= np.linalg.norm(n, axis=1, keepdims=True)
-    p = _octahedral(n)
-    assert np.abs(p).max() <= 1 + 1e-12 and np.allclose(_unoctahedral(p), n, atol=1e-12)
+    p = sphere_to_square(n)
+    assert np.abs(2 * p - 1).max() <= 1 + 1e-12 and np.allclose(square_to_sphere(p), n, atol=1e-12)
 
 
 def test_normals_are_coded_when_asked_and_cost_bytes(spot_image, tmp_path, capsys):

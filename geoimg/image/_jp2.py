@@ -35,6 +35,7 @@ import numpy as np
 
 from .._optional import require
 from ..errors import ImageError, ImageFileError, InputError
+from ..parametrization._octahedral import sphere_to_square, square_to_sphere
 from ._domain import Domain
 from ._image import GeometryImage
 from ._j2k_packets import cut_after, read_layout, resolution_ends, without_comments
@@ -153,22 +154,6 @@ def _unpack_record(payload: bytes) -> dict:
     return record
 
 
-def _octahedral(n: np.ndarray) -> np.ndarray:
-    """Unit vectors (..., 3) as points of the square [-1, 1]^2 (the octahedral encoding)."""
-    p = n[..., :2] / np.maximum(np.abs(n).sum(axis=-1, keepdims=True), 1e-300)
-    folded = (1.0 - np.abs(p[..., ::-1])) * np.where(p >= 0, 1.0, -1.0)
-    return np.where(n[..., 2:3] < 0, folded, p)
-
-
-def _unoctahedral(p: np.ndarray) -> np.ndarray:
-    """Points of the square [-1, 1]^2 back to unit vectors (..., 3)."""
-    z = 1.0 - np.abs(p).sum(axis=-1)
-    t = np.maximum(-z, 0.0)[..., None]
-    xy = p - t * np.where(p >= 0, 1.0, -1.0)
-    n = np.concatenate([xy, z[..., None]], axis=-1)
-    return n / np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-300)
-
-
 def encode(image: GeometryImage, level: float, *, resolutions: int | None = None, colors: bool = False,
            normals: bool = False) -> bytes:
     """A JP2 file of ``image``: coded to about ``level`` dB of the coder's own PSNR (over the 16-bit range;
@@ -207,8 +192,8 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
         q = np.concatenate([q, rgb], axis=2)
         record["colors"] = 3
     if normals and image.normals is not None:
-        oct_ = _octahedral(np.asarray(image.normals, np.float64))
-        q = np.concatenate([q, np.round((oct_ + 1.0) * 0.5 * NORMAL_TOP).astype(np.uint16)], axis=2)
+        square = sphere_to_square(np.asarray(image.normals, np.float64))      # the octahedral map, in [0, 1]^2
+        q = np.concatenate([q, np.round(square * NORMAL_TOP).astype(np.uint16)], axis=2)
         record["normals"] = 2
     if resolutions is None:
         resolutions = int(max(1, min(6, np.floor(np.log2(min(q.shape[:2]))))))
@@ -346,8 +331,7 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
     colors = np.clip(q[..., 3:6].astype(np.float32) / COLOR_TOP, 0.0, 1.0) if colored else None
     normals = None
     if normal:
-        square = np.clip(q[..., channels - 2:].astype(np.float64) / NORMAL_TOP * 2.0 - 1.0, -1.0, 1.0)
-        normals = _unoctahedral(square)
+        normals = square_to_sphere(np.clip(q[..., channels - 2:].astype(np.float64) / NORMAL_TOP, 0.0, 1.0))
     q = q[..., :3]
     meta = dict(record["meta"])
     try:
