@@ -189,7 +189,7 @@ ROWS_AT_ONCE = 65536      # rows formatted by one % operation (in C), in blocks 
 def _exact_format(values: np.ndarray) -> str:
     """The ``%`` format that keeps ``values``: ``%.9g`` when every value is a float32 (a geometry image's quad
     mesh: 9 significant digits name a float32 exactly, read back in single precision to the same bits and in
-    double within 3e-9 of each value, relatively; written in half the time of 17), else ``%.17g`` (a
+    double within 5e-9 of each value, relatively; written in half the time of 17), else ``%.17g`` (a
     float64's, read back to the same bits).
 
     Examples
@@ -270,8 +270,8 @@ def _vertex_tokens(n: int, token: str) -> tuple[np.ndarray, np.ndarray]:
 
 def _token_lines(faces: np.ndarray, chars: np.ndarray, lengths: np.ndarray) -> str:
     """``f`` lines of faces given by 1-based vertex indices (0 or less: a shorter polygon's padding), each
-    corner the vertex's token (:func:`_vertex_tokens`): gathered and masked as one character array, about
-    five times faster than ``%d`` formatting a face at a time.
+    corner the vertex's token (:func:`_vertex_tokens`): gathered and masked as one character array (262,144
+    quads: 0.17 s, where ``%d`` formatting 65,536 faces at a time took 0.43).
     """
     n, k = faces.shape
     present = faces > 0
