@@ -365,21 +365,8 @@ def _starved_to_charts(mesh: Mesh, single: Parametrization, topo, balance: str, 
         single.info["starved_share"] = starved
     if starved <= CHARTS_WHEN_STARVED:
         return single
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            charts = _charts(mesh, topo, balance, progress)
-        except ParametrizationError as e:
-            single.info["stages"] = single.info.get("stages", []) + [f"charts tried, not kept ({e})"]
-            return single
-    mine, theirs = _image_error(mesh, single), _image_error(mesh, charts)
-    if charts.flipped_faces <= single.flipped_faces and theirs < mine:
-        charts.info["stages"] = [f"one chart starved {100 * starved:.0f} % of the surface: multi-chart map taken "
-                                 f"(resampling error {mine:.3g} -> {theirs:.3g})"] + charts.info["stages"]
-        return charts
-    single.info["stages"] = single.info.get("stages", []) + [
-        f"charts tried, not kept (resampling error {theirs:.3g} against {mine:.3g})"]
-    return single
+    return _closer(mesh, single, lambda: _charts(mesh, topo, balance, progress), "charts",
+                   f"one chart starved {100 * starved:.0f} % of the surface: multi-chart map taken")
 
 
 def _steep_to_disk(mesh: Mesh, heights: Parametrization, topo, boundary: str, balance: str,
@@ -394,22 +381,35 @@ def _steep_to_disk(mesh: Mesh, heights: Parametrization, topo, boundary: str, ba
     mine = _image_error(mesh, heights)
     if not single or mine <= STEEP_HEIGHTFIELD or not _has_interior_vertex(mesh):
         return heights
+
+    def disk() -> Parametrization:
+        return _starved_to_charts(mesh, _by_method(mesh, "disk", None, boundary, balance, progress, topo), topo,
+                                  balance, progress)
+    return _closer(mesh, heights, disk, "disk map", "height field steep: disk map taken", mine)
+
+
+def _closer(mesh: Mesh, mine: Parametrization, make, tried: str, taken: str,
+            error: float | None = None) -> Parametrization:
+    """``mine``, or the map ``make()`` builds (``tried`` names it) where it folds no more faces and its image
+    is expected closer (a lower :func:`._disk.resampling_error`; ``error``: ``mine``'s, when known); the map
+    kept records which was taken (``taken``) or tried, and why, in its ``info["stages"]``.
+    """
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
-            disk = _starved_to_charts(mesh, _by_method(mesh, "disk", None, boundary, balance, progress, topo), topo,
-                                      balance, progress)
+            other = make()
         except ParametrizationError as e:
-            heights.info["stages"] = heights.info.get("stages", []) + [f"disk map tried, not kept ({e})"]
-            return heights
-    theirs = _image_error(mesh, disk)
-    if disk.flipped_faces == 0 and theirs < mine:
-        disk.info["stages"] = [f"height field steep: disk map taken (resampling error {mine:.3g} -> {theirs:.3g})"
-                               ] + disk.info.get("stages", [])
-        return disk
-    heights.info["stages"] = heights.info.get("stages", []) + [
-        f"disk map tried, not kept (resampling error {theirs:.3g} against {mine:.3g})"]
-    return heights
+            mine.info["stages"] = mine.info.get("stages", []) + [f"{tried} tried, not kept ({e})"]
+            return mine
+    ours = _image_error(mesh, mine) if error is None else error
+    theirs = _image_error(mesh, other)
+    if other.flipped_faces <= mine.flipped_faces and theirs < ours:
+        other.info["stages"] = [f"{taken} (resampling error {ours:.3g} -> {theirs:.3g})"] + \
+            other.info.get("stages", [])
+        return other
+    mine.info["stages"] = mine.info.get("stages", []) + [
+        f"{tried} tried, not kept (resampling error {theirs:.3g} against {ours:.3g})"]
+    return mine
 
 
 def _image_error(mesh: Mesh, p: Parametrization) -> float:
