@@ -258,9 +258,9 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, options: Con
             against = ReferenceDistances(mesh, FIDELITY_SAMPLES)     # the mesh's samples and tree, made once
             measured = against.to(image.to_mesh())
             plain = surface.with_s(LIMIT_S).sample(res, normals=normals)        # type: ignore[attr-defined]
-            other = against.to(plain.to_mesh())
-            if other["psnr_db"] > measured["psnr_db"]:
-                image, measured = plain, other
+            plain_mesh = plain.to_mesh()
+            if against.to(plain_mesh, vertices=False)["psnr_db"] > measured["psnr_db"]:    # the same PSNR, quicker
+                image, measured = plain, against.to(plain_mesh)
     if opts.colors and (mesh.colors is not None or mesh.texture is not None):
         say("sampling the colours")
         with _timed(timings, "colors"):

@@ -450,10 +450,9 @@ class Mesh:
             v = self.vertices
             q = f[quad, :4]
             turn = np.zeros(self.n_faces, bool)
-            turn[quad] = np.einsum("ij,ij->i", v[q[:, 1]] - v[q[:, 3]], v[q[:, 1]] - v[q[:, 3]]) < \
-                np.einsum("ij,ij->i", v[q[:, 0]] - v[q[:, 2]], v[q[:, 0]] - v[q[:, 2]])
-            rows = turn[owner]
-            corners[rows] = (corners[rows] + 1) % 4
+            d13, d02 = v[q[:, 1]] - v[q[:, 3]], v[q[:, 0]] - v[q[:, 2]]
+            turn[quad] = np.einsum("ij,ij->i", d13, d13) < np.einsum("ij,ij->i", d02, d02)
+            corners = np.where(turn[owner][:, None], (corners + 1) % 4, corners)
         for face in np.flatnonzero(self._reflex_faces()).tolist():
             k = int(self.face_sizes[face])
             ears = _ear_clip(_plane_coordinates(self.vertices[f[face, :k]]))
@@ -650,11 +649,17 @@ def _quads_split_twice(tris: np.ndarray, owner: np.ndarray, quad: np.ndarray) ->
     Split through that vertex instead, they give a manifold.
     """
     key = np.sort(tris, axis=1)
+    out = np.zeros(len(quad), bool)
     if len(key) and key[:, 2].max() < 1 << 21:         # one int64 a row: a 1-D sort, not one of rows
         key = (key[:, 0] << 42) | (key[:, 1] << 21) | key[:, 2]
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    repeated = counts[inverse.ravel()] > 1
-    out = np.zeros(len(quad), bool)
+        ordered = np.sort(key)
+        twice = ordered[1:][ordered[1:] == ordered[:-1]]
+        if not len(twice):                               # the common case: no triangle twice
+            return out
+        repeated = np.isin(key, twice)
+    else:
+        _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
+        repeated = counts[inverse.ravel()] > 1
     out[owner[repeated]] = True
     return out & quad
 

@@ -89,3 +89,64 @@ def test_the_triangle_tree_finds_libigls_distances():
         ours = TriangleTree(v, t).squared_distances(points)
         theirs, _, _ = igl.point_mesh_squared_distance(points, v, np.ascontiguousarray(t, np.int64))
         assert np.allclose(np.sqrt(ours), np.sqrt(np.maximum(theirs, 0)), rtol=1e-12, atol=1e-12 * scale)
+
+
+def test_a_refitted_tree_finds_the_distances_of_a_tree_of_its_own():
+    # a second image of the same grid gets the first one's hierarchy with its boxes made anew: the same
+    # distances to the bit as a tree built for it, and exact even for triangles that lie nowhere near the
+    # first ones (a shuffled soup: only slower); the first tree is left as it was
+    from geoimg.mesh._bvh import TriangleTree
+    rng = np.random.default_rng(3)
+    first = geoimg.mesh_to_image(meshes.icosphere(2, bumps=0.1), 33, fidelity=False)
+    second = geoimg.GeometryImage(first.pixels * 1.01 + 0.002, first.mask, first.domain)
+    a, b = first.to_mesh(), second.to_mesh()
+    ta, tb = a.triangulate(quads="shorter")[0], b.triangulate(quads="shorter")[0]
+    tree = TriangleTree(a.vertices, ta)
+    before = tree.squared_distances(b.vertices)
+    points = np.vstack([b.vertices, rng.normal(size=(500, 3))])
+    refitted = tree.refit(b.vertices, tb)
+    assert np.array_equal(refitted.squared_distances(points), TriangleTree(b.vertices, tb).squared_distances(points))
+    soup = rng.normal(size=(len(b.vertices), 3))
+    shuffled = rng.permutation(len(tb))
+    assert np.array_equal(tree.refit(soup, tb[shuffled]).squared_distances(points),
+                          TriangleTree(soup, tb).squared_distances(points))
+    assert np.array_equal(tree.squared_distances(b.vertices), before)
+    with pytest.raises(ValueError, match="refit: 3 triangles for a tree of"):
+        tree.refit(b.vertices, tb[:3])
+
+
+def test_measuring_two_images_of_one_grid_in_turn_is_measuring_each_alone():
+    # ReferenceDistances refits the first image's tree for the second (same faces), queries its samples in a
+    # Morton order: every figure equals a fresh measurement's to the bit; without the other's vertices the RMS
+    # and PSNR are the same and the Hausdorff distance is over fewer points (never larger)
+    from geoimg.mesh._metrics import ReferenceDistances
+    mesh = meshes.icosphere(2, bumps=0.1)
+    first = geoimg.mesh_to_image(mesh, 33, fidelity=False)
+    second = geoimg.GeometryImage(first.pixels * 1.01, first.mask, first.domain)
+    against = ReferenceDistances(mesh, 3000)
+    against.to(first.to_mesh())
+    again = against.to(second.to_mesh())
+    alone = ReferenceDistances(mesh, 3000).to(second.to_mesh())
+    assert again == alone
+    quick = ReferenceDistances(mesh, 3000).to(second.to_mesh(), vertices=False)
+    assert (quick["rms"], quick["psnr_db"]) == (alone["rms"], alone["psnr_db"])
+    assert quick["hausdorff"] <= alone["hausdorff"]
+
+
+def test_surface_samples_are_numpys_uniform_triangle_samples():
+    # the numba area and point kernels keep numpy's formulas to the bit: the areas behind the triangle
+    # choice, then a + r1 (b - a) + r2 (c - a) with both folded where they sum over 1
+    from geoimg.mesh import sample_surface
+    rng = np.random.default_rng(5)
+    v = rng.normal(size=(200, 3)) * 10.0 ** rng.uniform(-3, 3, (200, 1))
+    t = rng.integers(0, 200, (400, 3))
+    mesh = geoimg.Mesh(v, t)
+    p = v[t]
+    area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    r = np.random.default_rng(0)
+    k = r.choice(len(t), size=1000, p=area / area.sum())
+    r1, r2 = r.random(1000), r.random(1000)
+    flip = r1 + r2 > 1
+    r1, r2 = np.where(flip, 1 - r1, r1), np.where(flip, 1 - r2, r2)
+    expected = p[k, 0] + r1[:, None] * (p[k, 1] - p[k, 0]) + r2[:, None] * (p[k, 2] - p[k, 0])
+    assert np.array_equal(sample_surface(mesh, 1000)[:1000], expected)
