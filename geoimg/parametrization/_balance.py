@@ -206,7 +206,7 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
     moves = np.ascontiguousarray(used & (~np.asarray(held, bool) if held is not None else True))
     a, cot = target_shares(x, tris, shares), corner_cotangents(x, tris)
     e, state = balance_energy(s, tris, a, cot, beta, planar)
-    if not np.isfinite(e):
+    if not np.isfinite(e) or steps <= 0:
         return s, 0, (e, e)
     e_start = e
     edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
@@ -272,12 +272,14 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
 
 
 def settle(s, x, tris, rounds: int, lap=None, vertex_area=None, used=None, beta: float = 0.3, steps: int | None = None,
-           progress=None, *, planar: bool = False, held=None, along=None, shares=None):
+           progress=None, *, planar: bool = False, held=None, along=None, shares=None, balanced: bool = False):
     """:func:`balance`, then ``rounds`` times :data:`SWEEPS` single-vertex sweeps (:func:`relax_locally`) and
     :func:`balance` again: the sweeps open what held back the steps of all vertices at once (a triangle of no
     area, one squeezed part), and the steps then go on. ``steps`` caps each balancing (none is swept after
-    when ``steps`` is 0). Returns what :func:`balance` does: the map, the steps taken in all and the energy at
-    the start and at the end.
+    when ``steps`` is 0). ``balanced``: ``s`` is already the first balancing's result (a settling in two calls,
+    ``rounds`` 0 then the rest, gives the same map as one). Returns what :func:`balance` does: the map, the
+    steps taken in all and the energy at the start and at the end (with ``balanced``, no steps and the energy
+    of ``s`` when ``rounds`` is 0).
 
     >>> x = np.array([[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0]])
     >>> tris = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
@@ -287,7 +289,8 @@ def settle(s, x, tris, rounds: int, lap=None, vertex_area=None, used=None, beta:
     (True, [0.5, 0.5, 0.0])
     """
     kw = {"planar": planar, "held": held, "along": along, "shares": shares}
-    out, taken, (e_start, e_end) = balance(s, x, tris, lap, vertex_area, used, beta, steps, progress, **kw)
+    out, taken, (e_start, e_end) = balance(s, x, tris, lap, vertex_area, used, beta, 0 if balanced else steps,
+                                           progress, **kw)
     for _ in range(rounds if steps != 0 else 0):
         if progress is not None:
             progress(f"{SWEEPS} single-vertex sweeps")
