@@ -35,14 +35,16 @@ def tangent_frames(q):
 
 
 def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96, *, planes: np.ndarray | None = None,
-                   floor: float = 0.0, unit: bool = False):
+                   floor: float = 0.0, unit: bool = False, z: float | None = None):
     """Bin faces into a uniform grid of cubes over [-1, 1]^3: each face into the cubes its ball of
     ``radius`` around its centre reaches (not every cube of the ball's bounding box: fewer candidates per
     point, the same sums). With ``planes`` (T, 3, 3), a face also stays out of every cube where one of its
     three linear functions ``planes[f, e] . p`` is below ``floor`` throughout (where its terms are cut off):
     the ball of a face with a sharp corner is far larger than where it counts. With ``unit`` (points that are
-    unit vectors), only the cubes that meet the unit sphere hold faces. The cubes' side is the radii's
-    median, at least ``2 / max_cells``. Returns ``(h, n, ptr, faces)``; cell ``(ix, iy, iz)`` is
+    unit vectors), only the cubes that meet the unit sphere hold faces; with ``z`` (points all on the plane
+    ``z``: a planar domain's homogeneous ``(u, v, 1)``), only the layer of cubes that holds it (a third or
+    less of the work, the same lists there). The cubes' side is the radii's median, at least
+    ``2 / max_cells``. Returns ``(h, n, ptr, faces)``; cell ``(ix, iy, iz)`` is
     ``(iz * n + iy) * n + ix``.
     """
     r = np.minimum(radius, 2.0)
@@ -51,6 +53,11 @@ def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96,
     c = np.ascontiguousarray(centres, np.float64)
     lo = np.clip(np.floor((c - r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
     hi = np.clip(np.floor((c + r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
+    if z is not None:                  # the layer _cell_of puts the points in; a face that misses it, nowhere
+        layer = min(max(int(math.floor((z + 1.0) / h)), 0), n - 1)
+        reach = (lo[:, 2] <= layer) & (layer <= hi[:, 2])
+        lo[:, 2] = np.where(reach, layer, 1)
+        hi[:, 2] = np.where(reach, layer, 0)
     use = planes is not None
     pl = np.ascontiguousarray(planes if use else np.zeros((1, 3, 3)), np.float64)
     ptr, faces = _fill(c, np.ascontiguousarray(r, np.float64), lo, hi, n, h, pl, float(floor), use, bool(unit))

@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -108,6 +108,7 @@ class CoverageSurface(Surface):
     """
 
     UNIT_POINTS = False     # evaluated at unit vectors only (the cells then hold the sphere's shell alone)
+    POINTS_Z: ClassVar[float | None] = None     # evaluated on this plane only (the cells then hold its layer alone)
 
     domain: Domain
     s: float
@@ -176,7 +177,8 @@ class CoverageSurface(Surface):
             reach = np.minimum(self._reach(), 4.0) if self.tol > 0 else np.full(len(self.size), 4.0)
             cut = self.tol > 0                   # cut off below zmin: the cells past that leave a triangle out
             object.__setattr__(self, "_cells", build_cells_3d(
-                self.centres, reach, planes=self.edges() if cut else None, floor=self._zmin(), unit=self.UNIT_POINTS))
+                self.centres, reach, planes=self.edges() if cut else None, floor=self._zmin(), unit=self.UNIT_POINTS,
+                z=self.POINTS_Z))
         return self._cells
 
     def _reach(self) -> np.ndarray:
@@ -201,6 +203,8 @@ class CoverageSurface(Surface):
 @dataclass(frozen=True, eq=False)
 class PlanarCoverageSurface(PlanarAddressing, CoverageSurface):
     """The coverage-weighted surface over a parameter rectangle."""
+
+    POINTS_Z = 1.0          # its points are homogeneous (u, v, 1)
 
     def pixel_spacing(self, resolution: int) -> float:
         return max(self.extent) / (int(resolution) - 1)

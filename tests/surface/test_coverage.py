@@ -435,3 +435,24 @@ def test_the_exact_sum_leaves_out_only_terms_that_underflow():
     assert np.isfinite(ref).all() and np.abs(got - ref).max() < 1e-9 * diag
     far = (uv < 0).any(axis=1) | (uv > np.asarray(surf.domain.extent)).any(axis=1)
     assert far.sum() > 100 and (L.max(axis=1) - L.min(axis=1))[far].max() > 800     # terms that were left out
+
+
+def test_planar_cells_hold_the_layer_of_their_points_alone():
+    # a planar surface is evaluated at homogeneous (u, v, 1) only: its cells fill the one layer of cubes that
+    # holds z = 1, with the very lists the cells of every layer have there, and nothing elsewhere
+    from geoimg.surface._cells import build_cells_3d
+    from helpers import MOUNTAIN
+    terrain = geoimg.load_mesh(MOUNTAIN)
+    surf = fit_surface(terrain, parametrize(terrain, "heightfield"), geoimg.CoverageWeights(s=0.5))
+    assert surf.POINTS_Z == 1.0
+    h, n, ptr, faces = surf.cells()
+    kw = {"planes": surf.edges(), "floor": surf._zmin()}
+    h2, n2, ptr2, faces2 = build_cells_3d(surf.centres, np.minimum(surf._reach(), 4.0), **kw)
+    assert (h, n) == (h2, n2) and len(faces) < len(faces2)
+    layer = min(int(np.floor(2.0 / h)), n - 1)
+    for cell in range(n ** 3):
+        mine = faces[ptr[cell]:ptr[cell + 1]]
+        if cell // (n * n) == layer:
+            np.testing.assert_array_equal(mine, faces2[ptr2[cell]:ptr2[cell + 1]])
+        else:
+            assert len(mine) == 0
