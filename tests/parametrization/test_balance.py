@@ -238,8 +238,11 @@ def test_disk_and_cut_maps_report_their_balancing_as_it_goes():
             steps = [m for m in mine if m.startswith("area balancing step")]
             sweeps = [m for m in mine if m.endswith("single-vertex sweeps")]
             assert len(steps) + len(sweeps) == len(mine) and steps
-            # the balancing, then PLANAR_SWEEP_ROUNDS times sweeps and the balancing again, each heard from
-            assert len(sweeps) == PLANAR_SWEEP_ROUNDS and mine.index(sweeps[0]) > 0
+            # the balancing, then PLANAR_SWEEP_ROUNDS times sweeps and the balancing again, each heard from;
+            # a start left behind after its first balancing is not swept
+            dropped = start != p.info["start"] and "after its first balancing" in p.info["stages"][-1]
+            assert len(sweeps) == (0 if dropped else PLANAR_SWEEP_ROUNDS)
+            assert dropped or mine.index(sweeps[0]) > 0
             counted[start] = len(steps)
         assert sum(m.startswith(f"{s} start: ") for s in START_WEIGHTS for m in heard) == len(heard)
         assert counted[p.info["start"]] >= p.info["balance_steps"] // 10

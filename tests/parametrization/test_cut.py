@@ -293,7 +293,7 @@ def test_a_face_within_its_size_of_a_twins_end_is_not_copied():
 
 
 def test_a_start_far_behind_after_its_first_balancing_goes_no_further(monkeypatch):
-    # a fold-free start whose first balancing leaves it far behind the other's is not settled further; the
+    # a fold-free start whose first balancing leaves it behind the other's is not settled further; the
     # map kept is the one relaxing both to the end gives, to the bit (a settling in two calls is one). The
     # torus cut open: the uniform start leads after its first balancing (1.14 against 1.38) and at the end
     # (1.16, 1.17); with every start behind dropped (a lead of 1) the mean-value one stops early
