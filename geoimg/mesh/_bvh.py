@@ -39,8 +39,12 @@ def morton_codes(points: np.ndarray) -> np.ndarray:
     --------
     >>> morton_codes(np.array([[0.0, 0, 0], [1, 1, 1], [0, 0, 1]])).argsort().tolist()
     [0, 2, 1]
+    >>> morton_codes(np.zeros((0, 3))).shape
+    (0,)
     """
-    points = np.ascontiguousarray(points, np.float64)
+    points = np.ascontiguousarray(points, np.float64).reshape(-1, 3)
+    if len(points) == 0:
+        return np.zeros(0, np.uint64)
     lo, hi = _bounds(points)                                # numpy's min(axis=0) strides: 10x slower
     return _codes(points, lo, max(float((hi - lo).max()), 1e-300))
 

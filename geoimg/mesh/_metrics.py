@@ -98,7 +98,9 @@ def _samples(mesh: Mesh, tris: np.ndarray, n: int, seed: int = 0, vertices: bool
     tris = np.ascontiguousarray(tris, np.int64)
     area = _triangle_areas(v, tris)
     rng = np.random.default_rng(seed)
-    cdf = np.cumsum(area / area.sum())            # numpy's ``rng.choice(len(tris), n, p=...)``, unchecked
+    total = area.sum()
+    share = area / total if total > 0 else np.full(len(area), 1.0 / len(area))    # all flat: any, alike
+    cdf = np.cumsum(share)                        # numpy's ``rng.choice(len(tris), n, p=share)``, unchecked
     cdf /= cdf[-1]
     t = cdf.searchsorted(rng.random(n), side="right")
     pts = _points_in(v, tris, t, rng.random(n), rng.random(n))

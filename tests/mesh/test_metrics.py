@@ -150,3 +150,15 @@ def test_surface_samples_are_numpys_uniform_triangle_samples():
     r1, r2 = np.where(flip, 1 - r1, r1), np.where(flip, 1 - r2, r2)
     expected = p[k, 0] + r1[:, None] * (p[k, 1] - p[k, 0]) + r2[:, None] * (p[k, 2] - p[k, 0])
     assert np.array_equal(sample_surface(mesh, 1000)[:1000], expected)
+
+
+def test_a_surface_of_no_area_is_sampled_at_its_points():
+    # every triangle flat (an image whose pixels all coincide): the samples are its points, picked alike,
+    # not a division by zero or an index past the end
+    from geoimg.mesh import sample_surface
+    flat = geoimg.Mesh(np.array([[1.0, 2.0, 3.0]] * 4), [[0, 1, 2], [0, 2, 3]])
+    points = sample_surface(flat, 50)
+    assert points.shape == (54, 3) and (points == [1.0, 2.0, 3.0]).all()
+    line = geoimg.Mesh(np.array([[0.0, 0, 0], [1, 0, 0], [2, 0, 0]]), [[0, 1, 2]])
+    d = surface_distance(line, line, n=100)
+    assert d["hausdorff"] == 0.0 and np.isfinite(sample_surface(line, 10)).all()
