@@ -121,7 +121,8 @@ def vertex_triangles(tris: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
 def relax_locally(s, x, tris, used=None, beta: float = 0.3, sweeps: int = SWEEPS, *, planar: bool = False,
                   held=None, along=None, reach: float = 0.3, shares=None):
     """Sweeps of single-vertex moves down the area-balancing energy (:func:`._balance_kernels.local_sweeps`):
-    each vertex of ``used`` (and not ``held``) in turn steps at most ``reach`` times its shortest edge along
+    each vertex of ``used`` (and not ``held``) in turn (colour by colour, one colour's in parallel) steps at
+    most ``reach`` times its shortest edge along
     its own gradient, so long as its triangles' energy falls and all stay positive. What :func:`balance`
     cannot do where one squeezed triangle blocks every step of all vertices at once. ``shares`` as for
     :func:`balance`. Returns the new map; ``s`` is left as it is.

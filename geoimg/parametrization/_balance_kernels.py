@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["balance_energy", "balance_gradient", "project_moves", "step_to", "local_sweeps"]
+__all__ = ["balance_energy", "balance_gradient", "project_moves", "step_to", "local_sweeps", "colouring"]
 
 
 @njit(cache=True, inline="always")
@@ -243,6 +243,35 @@ def _to_neighbours(s, tris, mine, i, a, cot, lam, beta, planar, free):
 
 
 @njit(cache=True)
+def colouring(tris, ring_ptr, ring, n):
+    """A colour per vertex such that no two vertices of one triangle share one (greedy, in vertex order: the
+    least colour no neighbour has), and the number of colours. Vertices of one colour move independently:
+    none is on another's triangles.
+
+    >>> import numpy as np
+    >>> tris = np.array([[0, 1, 2], [0, 2, 3]])
+    >>> colour, count = colouring(tris, np.array([0, 2, 3, 5, 6]), np.array([0, 1, 0, 0, 1, 1]), 4)
+    >>> colour.tolist(), count
+    ([0, 1, 2, 1], 3)
+    """
+    colour = np.full(n, -1, np.int64)
+    seen = np.full(n + 1, -1, np.int64)      # seen[c] == i: a neighbour of i has colour c
+    count = 0
+    for i in range(n):
+        for t in ring[ring_ptr[i]:ring_ptr[i + 1]]:
+            for k in range(3):
+                w = tris[t, k]
+                if w != i and colour[w] >= 0:
+                    seen[colour[w]] = i
+        c = 0
+        while seen[c] == i:
+            c += 1
+        colour[i] = c
+        count = max(count, c + 1)
+    return colour, count
+
+
+@njit(parallel=True, cache=True)
 def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sweeps, reach):
     """Move the vertices one at a time, in place, each down its own triangles' energy (the areas'
     normalization held for a sweep): a step along the vertex's own gradient, halved until its triangles'
@@ -252,63 +281,81 @@ def local_sweeps(s, tris, ring_ptr, ring, a, cot, beta, planar, moves, along, sw
     each vertex moves as far as its own triangles allow, so a map stays one-to-one while its crowded parts
     spread. A vertex on a triangle that is not positive (none of its moves can lower an infinite energy)
     moves instead towards its neighbours' mean, as far as makes its triangles positive, if it may move
-    freely. Returns the number of moves made.
+    freely. A sweep takes the vertices colour by colour (:func:`colouring`), those of one colour in
+    parallel: none reads what another writes, so the map is the same on any number of threads. Returns the
+    number of moves made.
     """
     n = s.shape[0]
+    colour, count = colouring(tris, ring_ptr, ring, n)
+    order = np.argsort(colour, kind="mergesort")          # by colour, vertices ascending within one
+    start = np.zeros(count + 1, np.int64)
+    for i in range(n):
+        start[colour[i] + 1] += 1
+    for c in range(count):
+        start[c + 1] += start[c]
     area = np.empty(tris.shape[0])
     length = np.full(n, np.inf)        # each vertex's last step, as a share of its shortest edge
     made = 0
     for _ in range(sweeps):
         _areas(s, tris, planar, area)
-        total = area.sum()
+        total = 0.0
+        for t in range(tris.shape[0]):       # in order: the same sum on any thread count
+            total += area[t]
         if not total > 0.0:            # every triangle flat or turned over: no areas to balance
             break
         lam = 1.0 / total
-        for i in range(n):
-            mine = ring[ring_ptr[i]:ring_ptr[i + 1]]
-            if not moves[i] or len(mine) == 0:
-                continue
-            h = np.inf
-            for t in mine:
-                for k in range(3):
-                    w = tris[t, k]
-                    if w != i:
-                        h = min(h, math.sqrt((s[w, 0] - s[i, 0]) ** 2 + (s[w, 1] - s[i, 1]) ** 2
-                                             + (s[w, 2] - s[i, 2]) ** 2))
-            e0 = _ring_energy(s, tris, mine, a, cot, lam, beta, planar)
-            if not e0 < np.inf:            # a triangle of the vertex is not positive: towards its neighbours' mean
-                made += _to_neighbours(s, tris, mine, i, a, cot, lam, beta, planar, not _slides(along, i))
-                continue
-            gx, gy, gz = 0.0, 0.0, 0.0
-            for t in mine:
-                area_t = _area(s, tris, t, planar)
-                _, dd, lr = _term(s, tris, t, a, cot, area_t, lam, beta)
-                ay = lam * area_t
-                f_d, f_a = _factors(a[t], ay, dd, lr, lam, beta)
-                ux, uy, uz, tx, ty, tz = _turning(s, tris, t, planar)
-                k = 0 if tris[t, 0] == i else (1 if tris[t, 1] == i else 2)
-                cx, cy, cz = _corner_gradient(s, tris, t, k, cot, f_d, f_a, ux, uy, uz, tx, ty, tz)
-                gx, gy, gz = gx + cx, gy + cy, gz + cz
-            gx, gy, gz = _project(gx, gy, gz, s, i, planar, along)
-            size = math.sqrt(gx * gx + gy * gy + gz * gz)
-            if not size > 0.0:
-                continue
-            x0, y0, z0 = s[i, 0], s[i, 1], s[i, 2]
-            share = min(2.0 * length[i], reach)
-            for _half in range(SWEEP_HALVINGS):
-                step = share * h / size
-                x, y, z = x0 - step * gx, y0 - step * gy, z0 - step * gz
-                if not planar:
-                    ln = math.sqrt(x * x + y * y + z * z)
-                    x, y, z = x / ln, y / ln, z / ln
-                s[i, 0], s[i, 1], s[i, 2] = x, y, z
-                if _ring_energy(s, tris, mine, a, cot, lam, beta, planar) < e0:
-                    made += 1
-                    break
-                s[i, 0], s[i, 1], s[i, 2] = x0, y0, z0
-                share *= 0.5
-            length[i] = share
+        for c in range(count):
+            for k in prange(start[c], start[c + 1]):
+                i = order[k]
+                mine = ring[ring_ptr[i]:ring_ptr[i + 1]]
+                if moves[i] and len(mine) > 0:
+                    made += _sweep_vertex(s, tris, mine, i, a, cot, lam, beta, planar, along, length, reach)
     return made
+
+
+@njit(cache=True)
+def _sweep_vertex(s, tris, mine, i, a, cot, lam, beta, planar, along, length, reach):
+    """One vertex's move of :func:`local_sweeps` (1 when it moved)."""
+    h = np.inf
+    for t in mine:
+        for k in range(3):
+            w = tris[t, k]
+            if w != i:
+                h = min(h, math.sqrt((s[w, 0] - s[i, 0]) ** 2 + (s[w, 1] - s[i, 1]) ** 2 + (s[w, 2] - s[i, 2]) ** 2))
+    e0 = _ring_energy(s, tris, mine, a, cot, lam, beta, planar)
+    if not e0 < np.inf:            # a triangle of the vertex is not positive: towards its neighbours' mean
+        return _to_neighbours(s, tris, mine, i, a, cot, lam, beta, planar, not _slides(along, i))
+    gx, gy, gz = 0.0, 0.0, 0.0
+    for t in mine:
+        area_t = _area(s, tris, t, planar)
+        _, dd, lr = _term(s, tris, t, a, cot, area_t, lam, beta)
+        ay = lam * area_t
+        f_d, f_a = _factors(a[t], ay, dd, lr, lam, beta)
+        ux, uy, uz, tx, ty, tz = _turning(s, tris, t, planar)
+        k = 0 if tris[t, 0] == i else (1 if tris[t, 1] == i else 2)
+        cx, cy, cz = _corner_gradient(s, tris, t, k, cot, f_d, f_a, ux, uy, uz, tx, ty, tz)
+        gx, gy, gz = gx + cx, gy + cy, gz + cz
+    gx, gy, gz = _project(gx, gy, gz, s, i, planar, along)
+    size = math.sqrt(gx * gx + gy * gy + gz * gz)
+    if not size > 0.0:
+        return 0
+    x0, y0, z0 = s[i, 0], s[i, 1], s[i, 2]
+    share = min(2.0 * length[i], reach)
+    moved = 0
+    for _half in range(SWEEP_HALVINGS):
+        step = share * h / size
+        x, y, z = x0 - step * gx, y0 - step * gy, z0 - step * gz
+        if not planar:
+            ln = math.sqrt(x * x + y * y + z * z)
+            x, y, z = x / ln, y / ln, z / ln
+        s[i, 0], s[i, 1], s[i, 2] = x, y, z
+        if _ring_energy(s, tris, mine, a, cot, lam, beta, planar) < e0:
+            moved = 1
+            break
+        s[i, 0], s[i, 1], s[i, 2] = x0, y0, z0
+        share *= 0.5
+    length[i] = share
+    return moved
 
 
 @njit(cache=True, inline="always")

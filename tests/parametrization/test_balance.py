@@ -330,3 +330,30 @@ def test_a_planar_map_with_a_triangle_of_no_area_is_still_relaxed(finger_map):
     area3 = 0.5 * np.linalg.norm(np.cross(x[tris[:, 1]] - x[tris[:, 0]], x[tris[:, 2]] - x[tris[:, 0]]), axis=1)
     assert area_log_rms(area3, out, tris) < 0.8 * area_log_rms(area3, uv, tris)
     assert np.array_equal(out[loop], uv[loop])          # the boundary held
+
+
+def test_sweeps_go_colour_by_colour_and_give_one_map_on_any_thread_count():
+    # no triangle has two corners of one colour (so one colour's vertices move in parallel without reading
+    # what another writes), and the sweeps' map is the same bits on one thread as on two
+    import numba
+    from geoimg.parametrization._balance import relax_locally, vertex_triangles
+    from geoimg.parametrization._balance_kernels import colouring
+    mesh = meshes.icosphere(3, bumps=0.2)
+    tris = np.ascontiguousarray(mesh.triangulate()[0], np.int64)
+    ptr, ring = vertex_triangles(tris, mesh.n_vertices)
+    colour, count = colouring(tris, ptr, ring, mesh.n_vertices)
+    c = colour[tris]
+    assert (c[:, 0] != c[:, 1]).all() and (c[:, 1] != c[:, 2]).all() and (c[:, 0] != c[:, 2]).all()
+    assert 3 <= count == colour.max() + 1 <= 10
+    start = mesh.vertices / np.linalg.norm(mesh.vertices, axis=1, keepdims=True)
+    start = start + 0.05 * np.random.default_rng(0).normal(size=start.shape)
+    start /= np.linalg.norm(start, axis=1, keepdims=True)
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = relax_locally(start, mesh.vertices, tris, sweeps=5)
+        numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
+        two = relax_locally(start, mesh.vertices, tris, sweeps=5)
+    finally:
+        numba.set_num_threads(before)
+    assert np.array_equal(one, two) and not np.array_equal(one, start)

@@ -149,14 +149,15 @@ def test_auto_takes_charts_only_where_one_chart_starves():
 @pytest.mark.slow
 def test_auto_takes_charts_for_a_disk_whose_map_starves_most_of_it():
     # a tube 80 times as long as it is wide, open at one end: the disk map gives its far end almost nothing
-    # (76 % of the surface starved; 17.9 dB at 129^2), the charts give every part its share (80.4 dB)
+    # (76-78 % of the surface starved; 17.9 dB at 129^2), the charts give every part its share (80.4 dB); the
+    # stage line says how much the disk's map starved
     mesh = meshes.finger(segments=8, rows=80, length=20.0)
     disk = geoimg.parametrize(mesh, "disk")
     assert _starved_to_charts(mesh, disk, topology(mesh), "area", None).domain == "charts"
     assert disk.info["starved_share"] > 0.5                         # measured there, for a disk's map
     auto = geoimg.parametrize(mesh)
     assert auto.domain == "charts" and auto.info["starved_share"] < 0.05
-    assert auto.info["stages"][0].startswith("one chart starved 76 %")
+    assert auto.info["stages"][0].startswith(f"one chart starved {100 * disk.info['starved_share']:.0f} %")
     assert _image_error(mesh, auto) < _image_error(mesh, disk)
     near, far = (geoimg.mesh_to_image(mesh, 129, parametrization=p).metadata["psnr_db"] for p in (auto, disk))
     assert near > 60 > 30 > far
