@@ -439,31 +439,34 @@ class Mesh:
         """
         if quads not in ("fan", "shorter"):
             raise MeshError(f"quads: expected 'fan' or 'shorter', got {quads!r}")
-        per_face = self.face_sizes - 2                                 # linear time, any polygon size
-        owner = np.repeat(np.arange(self.n_faces), per_face)
-        start = np.repeat(np.cumsum(per_face) - per_face, per_face)
-        j = np.arange(len(owner)) - start + 1                          # 1 .. k - 2 within each face
-        corners = np.stack([np.zeros_like(j), j, j + 1], axis=1)
         f = self.faces
         quad = self.face_sizes == 4
-        if quads == "shorter" and quad.any():  # a quad whose 1-3 diagonal is shorter is fanned from corner 1
-            v = self.vertices
-            q = f[quad, :4]
-            turn = np.zeros(self.n_faces, bool)
-            d13, d02 = v[q[:, 1]] - v[q[:, 3]], v[q[:, 0]] - v[q[:, 2]]
-            turn[quad] = np.einsum("ij,ij->i", d13, d13) < np.einsum("ij,ij->i", d02, d02)
-            corners = np.where(turn[owner][:, None], (corners + 1) % 4, corners)
-        for face in np.flatnonzero(self._reflex_faces()).tolist():
-            k = int(self.face_sizes[face])
-            ears = _ear_clip(_plane_coordinates(self.vertices[f[face, :k]]))
-            if ears is not None:
-                corners[start[np.searchsorted(owner, face)] + np.arange(k - 2)] = ears
-        for face in np.flatnonzero(self.face_sizes > LARGE_POLYGON).tolist():
-            k = int(self.face_sizes[face])
-            split = _large_polygon_corners(self.vertices[f[face, :k]])
-            if split is not None:
-                corners[start[np.searchsorted(owner, face)] + np.arange(k - 2)] = split
-        t = f[owner[:, None], corners]
+        turn = self._shorter_turns(quad) if quads == "shorter" and quad.any() else None
+        if f.shape[1] == 4 and quad.all():     # quads only (an image's quad mesh): two triangles a face, at once
+            owner = np.repeat(np.arange(self.n_faces), 2)
+            pattern = np.array([[0, 1, 2], [0, 2, 3]])
+            corners = (np.where(turn[:, None, None], (pattern + 1) % 4, pattern).reshape(-1, 3) if turn is not None
+                       else np.tile(pattern, (self.n_faces, 1)))
+            t = np.take_along_axis(f, corners.reshape(-1, 6), axis=1).reshape(-1, 3)
+        else:
+            per_face = self.face_sizes - 2                             # linear time, any polygon size
+            owner = np.repeat(np.arange(self.n_faces), per_face)
+            start = np.repeat(np.cumsum(per_face) - per_face, per_face)
+            j = np.arange(len(owner)) - start + 1                      # 1 .. k - 2 within each face
+            corners = np.stack([np.zeros_like(j), j, j + 1], axis=1)
+            if turn is not None:       # a quad whose 1-3 diagonal is shorter is fanned from corner 1
+                corners = np.where(turn[owner][:, None], (corners + 1) % 4, corners)
+            for face in np.flatnonzero(self._reflex_faces()).tolist():
+                k = int(self.face_sizes[face])
+                ears = _ear_clip(_plane_coordinates(self.vertices[f[face, :k]]))
+                if ears is not None:
+                    corners[start[np.searchsorted(owner, face)] + np.arange(k - 2)] = ears
+            for face in np.flatnonzero(self.face_sizes > LARGE_POLYGON).tolist():
+                k = int(self.face_sizes[face])
+                split = _large_polygon_corners(self.vertices[f[face, :k]])
+                if split is not None:
+                    corners[start[np.searchsorted(owner, face)] + np.arange(k - 2)] = split
+            t = f[owner[:, None], corners]
         for _ in range(4 if quad.any() else 0):   # two quads on both edges of a valence-2 vertex: through it
             twice = _quads_split_twice(t, owner, quad)
             if not twice.any():
@@ -472,6 +475,18 @@ class Mesh:
             corners[rows] = (corners[rows] + 1) % 4
             t = f[owner[:, None], corners]
         return t, owner, corners
+
+    def _shorter_turns(self, quad: np.ndarray) -> np.ndarray:
+        """Per face: a quad (of ``quad``) whose 1-3 diagonal is shorter in space than its 0-2 one."""
+        every = bool(quad.all())
+        v, q = self.vertices, self.faces if every else self.faces[quad, :4]
+        d13, d02 = v[q[:, 1]] - v[q[:, 3]], v[q[:, 0]] - v[q[:, 2]]
+        shorter = np.einsum("ij,ij->i", d13, d13) < np.einsum("ij,ij->i", d02, d02)
+        if every:
+            return shorter
+        turn = np.zeros(self.n_faces, bool)
+        turn[quad] = shorter
+        return turn
 
     def _reflex_faces(self) -> np.ndarray:
         """Faces of 5 to :data:`LARGE_POLYGON` corners (quads keep their diagonal; larger polygons are split

@@ -103,3 +103,18 @@ def test_triangles_given_twice_are_found_with_any_vertex_count():
     small = _quads_split_twice(tris, owner, quad)
     assert small.tolist() == [True, True, False, True, False, False, False, False]
     assert np.array_equal(_quads_split_twice(tris + (1 << 22), owner, quad), small)
+
+
+@pytest.mark.parametrize("quads", ["fan", "shorter"])
+def test_a_mesh_of_quads_only_splits_as_the_general_rule_does(quads):
+    # quads only (an image's quad mesh) take a shortcut: the same triangles, faces and corners as the rule for
+    # any polygons gives them when one triangle more sends the mesh that way
+    import geoimg
+    import meshes
+    image = geoimg.mesh_to_image(meshes.icosphere(2, bumps=0.1), 33, fidelity=False).to_mesh()
+    for q in (image, _cube_with_a_doublet()):               # the cube: a doublet, split through its vertex
+        n = q.n_vertices                                   # one triangle more, on a vertex of its own
+        mixed = Mesh(np.vstack([q.vertices, [[9.0, 9.0, 9.0]]]), np.vstack([q.faces, [[0, 1, n, -1]]]))
+        for mine, general in zip(q.triangle_corners(quads), mixed.triangle_corners(quads)):
+            assert np.array_equal(mine, general[:len(mine)])
+
