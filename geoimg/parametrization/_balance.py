@@ -202,13 +202,13 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
     n = len(s)
     steps = default_steps(len(tris)) if steps is None else int(steps)
     used = np.isin(np.arange(n), tris) if used is None else np.asarray(used, bool)
-    lap = laplacian(cotangent_weights(x, tris)) if lap is None else lap
-    vertex_area = vertex_areas(x, tris) if vertex_area is None else vertex_area
     moves = np.ascontiguousarray(used & (~np.asarray(held, bool) if held is not None else True))
     a, cot = target_shares(x, tris, shares), corner_cotangents(x, tris)
     e, state = balance_energy(s, tris, a, cot, beta, planar)
-    if not np.isfinite(e) or steps <= 0:
+    if not np.isfinite(e) or steps <= 0:       # nothing to descend: no Laplacian to build
         return s, 0, (e, e)
+    lap = laplacian(cotangent_weights(x, tris)) if lap is None else lap
+    vertex_area = vertex_areas(x, tris) if vertex_area is None else vertex_area
     e_start = e
     edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
     mass = vertex_area / vertex_area.sum()
