@@ -54,7 +54,7 @@ def build_cells_3d(centres: np.ndarray, radius: np.ndarray, max_cells: int = 96,
     lo = np.clip(np.floor((c - r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
     hi = np.clip(np.floor((c + r[:, None] + 1.0) / h).astype(np.int64), 0, n - 1)
     if z is not None:                  # the layer _cell_of puts the points in; a face that misses it, nowhere
-        layer = min(max(int(math.floor((z + 1.0) / h)), 0), n - 1)
+        layer = _cell_of(-1.0, -1.0, float(z), h, n) // (n * n)
         reach = (lo[:, 2] <= layer) & (layer <= hi[:, 2])
         lo[:, 2] = np.where(reach, layer, 1)
         hi[:, 2] = np.where(reach, layer, 0)
