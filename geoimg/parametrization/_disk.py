@@ -307,8 +307,9 @@ def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndar
     """
     free = np.setdiff1d(np.arange(len(v)), loop)
     area3 = triangle_areas(v, f)
-    tries: list[list] = []
+    tries: list[_Start] = []
     names = START_WEIGHTS if balance == "area" and len(free) else START_WEIGHTS[:1]
+    rounds = 0 if len(names) > 1 else PLANAR_SWEEP_ROUNDS       # two starts: each balanced once, then ...
     for name in names:
         start = np.zeros((len(v), 2))
         start[loop] = pos
@@ -318,26 +319,42 @@ def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndar
         if not tries:
             first = area_log_rms(area3, start, f)
         heard = None if progress is None else (lambda msg, name=name: progress(f"{name} start: {msg}"))
-        rounds = 0 if len(names) > 1 else PLANAR_SWEEP_ROUNDS       # two starts: each balanced once, then ...
         coords, steps = relax_planar(v, f, start, loop, balance, slide, heard, rounds) if len(free) else (start, 0)
-        tries.append([_folds(coords, f), resampling_error(area3, coords, f), name, coords, steps, heard, ""])
+        tries.append(_Start(name, coords, steps, heard, area3, f))
     if len(tries) > 1:          # ... the rest for each start not left far behind (see START_LEAD)
-        best = min(tries, key=lambda t: t[:2])
-        for t in tries:
-            if t is not best and t[0] == best[0] == 0 and best[1] < START_LEAD * t[1]:
-                t[6] = " after its first balancing"
+        best = min(tries, key=_Start.rank)
+        for i, t in enumerate(tries):         # each compared with the best after its first balancing
+            if t is not best and t.folds == best.folds == 0 and best.error < START_LEAD * t.error:
+                t.stopped = True
                 continue
-            t[3], more = relax_planar(v, f, t[3], loop, balance, slide, t[5], PLANAR_SWEEP_ROUNDS, balanced=True)
-            t[4] += more
-            t[:2] = _folds(t[3], f), resampling_error(area3, t[3], f)
-    folds, error, name, coords, steps, _, _ = min((t for t in tries if not t[6]), key=lambda t: t[:2])
-    others = ", ".join(f"{t[2]} {t[1]:.3g}{t[6]}" for t in tries if t[2] != name)
+            coords, more = relax_planar(v, f, t.coords, loop, balance, slide, t.heard, PLANAR_SWEEP_ROUNDS,
+                                        balanced=True)
+            tries[i] = _Start(t.name, coords, t.steps + more, t.heard, area3, f)
+    kept = min((t for t in tries if not t.stopped), key=_Start.rank)
+    name, coords, steps, error = kept.name, kept.coords, kept.steps, kept.error
+    others = ", ".join(f"{t.name} {t.error:.3g}{' after its first balancing' * t.stopped}" for t in tries
+                       if t.name != name)
     stage = f"{name} start" + (f" (resampling error {error:.3g}; {others})" if others else "")
     info = {"balance": balance, "balance_steps": steps, "slim_steps": steps if balance == "slim" else 0,
-            "start": name, "start_errors": {t[2]: t[1] for t in tries}, "stages": [stage],
+            "start": name, "start_errors": {t.name: t.error for t in tries}, "stages": [stage],
             "mean_value_area_log_rms": first,
             "area_log_rms": area_log_rms(area3, coords, f) if steps else first}
     return coords, info
+
+
+class _Start:
+    """One start of :func:`planar_interior`: its map so far, the balancing steps it took, whom its progress
+    goes to, and that map's folds and :func:`resampling_error`; ``stopped`` once it goes no further.
+    """
+
+    def __init__(self, name: str, coords: np.ndarray, steps: int, heard, area3: np.ndarray, f: np.ndarray):
+        self.name, self.coords, self.steps, self.heard = name, coords, steps, heard
+        self.folds, self.error = _folds(coords, f), resampling_error(area3, coords, f)
+        self.stopped = False
+
+    def rank(self) -> tuple[int, float]:
+        """Fewer folds first, then the lower error."""
+        return self.folds, self.error
 
 
 def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str,
