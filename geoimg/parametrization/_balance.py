@@ -42,6 +42,7 @@ __all__ = [
     "relax_locally",
     "target_shares",
     "settle",
+    "sobolev_factor",
     "vertex_triangles",
     "default_steps",
     "squeeze_scale",
@@ -162,7 +163,7 @@ def target_shares(x, tris, shares=None) -> np.ndarray:
 
 
 def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3, steps: int | None = None,
-            progress=None, *, planar: bool = False, held=None, along=None, shares=None):
+            progress=None, *, planar: bool = False, held=None, along=None, shares=None, cache: dict | None = None):
     """Descend the area-balancing energy from the map ``s`` of the mesh ``x, tris``; every accepted step keeps
     all triangles positive. Returns ``(s, steps taken, (energy at the start, energy at the end))``.
 
@@ -187,6 +188,9 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
     shares : (T,) float, optional
         The share of the map each triangle is balanced towards (:func:`target_shares`; by default its share
         of the mesh's area; :func:`._sampling_shares.sampling_shares` asks more for the parts that bend).
+    cache : dict, optional
+        Keeps the factored Sobolev matrix (:func:`sobolev_factor`) for the next call with the same mesh and
+        ``used`` (a settling's balancings, a disk's starts): the same factor, so the same map.
 
     Steps follow the Laplacian-smoothed gradient (limbs move as a whole). Every other step is scaled on
     both sides of the smoothing by each squeezed vertex's linear scale ``sigma < 1`` (:func:`squeeze_scale`):
@@ -207,12 +211,9 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
     e, state = balance_energy(s, tris, a, cot, beta, planar)
     if not np.isfinite(e) or steps <= 0:       # nothing to descend: no Laplacian to build
         return s, 0, (e, e)
-    lap = laplacian(cotangent_weights(x, tris)) if lap is None else lap
-    vertex_area = vertex_areas(x, tris) if vertex_area is None else vertex_area
+    precond = sobolev_factor(x, tris, used, lap, vertex_area, cache)
     e_start = e
     edges = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
-    mass = vertex_area / vertex_area.sum()
-    precond = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~used)))
     smooth = neighbour_mean(edges, n)
     share = vertex_shares(a, tris, n)          # each vertex's share of the mesh, for the scaled steps
     along = np.zeros((n, 3)) if along is None else np.ascontiguousarray(along, np.float64)
@@ -272,15 +273,37 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
     return s, done, (e_start, e)
 
 
+def sobolev_factor(x, tris, used, lap=None, vertex_area=None, cache: dict | None = None):
+    """The factored matrix of :func:`balance`'s Sobolev steps, ``L + 0.01 tr(L) diag(m + ~used)`` (``L`` the
+    cotangent Laplacian, ``m`` the vertex areas' shares), or the one ``cache`` holds; put in ``cache``.
+
+    >>> x = np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
+    >>> tris, cache = np.array([[0, 1, 2], [1, 3, 2]]), {}
+    >>> used = np.ones(4, bool)
+    >>> sobolev_factor(x, tris, used, cache=cache) is sobolev_factor(x, tris, used, cache=cache)
+    True
+    """
+    if cache is not None and "sobolev" in cache:
+        return cache["sobolev"]
+    lap = laplacian(cotangent_weights(x, tris)) if lap is None else lap
+    vertex_area = vertex_areas(x, tris) if vertex_area is None else vertex_area
+    mass = vertex_area / vertex_area.sum()
+    factor = factor_symmetric(lap + 1e-2 * lap.diagonal().sum() * sparse.diags(mass + (~np.asarray(used, bool))))
+    if cache is not None:
+        cache["sobolev"] = factor
+    return factor
+
+
 def settle(s, x, tris, rounds: int, lap=None, vertex_area=None, used=None, beta: float = 0.3, steps: int | None = None,
-           progress=None, *, planar: bool = False, held=None, along=None, shares=None, balanced: bool = False):
+           progress=None, *, planar: bool = False, held=None, along=None, shares=None, balanced: bool = False,
+           cache: dict | None = None):
     """:func:`balance`, then ``rounds`` times :data:`SWEEPS` single-vertex sweeps (:func:`relax_locally`) and
     :func:`balance` again: the sweeps open what held back the steps of all vertices at once (a triangle of no
     area, one squeezed part), and the steps then go on. ``steps`` caps each balancing (none is swept after
     when ``steps`` is 0). ``balanced``: ``s`` is already the first balancing's result (a settling in two calls,
     ``rounds`` 0 then the rest, gives the same map as one). Returns what :func:`balance` does: the map, the
     steps taken in all and the energy at the start and at the end (with ``balanced``, no steps and the energy
-    of ``s`` when ``rounds`` is 0).
+    of ``s`` when ``rounds`` is 0). ``cache`` as for :func:`balance` (the balancings share one either way).
 
     >>> x = np.array([[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 0]])
     >>> tris = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
@@ -290,12 +313,14 @@ def settle(s, x, tris, rounds: int, lap=None, vertex_area=None, used=None, beta:
     (True, [0.5, 0.5, 0.0])
     """
     kw = {"planar": planar, "held": held, "along": along, "shares": shares}
+    cache = {} if cache is None else cache
     out, taken, (e_start, e_end) = balance(s, x, tris, lap, vertex_area, used, beta, 0 if balanced else steps,
-                                           progress, **kw)
+                                           progress, cache=cache, **kw)
     for _ in range(rounds if steps != 0 else 0):
         if progress is not None:
             progress(f"{SWEEPS} single-vertex sweeps")
         out = relax_locally(out, x, tris, used, beta, SWEEPS, **kw)
-        out, more, (_, e_end) = balance(out, x, tris, lap, vertex_area, used, beta, steps, progress, **kw)
+        out, more, (_, e_end) = balance(out, x, tris, lap, vertex_area, used, beta, steps, progress, cache=cache,
+                                        **kw)
         taken += more
     return out, taken, (e_start, e_end)

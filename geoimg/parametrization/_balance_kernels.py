@@ -322,13 +322,14 @@ def _sweep_vertex(s, tris, mine, i, a, cot, lam, beta, planar, along, length, re
             w = tris[t, k]
             if w != i:
                 h = min(h, math.sqrt((s[w, 0] - s[i, 0]) ** 2 + (s[w, 1] - s[i, 1]) ** 2 + (s[w, 2] - s[i, 2]) ** 2))
-    e0 = _ring_energy(s, tris, mine, a, cot, lam, beta, planar)
-    if not e0 < np.inf:            # a triangle of the vertex is not positive: towards its neighbours' mean
-        return _to_neighbours(s, tris, mine, i, a, cot, lam, beta, planar, not _slides(along, i))
+    e0 = 0.0                        # its triangles' energy (as _ring_energy sums it) and its gradient, in one pass
     gx, gy, gz = 0.0, 0.0, 0.0
     for t in mine:
         area_t = _area(s, tris, t, planar)
-        _, dd, lr = _term(s, tris, t, a, cot, area_t, lam, beta)
+        if not area_t > 0.0:       # a triangle of the vertex is not positive: towards its neighbours' mean
+            return _to_neighbours(s, tris, mine, i, a, cot, lam, beta, planar, not _slides(along, i))
+        et, dd, lr = _term(s, tris, t, a, cot, area_t, lam, beta)
+        e0 += et
         ay = lam * area_t
         f_d, f_a = _factors(a[t], ay, dd, lr, lam, beta)
         ux, uy, uz, tx, ty, tz = _turning(s, tris, t, planar)

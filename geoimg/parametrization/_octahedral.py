@@ -15,6 +15,7 @@ The map preserves orientation: ``d p / d u x d p / d v`` points out of the spher
 """
 from __future__ import annotations
 
+import functools
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -281,6 +282,15 @@ SAMPLING_ROTATIONS = 256        # rotations tried by sampling_rotation (a fixed 
 SAMPLING_TRIANGLES = 20000      # at most this many triangles (evenly spaced) rank them
 
 
+@functools.cache
+def _sampling_turns() -> np.ndarray:
+    """The identity and :data:`SAMPLING_ROTATIONS` fixed rotations (scipy's, seed 0), (R + 1, 3, 3)."""
+    from scipy.spatial.transform import Rotation
+    turns = np.concatenate([np.eye(3)[None], Rotation.random(SAMPLING_ROTATIONS, random_state=0).as_matrix()])
+    turns.flags.writeable = False
+    return turns
+
+
 def sampling_rotation(s: np.ndarray, x: np.ndarray, tris: np.ndarray,
                       bend: np.ndarray | None = None) -> tuple[np.ndarray, float]:
     """The turn of a sphere map ``s`` (unit vectors of the mesh ``x, tris``) whose octahedral image samples
@@ -319,9 +329,9 @@ def sampling_rotation(s: np.ndarray, x: np.ndarray, tris: np.ndarray,
         weight = weight * np.asarray(bend, np.float64)[::every][ok]
     c = s[tris[ok]].mean(axis=1)
     c /= np.maximum(np.linalg.norm(c, axis=1, keepdims=True), 1e-300)
-    from scipy.spatial.transform import Rotation
-    turns = np.concatenate([np.eye(3)[None], Rotation.random(SAMPLING_ROTATIONS, random_state=0).as_matrix()])
-    # 1 / r(q) = (|x| + |y| + |z|)^3 for unit q
-    error = np.array([weight @ (np.abs(c @ R.T).sum(axis=1) ** 6) for R in turns])
+    from ._octahedral_kernels import turned_errors
+    turns = _sampling_turns()
+    error = np.empty(len(turns))            # 1 / r(q) = (|x| + |y| + |z|)^3 for unit q
+    turned_errors(np.ascontiguousarray(c), np.ascontiguousarray(weight, np.float64), turns, error)
     best = int(np.argmin(error))
-    return turns[best], float(10.0 * np.log10(error[0] / error[best])) if error[best] > 0 else 0.0
+    return turns[best].copy(), float(10.0 * np.log10(error[0] / error[best])) if error[best] > 0 else 0.0

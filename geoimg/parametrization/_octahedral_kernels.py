@@ -3,7 +3,7 @@ import math
 
 from numba import njit, prange
 
-__all__ = ["grid_unit"]
+__all__ = ["grid_unit", "turned_errors"]
 
 
 @njit(parallel=True, cache=True)
@@ -25,3 +25,20 @@ def grid_unit(n, out):
                 x, y = a, b
             r = math.sqrt(x * x + y * y + z * z)
             out[i, j, 0], out[i, j, 1], out[i, j, 2] = x / r, y / r, z / r
+
+
+@njit(parallel=True, cache=True)
+def turned_errors(c, weight, turns, out):
+    """``sampling_rotation``'s proxy for each turn ``turns[r]`` (3, 3) into ``out[r]``: ``sum_t weight[t]
+    (|R c_t|_1)^6`` over the unit centres ``c`` (T, 3), turns in parallel, each sum in triangle order (the
+    same bits on any number of threads; numpy's matrix products took 0.2 s for 257 turns of 20,000 triangles).
+    """
+    for r in prange(turns.shape[0]):
+        e = 0.0
+        for t in range(c.shape[0]):
+            q = 0.0
+            for j in range(3):
+                q += abs(c[t, 0] * turns[r, j, 0] + c[t, 1] * turns[r, j, 1] + c[t, 2] * turns[r, j, 2])
+            q2 = q * q
+            e += weight[t] * (q2 * q2 * q2)
+        out[r] = e

@@ -357,3 +357,19 @@ def test_sweeps_go_colour_by_colour_and_give_one_map_on_any_thread_count():
     finally:
         numba.set_num_threads(before)
     assert np.array_equal(one, two) and not np.array_equal(one, start)
+
+
+def test_balancings_sharing_a_cache_factor_once_and_give_the_same_map(finger_map, monkeypatch):
+    from geoimg.parametrization import _balance
+    mesh, tris, start = finger_map
+    held = np.zeros(mesh.n_vertices, bool)
+    held[geoimg.mesh.boundary_loops(mesh)[0]] = True
+    plain = [_balance.balance(start, mesh.vertices, tris, planar=True, held=held, steps=s)[0] for s in (5, 9)]
+    calls = []
+    factor = _balance.factor_symmetric
+    monkeypatch.setattr(_balance, "factor_symmetric", lambda a: calls.append(1) or factor(a))
+    cache: dict = {}
+    shared = [_balance.balance(start, mesh.vertices, tris, planar=True, held=held, steps=s, cache=cache)[0]
+              for s in (5, 9)]
+    assert len(calls) == 1 and "sobolev" in cache
+    assert all(np.array_equal(a, b) for a, b in zip(plain, shared)) and not np.array_equal(plain[1], start)

@@ -146,3 +146,21 @@ def test_a_map_with_shares_by_bending_resamples_a_lens_closer(lens, monkeypatch)
         return surface_distance(tm, image.to_mesh(), 20000)["psnr_db"]
     bend_db, area_db = psnr(by_bend), psnr(by_area)
     assert bend_db > area_db + 3.0, (bend_db, area_db)
+
+
+def test_the_turns_proxy_kernel_equals_numpys_sum_and_the_turn_returned_is_a_copy():
+    from geoimg.parametrization._octahedral import _sampling_turns
+    from geoimg.parametrization._octahedral_kernels import turned_errors
+    rng = np.random.default_rng(3)
+    c = rng.normal(size=(500, 3))
+    c /= np.linalg.norm(c, axis=1, keepdims=True)
+    weight = rng.random(500)
+    turns = _sampling_turns()
+    got = np.empty(len(turns))
+    turned_errors(c, weight, turns, got)
+    want = np.array([weight @ (np.abs(c @ R.T).sum(axis=1) ** 6) for R in turns])
+    assert np.allclose(got, want, rtol=1e-12, atol=0) and np.argmin(got) == np.argmin(want)
+    m = meshes.icosphere(2)
+    turn, _ = sampling_rotation(m.vertices, m.vertices, _tris(m))
+    turn[:] = 0.0                                   # the caller's to change: the fixed set stays as it was
+    assert np.allclose(np.einsum("rij,rkj->rik", turns, turns), np.eye(3))
