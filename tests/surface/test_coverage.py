@@ -456,3 +456,21 @@ def test_planar_cells_hold_the_layer_of_their_points_alone():
             np.testing.assert_array_equal(mine, faces2[ptr2[cell]:ptr2[cell + 1]])
         else:
             assert len(mine) == 0
+
+
+@pytest.mark.parametrize("planar", [True, False])
+def test_the_slopes_closed_form_equals_the_largest_singular_value(planar):
+    # each triangle's stretch, in closed form, against LAPACK's: pinv of the parameter edges, then the 2-norm;
+    # random triangles, a tenth of them needles (one edge 1e-6 of the others), left unchanged
+    from geoimg.surface._coverage import _slopes
+    rng = np.random.default_rng(7)
+    corners = rng.normal(size=(400, 3, 2 if planar else 3))
+    corners[::10, 2] = corners[::10, 1] + 1e-6 * rng.normal(size=corners[::10, 2].shape)
+    xyz = rng.normal(size=(400, 3, 3))
+    before = corners.copy(), xyz.copy()
+    got = _slopes(corners, xyz, planar)
+    B = np.stack([corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]], axis=2)
+    A = np.stack([xyz[:, 1] - xyz[:, 0], xyz[:, 2] - xyz[:, 0]], axis=2)
+    want = np.linalg.norm(A @ np.linalg.pinv(B), ord=2, axis=(1, 2))
+    assert np.allclose(got, want, rtol=1e-8, atol=0) and np.allclose(got[1::10], want[1::10], rtol=1e-12)
+    assert np.array_equal(before[0], corners) and np.array_equal(before[1], xyz)
