@@ -1,4 +1,6 @@
-"""The numba kernel of the octahedral grid's directions (apart, so that the domains import without numba)."""
+"""numba kernels of the octahedral map: its grid's directions and the sampling turn's proxy (apart, so that the
+domains import without numba).
+"""
 import math
 
 from numba import njit, prange
