@@ -256,11 +256,9 @@ def mesh_to_image(mesh_or_path: Any, resolution: int | None = None, options: Con
         say("measuring the image against the mesh, and the mesh resampled as it is")
         with _timed(timings, "fidelity"):
             against = ReferenceDistances(mesh, FIDELITY_SAMPLES)     # the mesh's samples and tree, made once
-            measured = against.to(image.to_mesh())
             plain = surface.with_s(LIMIT_S).sample(res, normals=normals)        # type: ignore[attr-defined]
-            plain_mesh = plain.to_mesh()
-            if against.to(plain_mesh, vertices=False)["psnr_db"] > measured["psnr_db"]:    # the same PSNR, quicker
-                image, measured = plain, against.to(plain_mesh)
+            k, measured = against.closest([image.to_mesh(), plain.to_mesh()])    # the prefilter's on a tie
+            image = (image, plain)[k]
     if opts.colors and (mesh.colors is not None or mesh.texture is not None):
         say("sampling the colours")
         with _timed(timings, "colors"):

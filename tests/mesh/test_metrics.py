@@ -133,6 +133,22 @@ def test_measuring_two_images_of_one_grid_in_turn_is_measuring_each_alone():
     assert quick["hausdorff"] <= alone["hausdorff"]
 
 
+def test_the_closest_of_several_surfaces_is_measured_as_alone_and_the_first_wins_a_tie():
+    # closest() measures each candidate by its samples and the winner's vertices last: its figures are a
+    # fresh measurement's to the bit; the farther candidate loses whichever comes first; equals: the first
+    from geoimg.mesh._metrics import ReferenceDistances
+    mesh = meshes.icosphere(2, bumps=0.1)
+    image = geoimg.mesh_to_image(mesh, 33, fidelity=False)
+    near = image.to_mesh()
+    far = geoimg.GeometryImage(image.pixels * 1.02, image.mask, image.domain).to_mesh()
+    alone = ReferenceDistances(mesh, 3000).to(near)
+    assert ReferenceDistances(mesh, 3000).closest([far, near]) == (1, alone)
+    assert ReferenceDistances(mesh, 3000).closest([near, far]) == (0, alone)
+    assert ReferenceDistances(mesh, 3000).closest([near, near])[0] == 0
+    with pytest.raises(geoimg.errors.InputTypeError):
+        ReferenceDistances(mesh, 3000).closest([near, "not a mesh"])
+
+
 def test_surface_samples_are_numpys_uniform_triangle_samples():
     # the numba area and point kernels keep numpy's formulas to the bit: the areas behind the triangle
     # choice, then a + r1 (b - a) + r2 (c - a) with both folded where they sum over 1
