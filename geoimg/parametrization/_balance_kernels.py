@@ -14,7 +14,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["balance_energy", "balance_gradient", "project_moves", "step_to", "local_sweeps", "colouring"]
+__all__ = ["balance_energy", "balance_gradient", "project_moves", "step_to", "local_sweeps", "colouring",
+           "gauss_newton_metric"]
 
 
 @njit(cache=True, inline="always")
@@ -405,3 +406,36 @@ def step_to(s, d, alpha, planar, out):
             n = math.sqrt(x * x + y * y + z * z)
             x, y, z = x / n, y / n, z / n
         out[i, 0], out[i, 1], out[i, 2] = x, y, z
+
+
+@njit(cache=True)
+def gauss_newton_metric(s, tris, a, cot, beta, slot, out_u, out_v):
+    """The Gauss-Newton metric of the planar energy at the map ``s`` (points ``(u, v, 0)``, every triangle
+    positive), u and v apart: ``sum_t 2 a_t / A_t^2 grad A_t grad A_t^T + beta a_t / A_t H_t`` (the log
+    term's Gauss-Newton part, the angle term's convex part; ``H_t`` the triangle's cotangent stencil), its u
+    block added into ``out_u`` and its v block into ``out_v`` (both zeroed first) at ``slot[t, k, l]``, the
+    place of the entry (corner k, corner l) of triangle ``t`` in a sparse matrix's values. Serial, triangle
+    by triangle: the same sums on any thread count.
+    """
+    out_u[:] = 0.0
+    out_v[:] = 0.0
+    gu = np.empty(3)
+    gv = np.empty(3)
+    for t in range(tris.shape[0]):
+        for k in range(3):           # d area / d corner k: half the opposite edge turned a quarter
+            i, j = tris[t, (k + 1) % 3], tris[t, (k + 2) % 3]
+            gu[k] = 0.5 * (s[i, 1] - s[j, 1])
+            gv[k] = 0.5 * (s[j, 0] - s[i, 0])
+        area = _area(s, tris, t, True)
+        w_area = 2.0 * a[t] / (area * area)
+        w_angle = beta * a[t] / area
+        for k in range(3):
+            for m in range(3):
+                out_u[slot[t, k, m]] += w_area * gu[k] * gu[m]
+                out_v[slot[t, k, m]] += w_area * gv[k] * gv[m]
+        for k in range(3):
+            i, j = (k + 1) % 3, (k + 2) % 3
+            c = w_angle * cot[t, k]
+            for p, q, sign in ((i, i, 1.0), (j, j, 1.0), (i, j, -1.0), (j, i, -1.0)):
+                out_u[slot[t, p, q]] += sign * c
+                out_v[slot[t, p, q]] += sign * c

@@ -22,6 +22,7 @@ from ..errors import ParametrizationError
 from ..mesh import Mesh, boundary_loops, topology
 from ._balance import settle
 from ._laplacian import corner_angles, mean_value_weights, planar_cross, solve_free, triangle_areas, uniform_weights
+from ._newton import NEWTON_STEPS, newton_balance, slides_on_axes
 from ._slim import area_log_rms, relax
 
 __all__ = ["disk_coords", "relax_planar", "DISK_BOUNDARIES", "DISK_BALANCES"]
@@ -234,6 +235,7 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DIS
 
 
 PLANAR_SWEEP_ROUNDS = 2
+NEWTON_FIRST_STEPS = 4   # Gauss-Newton steps of a start's first balancing (the two starts compared after them)
 START_LEAD = 1.0         # a fold-free start balanced once to over 1/START_LEAD times the other's error stops
 START_WEIGHTS = ("mean-value", "uniform")     # the interior's starts: Floater's weights, Tutte's
 ERROR_RESOLUTION = 257                         # the image side the starts are compared at (Gu et al.'s)
@@ -287,19 +289,21 @@ def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndar
     the two end close. Trimesh's CAD models cut open, 257^2: ``featuretype.ply`` 45.2 -> 54.8 dB,
     ``plate_holes.STL`` 56.0 -> 67.3, ``idler_riser.STL`` 51.1 -> 57.8, ``fixed_top.ply`` 5 folds -> 0;
     ``ADIS16480.STL`` keeps the mean-value start (36.2 dB against 32.2), see ``benchmarks/README.md``.
-    Each start is balanced once first; when both are then fold-free (a folded map is not balanced until the
+    Each start is balanced once first (:data:`NEWTON_FIRST_STEPS` Gauss-Newton steps, or the Sobolev steps
+    where those stall: :func:`relax_planar`); when both are then fold-free (a folded map is not balanced until the
     sweeps open it), the one behind (error over ``1 / START_LEAD`` times the other's) goes no further.
     Measured on 9 disk and cut meshes at 257²: on 7 the start so dropped ended behind too (the same map to
     the bit); on the hemisphere and Demosthenes the two ended within 1 % and the image within 0.07 dB
     (102.75 -> 102.74, 75.46 -> 75.39); the maps 1.0-1.6x faster (the terrain's disk 17.0 -> 10.7 s).
     ``"slim"`` and ``"none"`` keep the mean-value start. ``progress`` hears from each relaxing, its messages
-    led by the start's name (``"uniform start: area balancing step 10"``).
+    led by the start's name (``"uniform start: Gauss-Newton step 3: energy 0.7032"``).
 
     Returns
     -------
     coords : (N, 2) float64
     info : dict
-        ``balance``, ``balance_steps``, ``slim_steps``, ``start`` (the start kept), ``start_errors`` (each
+        ``balance``, ``balance_steps``, ``slim_steps``, ``gauss_newton`` (whether Gauss-Newton steps made
+        the map kept, see :func:`relax_planar`), ``start`` (the start kept), ``start_errors`` (each
         start's :func:`resampling_error` after relaxing, or after its first balancing when it went no
         further), ``stages`` (a line saying which start was kept,
         against what), ``mean_value_area_log_rms`` (the mean-value map's
@@ -320,25 +324,27 @@ def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndar
         if not tries:
             first = area_log_rms(area3, start, f)
         heard = None if progress is None else (lambda msg, name=name: progress(f"{name} start: {msg}"))
-        coords, steps = (relax_planar(v, f, start, loop, balance, slide, heard, rounds, cache=cache) if len(free)
-                         else (start, 0))
-        tries.append(_Start(name, coords, steps, heard, area3, f))
+        coords, steps, newton = (relax_planar(v, f, start, loop, balance, slide, heard, rounds, cache=cache)
+                                 if len(free) else (start, 0, False))
+        tries.append(_Start(name, coords, steps, heard, area3, f, newton))
     if len(tries) > 1:          # ... the rest for each start not left far behind (see START_LEAD)
         best = min(tries, key=_Start.rank)
         for i, t in enumerate(tries):         # each compared with the best after its first balancing
             if t is not best and t.folds == best.folds == 0 and best.error < START_LEAD * t.error:
                 t.stopped = True
                 continue
-            coords, more = relax_planar(v, f, t.coords, loop, balance, slide, t.heard, PLANAR_SWEEP_ROUNDS,
-                                        balanced=True, cache=cache)
-            tries[i] = _Start(t.name, coords, t.steps + more, t.heard, area3, f)
+            coords, more, newton = relax_planar(v, f, t.coords, loop, balance, slide, t.heard,
+                                                PLANAR_SWEEP_ROUNDS, balanced=True, cache=cache, newton=t.newton)
+            tries[i] = _Start(t.name, coords, t.steps + more, t.heard, area3, f, newton)
     kept = min((t for t in tries if not t.stopped), key=_Start.rank)
     name, coords, steps, error = kept.name, kept.coords, kept.steps, kept.error
     others = ", ".join(f"{t.name} {t.error:.3g}{' after its first balancing' * t.stopped}" for t in tries
                        if t.name != name)
-    stage = f"{name} start" + (f" (resampling error {error:.3g}; {others})" if others else "")
+    stage = (f"{name} start" + " by Gauss-Newton steps" * kept.newton
+             + (f" (resampling error {error:.3g}; {others})" if others else ""))
     info = {"balance": balance, "balance_steps": steps, "slim_steps": steps if balance == "slim" else 0,
-            "start": name, "start_errors": {t.name: t.error for t in tries}, "stages": [stage],
+            "gauss_newton": kept.newton, "start": name, "start_errors": {t.name: t.error for t in tries},
+            "stages": [stage],
             "mean_value_area_log_rms": first,
             "area_log_rms": area_log_rms(area3, coords, f) if steps else first}
     return coords, info
@@ -346,11 +352,13 @@ def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndar
 
 class _Start:
     """One start of :func:`planar_interior`: its map so far, the balancing steps it took, whom its progress
-    goes to, and that map's folds and :func:`resampling_error`; ``stopped`` once it goes no further.
+    goes to, whether Gauss-Newton steps made it (its relaxing goes on with them), and that map's folds and
+    :func:`resampling_error`; ``stopped`` once it goes no further.
     """
 
-    def __init__(self, name: str, coords: np.ndarray, steps: int, heard, area3: np.ndarray, f: np.ndarray):
-        self.name, self.coords, self.steps, self.heard = name, coords, steps, heard
+    def __init__(self, name: str, coords: np.ndarray, steps: int, heard, area3: np.ndarray, f: np.ndarray,
+                 newton: bool = False):
+        self.name, self.coords, self.steps, self.heard, self.newton = name, coords, steps, heard, newton
         self.folds, self.error = _folds(coords, f), resampling_error(area3, coords, f)
         self.stopped = False
 
@@ -361,29 +369,42 @@ class _Start:
 
 def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str,
                  slide=None, progress: Progress | None = None, rounds: int = PLANAR_SWEEP_ROUNDS, *,
-                 balanced: bool = False, cache: dict | None = None) -> tuple[np.ndarray, int]:
+                 balanced: bool = False, cache: dict | None = None,
+                 newton: bool = True) -> tuple[np.ndarray, int, bool]:
     """A fold-free planar map ``coords`` of the triangles ``v, f`` (every vertex on one), with its boundary
-    ``loop``, relaxed as ``balance`` says: ``"area"``, the area balancing the sphere's map uses, the boundary
-    sliding as ``slide`` says (directions and held vertices in loop order) or held, then
-    ``rounds`` times single-vertex sweeps and balancing again (:func:`._balance.settle`; ``balanced``: the
-    first balancing is done, ``coords`` its result; ``cache``: see :func:`._balance.balance`)
-    (a triangle of no area in the mean-value map, or one squeezed part, stops the steps of all vertices at
-    once; the camel head's disk 73.1 -> 81.0 dB, a CAD plate cut open 43.8 -> 56.2 dB, resampled linearly
-    at 257^2); ``"slim"``, libigl's SLIM
-    with the boundary held; ``"none"``, as it is. ``progress`` hears from the area balancing every ten steps.
-    Returns the coordinates and the steps taken.
+    ``loop``, relaxed as ``balance`` says: ``"slim"``, libigl's SLIM with the boundary held; ``"none"``, as
+    it is; ``"area"``, the area balancing the sphere's map uses, the boundary sliding as ``slide`` says
+    (directions and held vertices in loop order) or held:
+
+    - with ``newton``, Gauss-Newton steps first (:func:`._newton.newton_balance`): to convergence, or
+      :data:`NEWTON_FIRST_STEPS` of them when ``rounds`` is 0 (a start's first balancing); ``balanced``:
+      ``coords`` is that first balancing's result, and the steps go on from it;
+    - when they stall (far from balanced: a CAD fan squeezed to nothing, a triangle of no area), or without
+      ``newton``: the Sobolev steps, then ``rounds`` times single-vertex sweeps and Sobolev steps again
+      (:func:`._balance.settle`; ``balanced``: the first balancing is done, ``coords`` its result; ``cache``:
+      see :func:`._balance.balance`), from ``coords`` as given. The sweeps open what holds every vertex's
+      step back at once (a triangle of no area in the mean-value map, one squeezed part; the camel's head's
+      disk 73.1 -> 81.0 dB, a CAD plate cut open 43.8 -> 56.2 dB, resampled linearly at 257^2).
+
+    ``progress`` hears from either. Returns the coordinates, the steps taken, and whether Gauss-Newton
+    steps made the map.
     """
     if balance == "slim":
-        return relax(v, f, coords, loop)
+        return (*relax(v, f, coords, loop), False)
     if balance == "none":
-        return coords, 0
+        return coords, 0, False
     held = np.zeros(len(v), bool)
     along = np.zeros((len(v), 3))
     held[loop] = True if slide is None else slide[1]
     if slide is not None:
         along[loop] = slide[0]
-    out, steps, _ = settle(np.column_stack([coords, np.zeros(len(v))]), v, f, rounds,
-                           progress=progress, planar=True, held=held, along=along, balanced=balanced, cache=cache)
-    return out[:, :2], steps
-
-
+    start = np.column_stack([coords, np.zeros(len(v))])
+    if newton and slides_on_axes(along):
+        first = rounds == 0 and not balanced
+        out, steps, _, stalled = newton_balance(start, v, f, ~held, along, progress=progress,
+                                                steps=NEWTON_FIRST_STEPS if first else NEWTON_STEPS)
+        if not stalled:
+            return out[:, :2], steps, True
+    out, steps, _ = settle(start, v, f, rounds, progress=progress, planar=True, held=held, along=along,
+                           balanced=balanced, cache=cache)
+    return out[:, :2], steps, False

@@ -328,8 +328,11 @@ def test_a_narrow_surface_agrees_with_itself_across_glued_sides():
     # a twin piece was copied too, and its copy spilled beside the next piece: on the plate at s = 1e-4 (the
     # mesh resampled as it is) a copy of its bottom face lay beside its top, two glued pairs 1.0 and 3.2 units
     # apart (0.3 % and 0.9 % of the diagonal) before the glue averaged them; 2.9e-4 units with the margin.
+    # What is left depends on the charts' maps, not on ghosts: 0.65e-6 to 1.10e-6 of the diagonal on four
+    # maps of the same charts (Sobolev steps; Gauss-Newton steps to 1e-2, 1e-3, 1e-4), so the bound sits
+    # 10x above that and 300x below the ghosts' spread.
     mesh = load_data("plate_holes.STL")
     param = geoimg.parametrize(mesh, "charts")
     image = geoimg.fit_surface(mesh, param, geoimg.CoverageWeights(s=1e-4)).sample(129)
     diag = np.linalg.norm(np.ptp(mesh.vertices, axis=0))
-    assert image.metadata.get("glue_spread", 0.0) < 1e-6 * diag
+    assert image.metadata.get("glue_spread", 0.0) < 1e-5 * diag
