@@ -34,6 +34,8 @@ A square's four triangles round a centre pulled towards one corner: a few steps 
 from __future__ import annotations
 
 import numpy as np
+from concurrent.futures import ThreadPoolExecutor
+
 from scipy import sparse
 
 from ._balance import target_shares
@@ -141,29 +143,33 @@ def newton_balance(s, x, tris, moves, along, *, beta: float = 0.3, shares=None, 
     indptr, indices, slot = _pattern(tris, n)
     blocks = [_block(indptr, indices, k, n) for k in unknowns]
     values = [np.empty(len(indices)), np.empty(len(indices))]
-    for step in range(steps):
-        g = balance_gradient(s, tris, a, cot, beta, state)
-        gauss_newton_metric(s, tris, a, cot, float(beta), slot, values[0], values[1])
-        d = np.zeros_like(s)
-        for c in range(2):
-            if len(unknowns[c]):
-                d[unknowns[c], c] = _solve(blocks[c], values[c], -g[unknowns[c], c])
-        alpha, found = 1.0, None
-        while alpha >= SHORTEST_STEP:
-            trial = np.empty_like(s)
-            step_to(s, d, alpha, True, trial)
-            e_new, st = balance_energy(trial, tris, a, cot, beta, True)
-            if e_new < e:
-                found = trial, e_new, st
-                break
-            alpha *= 0.5
-        if found is None:        # no lower energy: at the minimum already (the model's decrease is tiny), or stalled
-            predicted = -0.5 * float(np.add.reduce((g[:, :2] * d[:, :2]).ravel()))
-            return s, step, (e_start, e), not predicted < tolerance * max(e, FLOOR)
-        converged = e - found[1] < tolerance * max(e, FLOOR)
-        s, e, state = found
-        if progress is not None:
-            progress(f"Gauss-Newton step {step}: energy {e:.4f}")
-        if converged:
-            return s, step + 1, (e_start, e), False
-    return s, steps, (e_start, e), False
+    # u and v factored side by side: SuperLU lets go of the interpreter while it factors (the pair 1.3-1.8x
+    # faster on two cores; each factor the same bits as alone)
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        for step in range(steps):
+            g = balance_gradient(s, tris, a, cot, beta, state)
+            gauss_newton_metric(s, tris, a, cot, float(beta), slot, values[0], values[1])
+            d = np.zeros_like(s)
+            solving = [(c, pool.submit(_solve, blocks[c], values[c], -g[unknowns[c], c])) for c in range(2)
+                       if len(unknowns[c])]
+            for c, job in solving:
+                d[unknowns[c], c] = job.result()
+            alpha, found = 1.0, None
+            while alpha >= SHORTEST_STEP:
+                trial = np.empty_like(s)
+                step_to(s, d, alpha, True, trial)
+                e_new, st = balance_energy(trial, tris, a, cot, beta, True)
+                if e_new < e:
+                    found = trial, e_new, st
+                    break
+                alpha *= 0.5
+            if found is None:        # no lower energy: at the minimum (the model's decrease is tiny), or stalled
+                predicted = -0.5 * float(np.add.reduce((g[:, :2] * d[:, :2]).ravel()))
+                return s, step, (e_start, e), not predicted < tolerance * max(e, FLOOR)
+            converged = e - found[1] < tolerance * max(e, FLOOR)
+            s, e, state = found
+            if progress is not None:
+                progress(f"Gauss-Newton step {step}: energy {e:.4f}")
+            if converged:
+                return s, step + 1, (e_start, e), False
+        return s, steps, (e_start, e), False
