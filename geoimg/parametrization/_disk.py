@@ -235,7 +235,7 @@ def disk_coords(mesh: Mesh, boundary: str = "square", balance: str = DEFAULT_DIS
 
 
 PLANAR_SWEEP_ROUNDS = 2
-NEWTON_FIRST_STEPS = 4   # Gauss-Newton steps of a start's first balancing (the two starts compared after them)
+NEWTON_FIRST_STEPS = 2   # Gauss-Newton steps of a start's first balancing (the two starts compared after them)
 START_LEAD = 1.0         # a fold-free start balanced once to over 1/START_LEAD times the other's error stops
 START_WEIGHTS = ("mean-value", "uniform")     # the interior's starts: Floater's weights, Tutte's
 ERROR_RESOLUTION = 257                         # the image side the starts are compared at (Gu et al.'s)
