@@ -46,7 +46,7 @@ __all__ = ["newton_balance", "slides_on_axes", "NEWTON_STEPS", "NEWTON_TOLERANCE
 
 NEWTON_STEPS = 40          # steps at most
 NEWTON_TOLERANCE = 1e-3    # ... stopping once a step lowers the energy by less than this share of it
-SHORTEST_STEP = 1 / 16     # a step shorter than this share of the full one stalls the descent
+SHORTEST_STEP = 1 / 256    # a step shorter than this share of the full one stalls the descent
 FLOOR = 1e-9               # an energy this low is 0 (a balanced map's; rounding makes it -1e-17)
 RIDGE = 1e-10              # each metric's diagonal raised by this share of its mean: a solve where it is flat
 
