@@ -39,6 +39,7 @@ from ._laplacian import (
 
 __all__ = [
     "balance",
+    "lower_along",
     "relax_locally",
     "target_shares",
     "settle",
@@ -233,14 +234,7 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
         return d / max(np.abs(d).max(), 1e-300)
 
     def search(d, alpha):
-        while alpha > 1e-10:
-            trial = np.empty_like(s)
-            step_to(s, d, alpha, planar, trial)
-            e_new, st = balance_energy(trial, tris, a, cot, beta, planar)
-            if e_new < e:
-                return trial, e_new, st, alpha
-            alpha *= 0.5
-        return None
+        return lower_along(s, d, alpha, e, tris, a, cot, beta, planar)
 
     alphas, done = [1.0, 1.0], 0            # each kind of step keeps its own step length
     for step in range(steps):
@@ -271,6 +265,26 @@ def balance(s, x, tris, lap=None, vertex_area=None, used=None, beta: float = 0.3
         if converged:
             break
     return s, done, (e_start, e)
+
+
+def lower_along(s, d, alpha, e, tris, a, cot, beta, planar, above: float = 1e-10):
+    """The step ``s + alpha d`` (on the sphere, put back on it) halved from ``alpha`` while ``alpha > above``
+    until its energy is lower than ``e`` with every triangle positive: ``(map, energy, state, alpha)``, or None.
+
+    >>> x = np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0]]); tris = np.array([[0, 1, 2]])
+    >>> a, cot = target_shares(x, tris), corner_cotangents(x, tris)
+    >>> e = balance_energy(x, tris, a, cot, 0.3, True)[0]
+    >>> lower_along(x, np.array([[0, 0, 0], [0, 0, 0], [0, -2.0, 0]]), 1.0, e, tris, a, cot, 0.3, True) is None
+    True
+    """
+    while alpha > above:
+        trial = np.empty_like(s)
+        step_to(s, d, alpha, planar, trial)
+        e_new, state = balance_energy(trial, tris, a, cot, beta, planar)
+        if e_new < e:
+            return trial, e_new, state, alpha
+        alpha *= 0.5
+    return None
 
 
 def sobolev_factor(x, tris, used, lap=None, vertex_area=None, cache: dict | None = None):

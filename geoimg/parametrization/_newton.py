@@ -38,8 +38,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 from scipy import sparse
 
-from ._balance import target_shares
-from ._balance_kernels import balance_energy, balance_gradient, gauss_newton_metric, step_to
+from ._balance import lower_along, target_shares
+from ._balance_kernels import balance_energy, balance_gradient, gauss_newton_metric
 from ._laplacian import corner_cotangents, factor_symmetric
 
 __all__ = ["newton_balance", "slides_on_axes", "NEWTON_STEPS", "NEWTON_TOLERANCE", "SHORTEST_STEP"]
@@ -154,20 +154,12 @@ def newton_balance(s, x, tris, moves, along, *, beta: float = 0.3, shares=None, 
                        if len(unknowns[c])]
             for c, job in solving:
                 d[unknowns[c], c] = job.result()
-            alpha, found = 1.0, None
-            while alpha >= SHORTEST_STEP:
-                trial = np.empty_like(s)
-                step_to(s, d, alpha, True, trial)
-                e_new, st = balance_energy(trial, tris, a, cot, beta, True)
-                if e_new < e:
-                    found = trial, e_new, st
-                    break
-                alpha *= 0.5
+            found = lower_along(s, d, 1.0, e, tris, a, cot, beta, True, above=SHORTEST_STEP / 2)
             if found is None:        # no lower energy: at the minimum (the model's decrease is tiny), or stalled
                 predicted = -0.5 * float(np.add.reduce((g[:, :2] * d[:, :2]).ravel()))
                 return s, step, (e_start, e), not predicted < tolerance * max(e, FLOOR)
             converged = e - found[1] < tolerance * max(e, FLOOR)
-            s, e, state = found
+            s, e, state, _ = found
             if progress is not None:
                 progress(f"Gauss-Newton step {step}: energy {e:.4f}")
             if converged:
