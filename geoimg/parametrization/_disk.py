@@ -381,12 +381,14 @@ def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndar
       ``coords`` is that first balancing's result, and the steps go on from it;
     - when they stall (far from balanced: a CAD fan squeezed to nothing, a triangle of no area), or without
       ``newton``: the Sobolev steps, then ``rounds`` times single-vertex sweeps and Sobolev steps again
-      (:func:`._balance.settle`; ``balanced``: the first balancing is done, ``coords`` its result; ``cache``:
-      see :func:`._balance.balance`), from ``coords`` as given. The sweeps open what holds every vertex's
-      step back at once (a triangle of no area in the mean-value map, one squeezed part; the camel's head's
-      disk 73.1 -> 81.0 dB, a CAD plate cut open 43.8 -> 56.2 dB, resampled linearly at 257^2).
+      (:func:`._balance.settle`; ``balanced``: the first balancing is done, ``coords`` its result), from
+      ``coords`` as given. The sweeps open what holds every vertex's step back at once (a triangle of no
+      area in the mean-value map, one squeezed part; the camel's head's disk 73.1 -> 81.0 dB, a CAD plate
+      cut open 43.8 -> 56.2 dB, resampled linearly at 257^2).
 
-    ``progress`` hears from either. Returns the coordinates, the steps taken, and whether Gauss-Newton
+    ``cache`` keeps what depends on the mesh alone between calls (the Sobolev factor,
+    :func:`._balance.balance`; the Gauss-Newton pattern, :func:`._newton.newton_balance`). ``progress``
+    hears from either. Returns the coordinates, the steps taken, and whether Gauss-Newton
     steps made the map.
     """
     if balance == "slim":
@@ -401,7 +403,7 @@ def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndar
     start = np.column_stack([coords, np.zeros(len(v))])
     if newton and slides_on_axes(along):
         first = rounds == 0 and not balanced
-        out, steps, _, stalled = newton_balance(start, v, f, ~held, along, progress=progress,
+        out, steps, _, stalled = newton_balance(start, v, f, ~held, along, progress=progress, cache=cache,
                                                 steps=NEWTON_FIRST_STEPS if first else NEWTON_STEPS)
         if not stalled:
             return out[:, :2], steps, True

@@ -96,7 +96,7 @@ def _solve(block, values: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 
 def newton_balance(s, x, tris, moves, along, *, beta: float = 0.3, shares=None, steps: int = NEWTON_STEPS,
-                   tolerance: float | None = None, progress=None):
+                   tolerance: float | None = None, progress=None, cache: dict | None = None):
     """Gauss-Newton descent of the planar balancing energy from ``s`` (points ``(u, v, 0)``).
 
     Parameters
@@ -115,6 +115,9 @@ def newton_balance(s, x, tris, moves, along, *, beta: float = 0.3, shares=None, 
         (:data:`NEWTON_TOLERANCE` by default) of itself.
     progress : callable, optional
         Hears each step's energy.
+    cache : dict, optional
+        Keeps the mesh's sparsity pattern for the next call with the same triangles (a disk's starts and
+        their relaxing go on one mesh), as :func:`._balance.balance` keeps its Sobolev factor.
 
     Returns
     -------
@@ -140,7 +143,10 @@ def newton_balance(s, x, tris, moves, along, *, beta: float = 0.3, shares=None, 
     unknowns = [np.flatnonzero(moves & (~slides | (along[:, c] != 0.0))) for c in range(2)]
     if steps <= 0 or not any(len(k) for k in unknowns):
         return s, 0, (e, e), False
-    indptr, indices, slot = _pattern(tris, n)
+    cache = {} if cache is None else cache
+    if "newton_pattern" not in cache:
+        cache["newton_pattern"] = _pattern(tris, n)
+    indptr, indices, slot = cache["newton_pattern"]
     blocks = [_block(indptr, indices, k, n) for k in unknowns]
     values = [np.empty(len(indices)), np.empty(len(indices))]
     # u and v factored side by side: SuperLU lets go of the interpreter while it factors (the pair 1.3-1.8x

@@ -105,6 +105,18 @@ def test_steps_balance_the_squeezed_finger_and_keep_corners_and_sides(finger_squ
     assert e_tight < e_sobolev and more < taken / 4
 
 
+def test_a_cache_keeps_the_pattern_and_changes_nothing(finger_square):
+    x, tris, s, moves, along, _, _ = finger_square
+    alone = newton_balance(s, x, tris, moves, along)
+    cache: dict = {}
+    first = newton_balance(s, x, tris, moves, along, cache=cache)
+    pattern = cache["newton_pattern"]
+    again = newton_balance(s, x, tris, moves, along, cache=cache)
+    assert cache["newton_pattern"] is pattern                     # made once
+    for out in (first, again):
+        assert np.array_equal(out[0], alone[0]) and out[1:] == alone[1:]
+
+
 def test_a_map_with_a_triangle_of_no_area_stalls_at_once(finger_square):
     x, tris, s, moves, along, _, _ = finger_square
     flat = s.copy()
