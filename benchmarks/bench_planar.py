@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 import warnings
 from pathlib import Path
 
@@ -23,7 +22,7 @@ import geoimg.parametrization._disk as disk
 from geoimg.mesh._metrics import ReferenceDistances
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_profile import linear_map  # noqa: E402
+from bench_profile import best_alternating, image_psnr, linear_map, with_attribute  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "meshes"
@@ -51,24 +50,16 @@ def run(path: Path, method: str, rounds: int, res: int) -> None:
         mesh = max((piece.mesh for piece in geoimg.mesh.repair(mesh)), key=lambda m: m.n_faces)
     base = min(linear_map(mesh, method == "disk") for _ in range(3))
     ref = ReferenceDistances(mesh, 50_000)
-    newton = disk.newton_balance
-    best: dict = {}
-    for _ in range(rounds):
-        for way in ("sobolev", "gauss-newton"):
-            disk.newton_balance = _stalled if way == "sobolev" else newton
-            try:
-                t0 = time.perf_counter()
-                p = geoimg.parametrize(mesh, method)
-                wall = time.perf_counter() - t0
-            finally:
-                disk.newton_balance = newton
-            if way not in best or wall < best[way][0]:
-                best[way] = (wall, p)
+
+    def mapped():
+        return geoimg.parametrize(mesh, method)
+
+    best = best_alternating(rounds, {"sobolev": lambda: with_attribute(disk, "newton_balance", _stalled, mapped),
+                                     "gauss-newton": mapped})
     cells = []
     for way in ("sobolev", "gauss-newton"):
         wall, p = best[way]
-        image = geoimg.mesh_to_image(mesh, res, parametrization=p, fidelity=False)
-        psnr = ref.to(image.to_mesh(), vertices=False)["psnr_db"]
+        psnr = image_psnr(mesh, p, res, ref)
         gn = "gn" if p.info.get("gauss_newton") else "-"
         cells.append(f"{wall:.2f} s, {wall / base:.0f}x, {p.info.get('balance_steps')} steps {gn}, "
                      f"{p.flipped_faces} flips, {psnr:.2f} dB")

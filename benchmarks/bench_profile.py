@@ -55,6 +55,39 @@ def linear_map(mesh: geoimg.Mesh, disk: bool) -> float:
     return time.perf_counter() - t0
 
 
+def best_alternating(rounds: int, ways: dict) -> dict:
+    """Each of ``ways`` (a name and a call) run ``rounds`` times, the ways taking turns (a noisy machine slows
+    them alike); per name, the fastest run's ``(seconds, result)``.
+    """
+    best: dict = {}
+    for _ in range(rounds):
+        for name, call in ways.items():
+            t0 = time.perf_counter()
+            out = call()
+            wall = time.perf_counter() - t0
+            if name not in best or wall < best[name][0]:
+                best[name] = (wall, out)
+    return best
+
+
+def with_attribute(owner, name: str, value, call):
+    """``call()`` with ``owner.name`` set to ``value`` for the while (a module's constant or function)."""
+    kept = getattr(owner, name)
+    setattr(owner, name, value)
+    try:
+        return call()
+    finally:
+        setattr(owner, name, kept)
+
+
+def image_psnr(mesh: geoimg.Mesh, parametrization, res: int, reference) -> float:
+    """The PSNR of the mesh's image at ``res`` through the given map (linear resampling, no fidelity check)
+    against ``reference`` (:class:`geoimg.mesh._metrics.ReferenceDistances` of the mesh).
+    """
+    image = geoimg.mesh_to_image(mesh, res, parametrization=parametrization, fidelity=False)
+    return reference.to(image.to_mesh(), vertices=False)["psnr_db"]
+
+
 def profile(name: str, mesh: geoimg.Mesh, method: str, top: int) -> None:
     disk = method == "disk"
     base = min(linear_map(mesh, disk) for _ in range(3))

@@ -1,4 +1,5 @@
-"""numba kernels of the area-balancing energy of a map onto the sphere or the plane (see :mod:`._balance`).
+"""numba kernels of the area-balancing energy of a map onto the sphere or the plane (see :mod:`._balance`),
+and its Gauss-Newton metrics (see :mod:`._newton`).
 
 ``E = sum_t a_t [log(A_t / a_t)^2 + beta (D_t / A_t - 2)]`` over triangles ``t``: ``a_t`` the mesh's
 triangle areas (summing to 1), ``A_t`` the mapped triangles' areas scaled to sum 1, and ``D_t`` the
@@ -14,8 +15,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["balance_energy", "balance_gradient", "project_moves", "step_to", "local_sweeps", "colouring",
-           "gauss_newton_metric"]
+__all__ = ["mapped_areas", "balance_energy", "balance_gradient", "project_moves", "step_to", "local_sweeps",
+           "colouring", "gauss_newton_metric", "gauss_newton_metric_sphere"]
 
 
 @njit(cache=True, inline="always")
@@ -109,6 +110,20 @@ def _terms(s, tris, a, cot, area, lam, beta, dirichlet):
         e += e_part[c]
         mean_log += log_part[c]
     return e, mean_log
+
+
+def mapped_areas(s, tris, planar=False):
+    """Each triangle's area in the map (as the energy sees it: on the sphere its chord triangle's, projected on
+    its mean direction), and how many are not positive.
+
+    >>> s = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    >>> area, bad = mapped_areas(s, np.array([[0, 1, 2], [0, 2, 1]]), True)
+    >>> area.tolist(), bad
+    ([0.5, -0.5], 1)
+    """
+    area = np.empty(len(tris))
+    bad = _areas(s, tris, bool(planar), area)
+    return area, int(bad)
 
 
 def balance_energy(s, tris, a, cot, beta, planar=False):
@@ -439,3 +454,42 @@ def gauss_newton_metric(s, tris, a, cot, beta, slot, out_u, out_v):
             for p, q, sign in ((i, i, 1.0), (j, j, 1.0), (i, j, -1.0), (j, i, -1.0)):
                 out_u[slot[t, p, q]] += sign * c
                 out_v[slot[t, p, q]] += sign * c
+
+
+@njit(cache=True)
+def gauss_newton_metric_sphere(s, tris, a, cot, beta, basis, slot, out):
+    """The Gauss-Newton metric of the energy on the sphere at the map ``s`` (unit vectors, every triangle
+    positive), in each vertex's tangent plane: ``basis[i]`` (3, 2) holds two orthonormal tangents at
+    ``s[i]``, and vertex ``i``'s unknowns are its moves along them (rows ``2 i`` and ``2 i + 1``). The same
+    terms as :func:`gauss_newton_metric` (``grad A_t`` the chord triangle's projected area's exact gradient,
+    its turning included; ``H_t`` the cotangent stencil of the triangle's Dirichlet energy in space), added
+    into ``out`` (zeroed first) at ``slot[t, p, q]``, the place of the entry of triangle ``t``'s unknowns
+    ``p = 2 k + c`` and ``q`` (corner ``k``, tangent ``c``). Serial: the same sums on any thread count.
+    """
+    out[:] = 0.0
+    jac = np.empty(6)
+    for t in range(tris.shape[0]):
+        area = _area(s, tris, t, False)
+        ux, uy, uz, tx, ty, tz = _turning(s, tris, t, False)
+        for k in range(3):           # d area / d corner k (f_d = 0, f_a = 1), along the corner's tangents
+            gx, gy, gz = _corner_gradient(s, tris, t, k, cot, 0.0, 1.0, ux, uy, uz, tx, ty, tz)
+            v = tris[t, k]
+            for c in range(2):
+                jac[2 * k + c] = gx * basis[v, 0, c] + gy * basis[v, 1, c] + gz * basis[v, 2, c]
+        w_area = 2.0 * a[t] / (area * area)
+        w_angle = beta * a[t] / area
+        for p in range(6):
+            for q in range(6):
+                out[slot[t, p, q]] += w_area * jac[p] * jac[q]
+        for k in range(3):           # the edge opposite corner k: (i, i), (j, j) +c I; (i, j), (j, i) -c B_i^T B_j
+            i, j = (k + 1) % 3, (k + 2) % 3
+            vi, vj = tris[t, i], tris[t, j]
+            c = w_angle * cot[t, k]
+            for ci in range(2):
+                out[slot[t, 2 * i + ci, 2 * i + ci]] += c
+                out[slot[t, 2 * j + ci, 2 * j + ci]] += c
+                for cj in range(2):
+                    bb = (basis[vi, 0, ci] * basis[vj, 0, cj] + basis[vi, 1, ci] * basis[vj, 1, cj]
+                          + basis[vi, 2, ci] * basis[vj, 2, cj])
+                    out[slot[t, 2 * i + ci, 2 * j + cj]] -= c * bb
+                    out[slot[t, 2 * j + cj, 2 * i + ci]] -= c * bb

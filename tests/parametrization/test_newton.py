@@ -1,12 +1,14 @@
-"""Gauss-Newton steps of the planar balancing (geoimg.parametrization._newton)."""
+"""Gauss-Newton steps of the planar and spherical balancing (geoimg.parametrization._newton)."""
 import numpy as np
 import pytest
 
 import geoimg
 from geoimg.parametrization._balance import balance, target_shares
-from geoimg.parametrization._balance_kernels import balance_energy, gauss_newton_metric
+from geoimg.parametrization._balance_kernels import (balance_energy, gauss_newton_metric, gauss_newton_metric_sphere,
+                                                    step_to)
 from geoimg.parametrization._laplacian import corner_cotangents
-from geoimg.parametrization._newton import _pattern, newton_balance, slides_on_axes
+from geoimg.parametrization._newton import (_pattern, _vertex_order, lower_locally, newton_balance, slides_on_axes,
+                                            tangent_basis)
 
 import meshes
 
@@ -140,3 +142,118 @@ def test_only_sliding_along_u_or_v_is_taken():
     x = np.array([[0., 0, 0], [1, 0, 0], [0, 1, 0]])
     with pytest.raises(ValueError, match="u or the v axis"):
         newton_balance(x, x, np.array([[0, 1, 2]]), np.ones(3, bool), np.array([[0.6, 0.8, 0]] * 3))
+
+
+@pytest.fixture(scope="module")
+def ball_map():
+    """A bumpy ball (a noisy icosphere) and its conformal-like map onto the sphere pulled out of balance:
+    every vertex's direction from the centre, turned round the z axis by an angle that grows with height.
+    """
+    mesh = meshes.icosphere(2, 0.25)
+    tris = np.ascontiguousarray(mesh.triangulate()[0], np.int64)
+    s = mesh.vertices - mesh.vertices.mean(axis=0)
+    s /= np.linalg.norm(s, axis=1, keepdims=True)
+    s[:, 2] = np.tanh(1.5 * s[:, 2])                       # squeezed towards the poles' caps
+    angle = 0.6 * s[:, 2]
+    s[:, 0], s[:, 1] = (np.cos(angle) * s[:, 0] - np.sin(angle) * s[:, 1],
+                        np.sin(angle) * s[:, 0] + np.cos(angle) * s[:, 1])
+    s /= np.linalg.norm(s, axis=1, keepdims=True)
+    from geoimg.parametrization._orientation import chord_orientation
+    assert (chord_orientation(s, tris) > 0).all()
+    return mesh.vertices, tris, s
+
+
+def _sphere_area(p, tris):
+    """Each chord triangle's area projected on its corners' mean direction (complex ``p`` allowed)."""
+    a, b, c = p[tris[:, 0]], p[tris[:, 1]], p[tris[:, 2]]
+    u = a + b + c
+    return 0.5 * np.einsum("ij,ij->i", np.cross(b - a, c - a), u) / np.sqrt(np.einsum("ij,ij->i", u, u))
+
+
+def test_the_sphere_metric_is_the_energys_gauss_newton_part_in_tangent_planes(ball_map):
+    x, tris, s = ball_map
+    n, beta = len(s), 0.3
+    a, cot = target_shares(x, tris), corner_cotangents(x, tris)
+    basis = tangent_basis(s)
+    indptr, indices, slot = _pattern(tris, n, 2)
+    values = np.empty(len(indices))
+    gauss_newton_metric_sphere(s, tris, a, cot, beta, basis, slot, values)
+    from scipy import sparse
+    got = sparse.csr_matrix((values, indices, indptr), shape=(2 * n, 2 * n)).toarray()
+    area = _sphere_area(s, tris)
+    h = 1e-30
+    jac = np.zeros((len(tris), 2 * n))                     # d area / d (move of vertex i along its tangent c)
+    for i in range(n):
+        for c in range(2):
+            step = s.astype(complex)
+            step[i] += 1j * h * basis[i, :, c]
+            jac[:, 2 * i + c] = _sphere_area(step, tris).imag / h
+    hess = np.zeros((2 * n, 2 * n))                        # the Dirichlet energies' (quadratic) stencils
+    w = beta * a / area
+    for t, (i, j, k) in enumerate(tris):
+        for corner, (p, q) in zip((i, j, k), ((j, k), (k, i), (i, j))):
+            c = w[t] * cot[t, [i, j, k].index(corner)]
+            bp, bq = basis[p], basis[q]
+            hess[2 * p:2 * p + 2, 2 * p:2 * p + 2] += c * np.eye(2)
+            hess[2 * q:2 * q + 2, 2 * q:2 * q + 2] += c * np.eye(2)
+            hess[2 * p:2 * p + 2, 2 * q:2 * q + 2] -= c * bp.T @ bq
+            hess[2 * q:2 * q + 2, 2 * p:2 * p + 2] -= c * bq.T @ bp
+    want = 2.0 * jac.T @ np.diag(a / area ** 2) @ jac + hess
+    assert np.abs(got - want).max() <= 1e-9 * np.abs(want).max()
+    assert np.linalg.eigvalsh(got).min() >= -1e-9 * np.abs(want).max()           # positive semi-definite
+
+
+def test_sphere_steps_balance_a_squeezed_map_and_stay_on_the_sphere(ball_map):
+    x, tris, s = ball_map
+    before = s.copy()
+    heard: list = []
+    moves = np.ones(len(s), bool)
+    out, steps, (e0, e1), stalled = newton_balance(s, x, tris, moves, planar=False, progress=heard.append)
+    assert np.array_equal(s, before)
+    assert not stalled and 0 < steps <= 12 and len(heard) == steps and e1 < 0.1 * e0
+    assert np.allclose(np.linalg.norm(out, axis=1), 1.0, atol=1e-12)
+    a, cot = target_shares(x, tris), corner_cotangents(x, tris)
+    assert balance_energy(out, tris, a, cot, 0.3)[0] == e1                    # every triangle positive
+    # as many Sobolev steps stop more than twice as high; to their converged minimum within 1e-4 of it
+    # (measured: 6 steps, 0.0069987; 6 Sobolev steps 0.0159, converged after 33 at 0.0069984)
+    assert e1 < 0.5 * balance(s, x, tris, steps=steps)[2][1]
+    assert e1 < (1 + 1e-4) * balance(s, x, tris, steps=2000)[2][1]
+    held = moves.copy()
+    held[:5] = False                                       # vertices that may not move do not
+    out, _, _, _ = newton_balance(s, x, tris, held, planar=False)
+    assert np.array_equal(out[:5], s[:5]) and not np.array_equal(out[5:], s[5:])
+
+
+def test_on_the_sphere_nothing_slides_along_a_line(ball_map):
+    x, tris, s = ball_map
+    along = np.zeros((len(s), 3))
+    along[0, 0] = 1.0
+    with pytest.raises(ValueError, match="tangent plane"):
+        newton_balance(s, x, tris, np.ones(len(s), bool), along, planar=False)
+
+
+def test_the_vertex_order_is_a_permutation_of_the_moving_vertices(ball_map):
+    _, tris, s = ball_map
+    n = len(s)
+    indptr, indices, _ = _pattern(tris, n)
+    moving = np.flatnonzero(np.arange(n) % 3 != 0)
+    order = _vertex_order(indptr, indices, moving, n)
+    assert sorted(order.tolist()) == moving.tolist()
+
+
+def test_a_step_that_turns_a_few_triangles_over_is_halved_only_round_them(ball_map):
+    x, tris, s = ball_map
+    a, cot = target_shares(x, tris), corner_cotangents(x, tris)
+    d = 0.02 * np.cross(np.array([0.0, 0.0, 1.0]), s)     # a small turn of every vertex ...
+    far = int(np.argmax(s[:, 2]))
+    ring = np.unique(tris[np.any(tris == far, axis=1)])
+    d[far] = 3.0 * (s[ring[ring != far][0]] - s[far])      # ... and one vertex thrown past its neighbour
+    plain = np.empty_like(s)
+    step_to(s, d, 1.0, False, plain)
+    assert balance_energy(plain, tris, a, cot, 0.3)[0] == np.inf            # the whole step folds
+    out, e_new, _, alpha = lower_locally(s, d, np.inf, tris, a, cot, 0.3, False)
+    assert np.isfinite(e_new) and balance_energy(out, tris, a, cot, 0.3)[0] == e_new   # nothing folded
+    step_to(s, d, alpha, False, plain)
+    same = np.all(out == plain, axis=1)
+    assert not same[far] and same.mean() > 0.9             # only the moves round the fold were cut
+    assert np.linalg.norm(out[far] - s[far]) < np.linalg.norm(alpha * d[far])

@@ -398,3 +398,24 @@ def test_a_decimated_copy_whose_conformal_map_folds_is_mapped_coarse_to_fine(mon
     tris, _ = mesh.triangulate(quads="shorter")
     s = S._decimated_map(0.3)(mesh.vertices, tris)
     assert calls == [len(tris)] and s is not None and (S.chord_orientation(s, tris) > 0).all()
+
+
+def test_a_conformal_map_with_a_few_folds_is_opened_and_balanced_by_gauss_newton_steps(monkeypatch):
+    from geoimg.parametrization import _sphere
+    control = load_data("spot_control_mesh.obj")               # its conformal map folds a few triangles
+    mesh = geoimg.Mesh(control.vertices, control.triangulate()[0])
+    # 360 triangles: under CONFORMAL_OPENED_FROM, coarse to fine as before (then Gauss-Newton steps)
+    _, small = _sphere.sphere_coords(mesh)
+    assert small["stages"] == ["mean-value", "progressive"] and small["gauss_newton"]
+    with monkeypatch.context() as m:                          # opened where the mesh is large enough
+        m.setattr(_sphere, "CONFORMAL_OPENED_FROM", 100)
+        s, info = _sphere.sphere_coords(mesh)
+        assert info["stages"] == ["conformal"] and info["gauss_newton"] and info["flipped_triangles"] == 0
+        assert info["area_log_rms"] < 0.6                     # 0.48 when measured
+        assert np.allclose(np.linalg.norm(s, axis=1), 1.0)
+        m.setattr(_sphere, "CONFORMAL_FOLDS_OPENED", 0)       # none opened: the mean-value map, coarse to fine
+        assert _sphere.sphere_coords(mesh)[1]["stages"] == ["mean-value", "progressive"]
+    _, asked = _sphere.sphere_coords(mesh, steps=50)           # steps asked: the Sobolev steps, folds not opened
+    assert not asked["gauss_newton"] and asked["stages"] == ["mean-value", "progressive"]
+    _, multilevel = _sphere.sphere_coords(load_data("fish.obj"))   # from a coarse copy: the Sobolev steps
+    assert multilevel["start"] == "multilevel" and not multilevel["gauss_newton"]

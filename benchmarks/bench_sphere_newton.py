@@ -1,0 +1,71 @@
+"""Sphere maps balanced by Gauss-Newton steps against the Sobolev steps and sweeps (issue 53): each closed
+genus-0 mesh mapped both ways in one process, alternating, against one linear map of the same mesh.
+
+    python benchmarks/bench_sphere_newton.py [--rounds 2] [--res 257 513] [--only] [extra meshes ...]
+
+Prints a markdown row per mesh: the linear map (one sparse cotangent solve, best of 3), each way's seconds
+(``parametrize`` only, best of ``--rounds``) and ratio to the linear map, its stages and balancing steps,
+whether Gauss-Newton steps made the final map (``gn``), and the image's PSNR at each of ``--res`` (resampled
+linearly through the map, 50,000 area samples a side against the mesh). The Sobolev way is the map before
+the Gauss-Newton steps to the bit (``NEWTON_VERTICES = -1``: no Gauss-Newton steps, no conformal folds
+opened).
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+import warnings
+from pathlib import Path
+
+import geoimg
+import geoimg.parametrization._sphere as sphere
+from geoimg.mesh._metrics import ReferenceDistances
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_profile import best_alternating, image_psnr, linear_map, with_attribute  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = ROOT.parent / "shared" / "data" / "meshes"
+MESHES = [ROOT / "tests" / "data" / "spot.obj", SHARED / "closed_genus0" / "bunny.obj",
+          SHARED / "closed_genus0" / "bumpy.off", ROOT / "tests" / "data" / "fish.obj",
+          SHARED / "closed_genus0" / "armadillo.obj", SHARED / "closed_genus0" / "human_man.obj",
+          SHARED / "closed_genus0" / "human_woman.obj", ROOT / "tests" / "data" / "scorpion_low_resolution.obj",
+          SHARED / "polygonal" / "horse_quad.obj", SHARED / "closed_genus0" / "bunny.off"]
+
+
+def run(path: Path, rounds: int, sizes: list[int]) -> None:
+    mesh = geoimg.load_mesh(path)
+    base = min(linear_map(mesh, False) for _ in range(3))
+    ref = ReferenceDistances(mesh, 50_000)
+    def mapped():
+        return geoimg.parametrize(mesh, "sphere")
+
+    best = best_alternating(rounds, {"sobolev": lambda: with_attribute(sphere, "NEWTON_VERTICES", -1, mapped),
+                                     "gauss-newton": mapped})
+    cells = []
+    for way in ("sobolev", "gauss-newton"):
+        wall, p = best[way]
+        psnr = [f"{image_psnr(mesh, p, res, ref):.2f}" for res in sizes]
+        gn = "gn" if p.info.get("gauss_newton") else "-"
+        cells.append(f"{wall:.2f} s, {wall / base:.0f}x, {'+'.join(p.info['stages'])}, "
+                     f"{p.info.get('balance_steps')} steps {gn}, {p.flipped_faces} flips, {' / '.join(psnr)} dB")
+    print(f"| {path.name} ({mesh.n_faces}) | {base:.3f} s | {' | '.join(cells)} |", flush=True)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rounds", type=int, default=2)
+    ap.add_argument("--res", type=int, nargs="+", default=[257, 513])
+    ap.add_argument("--only", action="store_true", help="only the extra meshes")
+    ap.add_argument("extra", nargs="*", help="more closed genus-0 meshes")
+    args = ap.parse_args()
+    warnings.simplefilter("ignore")
+    geoimg.parametrize(geoimg.load_mesh(ROOT / "tests" / "data" / "spot.obj"), "sphere")      # numba compiled
+    print(f"| mesh (faces) | linear map | Sobolev steps and sweeps (before) | Gauss-Newton first (now) "
+          f"[PSNR at {' / '.join(map(str, args.res))}] |\n|---|---:|---|---|")
+    for path in [*([] if args.only else MESHES), *map(Path, args.extra)]:
+        run(path, args.rounds, args.res)
+
+
+if __name__ == "__main__":
+    main()
