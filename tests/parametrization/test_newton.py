@@ -257,3 +257,11 @@ def test_a_step_that_turns_a_few_triangles_over_is_halved_only_round_them(ball_m
     same = np.all(out == plain, axis=1)
     assert not same[far] and same.mean() > 0.9             # only the moves round the fold were cut
     assert np.linalg.norm(out[far] - s[far]) < np.linalg.norm(alpha * d[far])
+
+
+def test_a_sphere_map_with_a_triangle_turned_over_stalls_at_once(ball_map):
+    x, tris, s = ball_map
+    folded = s.copy()
+    folded[0] = -folded[0]                                  # a vertex thrown to the other side: its fan turns over
+    out, steps, (e0, e1), stalled = newton_balance(folded, x, tris, np.ones(len(s), bool), planar=False)
+    assert stalled and steps == 0 and e0 == e1 == np.inf and np.array_equal(out, folded)

@@ -423,3 +423,16 @@ def test_a_conformal_map_with_a_few_folds_is_opened_and_balanced_by_gauss_newton
     _, multilevel = _sphere.sphere_coords(load_data("fish.obj"))   # from a coarse copy: the Sobolev steps ...
     assert multilevel["start"] == "multilevel" and not multilevel["gauss_newton"]
     assert swept == [_sphere.MULTILEVEL_SWEEPS]                      # ... and fewer sweeps
+
+
+def test_where_the_gauss_newton_steps_stall_the_map_is_the_sobolev_ways(monkeypatch, spot_small):
+    from geoimg.parametrization import _sphere
+    mesh, p = spot_small
+    assert p.info["gauss_newton"]
+    with monkeypatch.context() as m:
+        m.setattr(_sphere, "newton_balance", lambda s, *a, **k: (np.array(s), 0, (np.inf, np.inf), True))
+        stalled, info = _sphere.sphere_coords(mesh)
+        m.setattr(_sphere, "NEWTON_VERTICES", -1)
+        sobolev, _ = _sphere.sphere_coords(mesh)
+    assert not info["gauss_newton"] and np.array_equal(stalled, sobolev)
+    assert not np.array_equal(stalled, _sphere.sphere_coords(mesh)[0])          # the steps' own map differs
