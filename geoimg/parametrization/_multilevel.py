@@ -105,12 +105,12 @@ def untangle(s: np.ndarray, tris: np.ndarray, *, rings: int = UNTANGLE_RINGS[0],
     return s, taken, opened
 
 
-def open_folds(s: np.ndarray, tris: np.ndarray):
-    """:func:`untangle` in wider and wider neighbourhoods (:data:`UNTANGLE_RINGS`), each from where the last
-    left off; ``(s, steps taken, whether no triangle is folded)``.
+def open_folds(s: np.ndarray, tris: np.ndarray, rings_tried: tuple[int, ...] = UNTANGLE_RINGS):
+    """:func:`untangle` in wider and wider neighbourhoods (``rings_tried``, :data:`UNTANGLE_RINGS` by default),
+    each from where the last left off; ``(s, steps taken, whether no triangle is folded)``.
     """
     taken, opened = 0, False
-    for rings in UNTANGLE_RINGS:
+    for rings in rings_tried:
         s, steps, opened = untangle(s, tris, rings=rings)
         taken += steps
         if opened:

@@ -44,7 +44,7 @@ from ..mesh import Mesh, topology
 from ._balance import DEFAULT_STEPS, SWEEPS, balance, relax_locally, settle
 from ._laplacian import (corner_angles, cotangent_weights, factor_symmetric, laplacian, mean_value_weights, solve_free,
                          triangle_areas, vertex_areas)
-from ._multilevel import multilevel_start, open_folds
+from ._multilevel import UNTANGLE_RINGS, multilevel_start, open_folds
 from ._newton import newton_balance
 from ._octahedral import sampling_rotation
 from ._orientation import chord_orientation, facing_out
@@ -56,11 +56,12 @@ __all__ = ["sphere_coords", "mobius_centre", "distortion", "chord_orientation"]
 
 DEFAULT_BETA = 0.3
 MULTILEVEL_TRIANGLES = 20_000     # from this size on, a decimated copy is mapped first ...
-MULTILEVEL_STEPS = 10             # ... and the fine map balanced from it for at most this many steps, and
-MULTILEVEL_SWEEPS = 20            # swept this many times (60: 15-33 % slower, images within -0.05 to +0.17 dB)
+MULTILEVEL_STEPS = 10             # ... and the fine map balanced from it for at most this many steps
 SPHERE_SWEEP_ROUNDS = 1           # the final balancing: then sweeps and balancing again (armadillo +0.9 dB)
 CONFORMAL_FOLDS_OPENED = 16      # a conformal map folding at most this many triangles is opened (_direct_start) ...
-CONFORMAL_OPENED_FROM = 1_000     # ... on a mesh of at least this many triangles
+CONFORMAL_OPENED_FROM = 1_000     # ... on a mesh of at least this many triangles, at once in the widest
+CONFORMAL_RINGS = UNTANGLE_RINGS[-1:]   # neighbourhood the untangling tries (the narrower ones failed on every
+                                        # conformal map measured, 0.6-1.8 s lost on each)
 NEWTON_VERTICES = 20_000          # a direct map of at most this many vertices: Gauss-Newton steps first (each
                                   # factors a 2n x 2n metric: bunny.off's 35k vertices 1.3 s, homer's 6k 0.06 s)
 RELAX_STEPS = 30                  # the coarse-to-fine map's balancing at each size: steps of all vertices,
@@ -231,7 +232,7 @@ def _direct_start(x, tris, used, vertex_area, lap, *, newton: bool = False):
     folded = int(np.sum(chord_orientation(s, tris) <= 0))
     if (newton and 0 < folded <= CONFORMAL_FOLDS_OPENED and len(tris) >= CONFORMAL_OPENED_FROM
             and int(np.count_nonzero(used)) <= NEWTON_VERTICES):
-        opened, _, ok = open_folds(s, tris)
+        opened, _, ok = open_folds(s, tris, CONFORMAL_RINGS)
         if ok:
             return opened, "conformal", f0
     if folded:
@@ -358,8 +359,7 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
         converge. By default a mesh of at least 20,000 triangles (``MULTILEVEL_TRIANGLES``), every vertex on
         one, is first mapped through a decimated copy (:mod:`._multilevel`: coarse to fine where the copy's
         conformal map folds), balanced there until it has converged, and the fine map then takes at most
-        10 steps (``MULTILEVEL_STEPS``) and 20 sweeps (``MULTILEVEL_SWEEPS``) from it; where that gives no
-        one-to-one start, the direct maps are
+        10 steps (``MULTILEVEL_STEPS``) from it; where that gives no one-to-one start, the direct maps are
         used, and coarse to fine where the conformal map folds. By default the balancing is followed by
         single-vertex sweeps and balanced again (``SPHERE_SWEEP_ROUNDS``); a map made directly (not from
         the coarse copy) of at most ``NEWTON_VERTICES`` vertices is balanced by Gauss-Newton steps instead
@@ -456,7 +456,7 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
         s, done, energy = newton
     else:
         s, done, energy = settle(s, x, tris, rounds, lap, vertex_area, used, float(beta), steps, progress,
-                                 shares=shares, sweeps=MULTILEVEL_SWEEPS if start == "multilevel" else SWEEPS)
+                                 shares=shares)
     info["gauss_newton"] = newton is not None
     s[idx] = _align(s[idx], x[idx], vertex_area[idx])
     turn, gain = sampling_rotation(s, x, tris, bend)     # the octahedral image's best sampling of the mesh
