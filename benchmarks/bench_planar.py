@@ -22,7 +22,7 @@ import geoimg.parametrization._disk as disk
 from geoimg.mesh._metrics import ReferenceDistances
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_profile import best_alternating, image_psnr, linear_map, with_attribute  # noqa: E402
+from bench_profile import best_alternating, image_psnr, linear_map, map_cell, with_attribute  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "meshes"
@@ -56,13 +56,8 @@ def run(path: Path, method: str, rounds: int, res: int) -> None:
 
     best = best_alternating(rounds, {"sobolev": lambda: with_attribute(disk, "newton_balance", _stalled, mapped),
                                      "gauss-newton": mapped})
-    cells = []
-    for way in ("sobolev", "gauss-newton"):
-        wall, p = best[way]
-        psnr = image_psnr(mesh, p, res, ref)
-        gn = "gn" if p.info.get("gauss_newton") else "-"
-        cells.append(f"{wall:.2f} s, {wall / base:.0f}x, {p.info.get('balance_steps')} steps {gn}, "
-                     f"{p.flipped_faces} flips, {psnr:.2f} dB")
+    cells = [map_cell(wall, p, base, [image_psnr(mesh, p, res, ref)])
+             for wall, p in (best["sobolev"], best["gauss-newton"])]
     print(f"| {path.name} {method} ({mesh.n_faces}) | {base:.3f} s | {' | '.join(cells)} |", flush=True)
 
 

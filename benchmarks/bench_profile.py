@@ -80,6 +80,17 @@ def with_attribute(owner, name: str, value, call):
         setattr(owner, name, kept)
 
 
+def map_cell(wall: float, parametrization, base: float, psnr: list[float], *, stages: bool = False) -> str:
+    """One way's table cell: its seconds and ratio to the linear map ``base``, its stages (with ``stages``),
+    balancing steps, whether Gauss-Newton steps made it (``gn``), its folds and its images' PSNR.
+    """
+    info = parametrization.info
+    ran = f"{'+'.join(info['stages'])}, " if stages else ""
+    gn = "gn" if info.get("gauss_newton") else "-"
+    return (f"{wall:.2f} s, {wall / base:.0f}x, {ran}{info.get('balance_steps')} steps {gn}, "
+            f"{parametrization.flipped_faces} flips, {' / '.join(f'{v:.2f}' for v in psnr)} dB")
+
+
 def image_psnr(mesh: geoimg.Mesh, parametrization, res: int, reference) -> float:
     """The PSNR of the mesh's image at ``res`` through the given map (linear resampling, no fidelity check)
     against ``reference`` (:class:`geoimg.mesh._metrics.ReferenceDistances` of the mesh).

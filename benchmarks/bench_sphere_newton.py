@@ -22,7 +22,7 @@ import geoimg.parametrization._sphere as sphere
 from geoimg.mesh._metrics import ReferenceDistances
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_profile import best_alternating, image_psnr, linear_map, with_attribute  # noqa: E402
+from bench_profile import best_alternating, image_psnr, linear_map, map_cell, with_attribute  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "meshes"
@@ -42,13 +42,8 @@ def run(path: Path, rounds: int, sizes: list[int]) -> None:
 
     best = best_alternating(rounds, {"sobolev": lambda: with_attribute(sphere, "NEWTON_VERTICES", -1, mapped),
                                      "gauss-newton": mapped})
-    cells = []
-    for way in ("sobolev", "gauss-newton"):
-        wall, p = best[way]
-        psnr = [f"{image_psnr(mesh, p, res, ref):.2f}" for res in sizes]
-        gn = "gn" if p.info.get("gauss_newton") else "-"
-        cells.append(f"{wall:.2f} s, {wall / base:.0f}x, {'+'.join(p.info['stages'])}, "
-                     f"{p.info.get('balance_steps')} steps {gn}, {p.flipped_faces} flips, {' / '.join(psnr)} dB")
+    cells = [map_cell(wall, p, base, [image_psnr(mesh, p, res, ref) for res in sizes], stages=True)
+             for wall, p in (best["sobolev"], best["gauss-newton"])]
     print(f"| {path.name} ({mesh.n_faces}) | {base:.3f} s | {' | '.join(cells)} |", flush=True)
 
 
