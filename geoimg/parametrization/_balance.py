@@ -310,8 +310,8 @@ def sobolev_factor(x, tris, used, lap=None, vertex_area=None, cache: dict | None
 
 def settle(s, x, tris, rounds: int, lap=None, vertex_area=None, used=None, beta: float = 0.3, steps: int | None = None,
            progress=None, *, planar: bool = False, held=None, along=None, shares=None, balanced: bool = False,
-           cache: dict | None = None, sweeps: int = SWEEPS):
-    """:func:`balance`, then ``rounds`` times ``sweeps`` single-vertex sweeps (:func:`relax_locally`) and
+           cache: dict | None = None):
+    """:func:`balance`, then ``rounds`` times :data:`SWEEPS` single-vertex sweeps (:func:`relax_locally`) and
     :func:`balance` again: the sweeps open what held back the steps of all vertices at once (a triangle of no
     area, one squeezed part), and the steps then go on. ``steps`` caps each balancing (none is swept after
     when ``steps`` is 0). ``balanced``: ``s`` is already the first balancing's result (a settling in two calls,
@@ -332,8 +332,8 @@ def settle(s, x, tris, rounds: int, lap=None, vertex_area=None, used=None, beta:
                                            progress, cache=cache, **kw)
     for _ in range(rounds if steps != 0 else 0):
         if progress is not None:
-            progress(f"{sweeps} single-vertex sweeps")
-        out = relax_locally(out, x, tris, used, beta, sweeps, **kw)
+            progress(f"{SWEEPS} single-vertex sweeps")
+        out = relax_locally(out, x, tris, used, beta, SWEEPS, **kw)
         out, more, (_, e_end) = balance(out, x, tris, lap, vertex_area, used, beta, steps, progress, cache=cache,
                                         **kw)
         taken += more

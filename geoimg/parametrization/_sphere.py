@@ -18,8 +18,8 @@
    triangle held back, and the balancing goes on from there (:func:`._balance.settle`).
    A map of at most :data:`NEWTON_VERTICES` vertices made directly is balanced by Gauss-Newton steps
    instead (:func:`._newton.newton_balance`: each vertex moves in its tangent plane, a sparse solve a step,
-   a step that would turn triangles over cut round them alone), 6-30 steps where the Sobolev steps take
-   hundreds; where those steps stall, the Sobolev steps and sweeps balance it as before. A conformal map
+   a step that would turn triangles over cut round them alone), 4-40 steps where the Sobolev steps take
+   26-470; where those steps stall, the Sobolev steps and sweeps balance it as before. A conformal map
    that folds a few triangles (:data:`CONFORMAL_FOLDS_OPENED`) is then kept with its folds opened.
    A mesh of 20,000 triangles or more starts instead from the balanced map of a decimated copy of itself
    (:mod:`._multilevel`), which needs only a few fine steps: the slow part of the balancing, opening the
@@ -230,8 +230,7 @@ def _direct_start(x, tris, used, vertex_area, lap, *, newton: bool = False):
     f0 = _pick_removed_face(x, tris)
     s = _plane_to_sphere(_conformal_plane(x, tris, lap, f0, used), vertex_area, used, tris)
     folded = int(np.sum(chord_orientation(s, tris) <= 0))
-    if (newton and 0 < folded <= CONFORMAL_FOLDS_OPENED and len(tris) >= CONFORMAL_OPENED_FROM
-            and int(np.count_nonzero(used)) <= NEWTON_VERTICES):
+    if newton and 0 < folded <= CONFORMAL_FOLDS_OPENED and len(tris) >= CONFORMAL_OPENED_FROM and _newton_sized(used):
         opened, _, ok = open_folds(s, tris, CONFORMAL_RINGS)
         if ok:
             return opened, "conformal", f0
@@ -269,11 +268,16 @@ def _direct_balanced(xs, t, beta, steps, *, decimated_copy=False):
     return sc
 
 
+def _newton_sized(used: np.ndarray) -> bool:
+    """Whether a map of the vertices ``used`` is small enough for Gauss-Newton steps (:data:`NEWTON_VERTICES`)."""
+    return int(np.count_nonzero(used)) <= NEWTON_VERTICES
+
+
 def _newton_balanced(s, x, tris, used, beta, shares, progress):
     """The map balanced by Gauss-Newton steps (:func:`._newton.newton_balance`): ``(map, steps, energies)``,
     or None where the mesh has more than :data:`NEWTON_VERTICES` vertices or the steps stall.
     """
-    if int(np.count_nonzero(used)) > NEWTON_VERTICES:
+    if not _newton_sized(used):
         return None
     out, steps, energy, stalled = newton_balance(s, x, tris, used, planar=False, beta=float(beta), shares=shares,
                                                  progress=progress)

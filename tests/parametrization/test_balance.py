@@ -390,17 +390,3 @@ def test_balancings_sharing_a_cache_factor_once_and_give_the_same_map(finger_map
     assert len(calls) == 1 and "sobolev" in cache
     assert all(np.array_equal(a, b) for a, b in zip(plain, shared)) and not np.array_equal(plain[1], start)
 
-
-def test_settle_takes_as_many_sweeps_as_asked():
-    from geoimg.parametrization._balance import settle
-    mesh = meshes.icosphere(2, 0.25)
-    tris = mesh.triangulate()[0]
-    s = mesh.vertices - mesh.vertices.mean(axis=0)
-    s /= np.linalg.norm(s, axis=1, keepdims=True)
-    s[:, 2] = np.tanh(2.0 * s[:, 2])                        # squeezed towards the poles
-    s /= np.linalg.norm(s, axis=1, keepdims=True)
-    heard: list = []
-    few, _, (_, e_few) = settle(s, mesh.vertices, tris, 1, steps=5, progress=heard.append, sweeps=3)
-    assert "3 single-vertex sweeps" in heard
-    many, _, (_, e_many) = settle(s, mesh.vertices, tris, 1, steps=5)
-    assert not np.array_equal(few, many) and e_many < e_few          # more sweeps, lower
