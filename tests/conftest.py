@@ -24,6 +24,30 @@ def pytest_configure(config):
         numba.set_num_threads(max(1, min(numba.config.NUMBA_NUM_THREADS, (os.cpu_count() or 1) // int(workers))))
 
 
+# Meshes converted at 33^2 before the workers start, two lists side by side (see pytest_sessionstart).
+WARM_UP = (["geoimg/data/mountain.obj", "tests/data/torus.obj"],
+           ["tests/data/spot.obj", "tests/data/cube_no_bottom.obj", "tests/data/multibody.stl"])
+_CONVERT = ("import sys, warnings, geoimg\nwarnings.simplefilter('ignore')\n"
+            "for path in sys.argv[1:]:\n    geoimg.mesh_to_images(path, 33)\n")
+
+
+def pytest_sessionstart(session):
+    """On a run with pytest-xdist workers, the controller compiles the kernels first: it converts a few small
+    meshes (planar, octahedral, disk, cut, pieces) in two processes side by side, which write numba's cache
+    (``cache=True``), so that the workers load the kernels instead of each compiling all of them at once. Best
+    effort: a failure here is left for the tests to find."""
+    config = session.config
+    if hasattr(config, "workerinput") or not config.getoption("numprocesses", None):
+        return
+    import subprocess
+    import sys
+    from helpers import ROOT
+    runs = [subprocess.Popen([sys.executable, "-c", _CONVERT, *paths], cwd=ROOT, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL) for paths in WARM_UP]
+    for run in runs:
+        run.wait()
+
+
 def pytest_report_header(config):
     if SHARED.is_dir():
         return f"shared data: {SHARED} (tests/test_real_meshes.py runs on its meshes too)"

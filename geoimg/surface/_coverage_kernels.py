@@ -442,6 +442,9 @@ def sample_grid_coverage(u, v, tables, *, zmin, floor, derivatives=True):
 # octant's triangle clipped by its three edges' half-planes and by its denominator's (w . q > WMIN, so
 # w . o > WMIN / sqrt(3)). Its pixel box is swept as the planar grid kernel sweeps a triangle's box, every
 # pixel by the one octant that owns it (:func:`octant_owners`), so that a pixel gets each triangle once.
+# The per-triangle set-up (reach polygons and their clipping, grown corners, column lines) is compiled as
+# functions of their own, not inlined into each parallel kernel: inlined, a first conversion compiled for 70 s
+# instead of 49 (benchmarks/bench_compile.py); only the per-row helpers are inlined.
 
 _VERTS = 16             # room for a clipped polygon: the octant's 3 corners plus one per clip
 _SLACK = 1e-6           # in units of the edge functions: rounding never drops a pixel
@@ -479,7 +482,7 @@ def _octant_sides() -> np.ndarray:
 _OCTANT_SIDES = _octant_sides()
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _clip(pa, pb, m, g0, ga, gb, qa, qb):
     """The polygon ``(pa, pb)[:m]`` clipped to ``g0 + ga a + gb b >= 0``, in place (``qa, qb`` room to work);
     returns its size.
@@ -512,7 +515,7 @@ def _clip(pa, pb, m, g0, ga, gb, qa, qb):
     return k
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _clip_by(pa, pb, m, H, count, qa, qb):
     """The polygon ``(pa, pb)[:m]`` clipped in place by the first ``count`` half-planes of ``H``; returns its
     size (0: nothing left).
@@ -524,7 +527,7 @@ def _clip_by(pa, pb, m, H, count, qa, qb):
     return m
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb):
     """The polygon of octant ``oc`` (in ``(a, b)``, into ``pa, pb``) outside which triangle ``t``'s terms are
     cut off; returns its size (0: none there) and the bound on ``|o|`` it was clipped with (``H`` then holds
@@ -547,7 +550,7 @@ def _reach_polygon(t, oc, E, w, zmin, H, pa, pb, qa, qb):
     return _reach_in_octant(oc, H, corners, pa, pb, qa, qb), big
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _reach_in_octant(oc, H, corners, pa, pb, qa, qb):
     """The polygon where the four half-planes of ``H`` hold in octant ``oc``'s triangle (``corners``), into
     ``pa, pb``; returns its size. Where the edges' three half-planes meet in a triangle (most do), that
@@ -561,7 +564,7 @@ def _reach_in_octant(oc, H, corners, pa, pb, qa, qb):
     return _clip_by(pa, pb, 3, H, 4, qa, qb)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _edges_triangle(H, pa, pb):
     """Whether the three edges' half-planes of ``H`` meet in a triangle, with its corners (where two of their
     lines cross, by Cramer's rule) into ``pa, pb``: each corner must lie in the third half-plane (else they
@@ -578,7 +581,7 @@ def _edges_triangle(H, pa, pb):
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _half_planes(t, oc, E, w, zmin, big, H):
     """The four half-planes ``g0 + ga a + gb b >= 0`` of :func:`_reach_polygon` in octant ``oc``, its three
     edges' at ``big`` and its denominator's, into ``H`` (4, 3).
@@ -611,7 +614,7 @@ def _octant_row(oc, i, m):
     return (h + half_width + 1, m + 1) if oc & 1 else (0, h - half_width)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _column_lines(H, half, L):
     """The half-planes of ``H`` (in ``(a, b)``) as bounds on the column ``j`` that move linearly with the row
     ``i``, into ``L`` (4, 3): ``(1, l0, l1)`` for ``j >= l0 + l1 i``, ``(-1, l0, l1)`` for ``j <= l0 + l1 i``, and
@@ -653,7 +656,7 @@ def _near_all(E, w, zmin):
     """:func:`_near_octants` of every triangle, as bits (T,)."""
     out = np.empty(E.shape[0], np.uint8)
     for t in prange(E.shape[0]):
-        out[t] = _near_octants(t, E, w, zmin)
+        out[t] = _near_octants(np.int64(t), E, w, zmin)     # one signature for the helpers (prange's t is unsigned)
     return out
 
 
@@ -694,7 +697,7 @@ def _octant_boxes(E, w, zmin, n, near, start, entry, boxes, bigs):
                 slot += 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _grown_corners(t, E, w, zmin):
     """The corners of the chord triangle that holds the central projection of every direction triangle ``t``'s
     terms reach, as ``(ok, G0, G1, G2)`` (``ok`` False where its edges do not fix them). With ``V_k`` its unit
@@ -727,7 +730,7 @@ def _grown_corners(t, E, w, zmin):
             (top * v2[0] - base[0], top * v2[1] - base[1], top * v2[2] - base[2]))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _near_octants(t, E, w, zmin):
     """The octants triangle ``t``'s terms may reach (a superset), as bits: a direction it reaches lies in the
     cone over :func:`_grown_corners`, so on the side of each coordinate plane where all three of them are.
@@ -758,7 +761,7 @@ def sphere_reach(E, w, zmin, centres):
     T = E.shape[0]
     out = np.empty(T)
     for t in prange(T):
-        ok, G0, G1, G2 = _grown_corners(t, E, w, zmin)
+        ok, G0, G1, G2 = _grown_corners(np.int64(t), E, w, zmin)
         if not ok:
             out[t] = 4.0
             continue
