@@ -193,6 +193,34 @@ def test_ascii_off_with_bad_indices_is_refused_either_way(tmp_path):
             load_mesh(tmp_path / "f.off")
 
 
+@pytest.mark.parametrize("vertices, faces", [
+    ("0 0 0\n1 0 0\n1 1 0\n0 1 0\n", "3 0 1 2\n3 0 2 3\n"),
+    ("0 0 0\n1e400 0 0\n1 nan 0\n-0.0 1 0.1e-3\n", "4 0 1 2 3\n4 3 2 1 0\n"),        # quads, odd numbers
+    ("0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n", "3 0 1 2\n3 0 2 3\n"),  # normals after x, y, z
+    ("0 0 0\n1 0 0\n1 1 0\n0 1 0\n", "3 0 1 4\n3 0 2 3\n"),                          # an index past the end
+    ("0 0 0\n1 0 0\n1 1 0\n0 1 0\n", "3 0 -1 2\n3 0 2 3\n"),
+    ("0 0 0\n1 0 0\n1 1 0\n0 1 0\n", "3 0 1 2 7\n3 0 2\n"),                           # counts that add up
+    ("0 0 0\n1 0 x\n1 1 0\n0 1 0\n", "3 0 1 2\n3 0 2 3\n"),
+])
+def test_ascii_off_read_in_one_parse_as_line_by_line(tmp_path, monkeypatch, vertices, faces):
+    # the one-parse path (every vertex line, then every face line, as one string of numbers) reads what the
+    # line-by-line reader reads, or hands the file to it: the same mesh or the same error either way
+    import geoimg.mesh._off as off
+    p = tmp_path / "f.off"
+    p.write_text("OFF\n4 2 0\n" + vertices + faces)
+
+    def read():
+        try:
+            m = load_mesh(p)
+        except MeshFileError as e:
+            return str(e)
+        return m.vertices.tobytes(), m.faces.tobytes()
+
+    fast = read()
+    monkeypatch.setattr(off, "_numbers", lambda *args: None)
+    assert fast == read()
+
+
 def test_face_lines_are_the_text_of_d_formatting(tmp_path):
     # the f lines are gathered from each vertex's token as one character array: the same text as formatting
     # each face with %d, for every kind of corner and for polygons of several sizes (-1 padding left out)
