@@ -3,6 +3,7 @@ after a warm-up (numba compiled), against one linear map of the same mesh in the
 
     python benchmarks/bench_profile.py [--top 12]
     python benchmarks/bench_profile.py --pieces 60      # a 60-piece assembly through mesh_to_images at 257^2
+    python benchmarks/bench_profile.py --holed 2        # the 40k-face bunny with 5 holes, twice, fresh processes
 
 Prints, per map: the wall time, the ratio to the linear map (one sparse cotangent solve: the spherical
 conformal map's first step for the sphere, the harmonic disk map for disks), and the functions that take
@@ -167,12 +168,43 @@ def pieces(count: int) -> None:
         print(f"  one piece ({piece.n_faces} faces, {quads.n_faces} quads): {name} {time.perf_counter() - t0:.3f} s")
 
 
+def holed(runs: int) -> None:
+    """The Stanford bunny's scan with its 5 holes (``open_other/stanford-bunny.obj``) decimated by libigl to
+    40,000 faces (issue 53's cut map of a 40k-face mesh), through ``geoimg image --res 257`` in ``runs`` fresh
+    processes: the wall time of each and the conversion's PSNR and stages.
+    """
+    import subprocess
+    import sys
+    import tempfile
+
+    import igl
+    mesh = geoimg.mesh.repair(geoimg.load_mesh(SHARED / "open_other" / "stanford-bunny.obj"))[0].mesh
+    tris = mesh.triangulate()[0]
+    U, G, _, _ = igl.decimate(np.asfortranarray(mesh.vertices), np.asfortranarray(tris, np.int32), 40_000)
+    with tempfile.TemporaryDirectory() as tmp:
+        src, out = Path(tmp) / "holed_bunny_40k.obj", Path(tmp) / "b.exr"
+        geoimg.save_mesh(geoimg.Mesh(U, G), src)
+        loops = len(boundary_loops(geoimg.load_mesh(src)))
+        for _ in range(runs):
+            t0 = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "geoimg.cli", "image", str(src), "-o", str(out), "--res", "257",
+                            "-q", "--force"], check=True)
+            wall = time.perf_counter() - t0
+            meta = geoimg.load_image(out).metadata
+            print(f"holed bunny ({len(G)} faces, {loops} boundary loops): {wall:.1f} s, {meta['psnr_db']} dB, "
+                  f"{meta['parametrization']} map: {meta.get('map_stages')}", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--top", type=int, default=12)
     ap.add_argument("--pieces", type=int, default=None, help="only a PIECES-piece assembly through mesh_to_images")
+    ap.add_argument("--holed", type=int, default=None, help="only the 40k-face bunny with 5 holes, HOLED runs")
     args = ap.parse_args()
     warnings.simplefilter("ignore")
+    if args.holed:
+        holed(args.holed)
+        return
     if args.pieces:
         pieces(args.pieces)
         return
