@@ -13,7 +13,8 @@ term's coupling of u and v is left out, so u and v are two scalar systems: a ver
 one sliding along a side of the square (axis-aligned) moves in one of them. On the sphere each vertex moves
 in its tangent plane, two unknowns along two tangents of its own, and the metric is one system of 2 x 2
 blocks (tangent planes of neighbours are not parallel: nothing separates); the step is put back on the
-sphere. The metric is assembled in numba into the mesh's fixed sparsity pattern and factored by SuperLU.
+sphere. The metric is assembled in numba into the mesh's fixed sparsity pattern and factored by qdldl
+(:class:`._laplacian.SymmetricFactor`: its order found at the first step, later steps refactored).
 Every accepted step keeps every triangle positive and lowers the energy (the step halved from the full one
 until it does).
 
@@ -49,12 +50,11 @@ import numpy as np
 from concurrent.futures import ThreadPoolExecutor
 
 from scipy import sparse
-from scipy.sparse import linalg as splinalg
 
 from ._balance import lower_along, target_shares
 from ._balance_kernels import (balance_energy, balance_gradient, gauss_newton_metric, gauss_newton_metric_sphere,
                                mapped_areas, step_to)
-from ._laplacian import corner_cotangents, factor_symmetric
+from ._laplacian import SymmetricFactor, corner_cotangents, factor_symmetric
 
 __all__ = ["newton_balance", "slides_on_axes", "tangent_basis", "NEWTON_STEPS", "NEWTON_TOLERANCE", "SHORTEST_STEP"]
 
@@ -114,31 +114,27 @@ def _pattern(tris: np.ndarray, n: int, block: int = 1) -> tuple[np.ndarray, np.n
 
 
 def _block(indptr: np.ndarray, indices: np.ndarray, keep: np.ndarray, n: int):
-    """The pattern (CSC ``indptr, indices``) of the block of rows and columns ``keep``, and where its
-    values are in the whole matrix's (so each step takes them without indexing a matrix).
+    """The pattern (CSC ``indptr, indices``) of the upper triangle of the block of rows and columns ``keep``,
+    where its values are in the whole matrix's (so each step takes them without indexing a matrix), and where
+    its diagonal is in its own values.
     """
     numbered = sparse.csr_matrix((np.arange(1.0, len(indices) + 1.0), indices, indptr), shape=(n, n))
-    block = numbered[keep][:, keep].tocsc()
+    block = sparse.triu(numbered[keep][:, keep], format="csc")
     block.sort_indices()
-    return block.indptr, block.indices, block.data.astype(np.int64) - 1
+    columns = np.repeat(np.arange(len(block.indptr) - 1), np.diff(block.indptr))
+    return block.indptr, block.indices, block.data.astype(np.int64) - 1, np.flatnonzero(block.indices == columns)
 
 
-def _factor(block, values: np.ndarray, ordered: bool = False):
-    """The factored block of the metric with the given values (``.solve(rhs)``); ``ordered``: the block's
-    unknowns are in a fill-reducing order already (:func:`_vertex_order`), factored as they come.
+def _factor(block, values: np.ndarray, factor: SymmetricFactor | None = None) -> SymmetricFactor:
+    """The factored block of the metric with the given values, its diagonal raised by :data:`RIDGE` of its
+    mean; ``factor``: the block's factor of an earlier step, refactored in place (its order kept).
     """
-    indptr, indices, take = block
+    indptr, indices, take, diagonal = block
     k = len(indptr) - 1
-    m = sparse.csc_matrix((values[take], indices, indptr), shape=(k, k))
-    m = m + RIDGE * max(float(m.diagonal().mean()), 1e-300) * sparse.identity(k, format="csc")
-    if ordered:
-        return splinalg.splu(m, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-    return factor_symmetric(m)
-
-
-def _solve(block, values: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Solve the block of the metric with the given values for ``rhs``."""
-    return _factor(block, values).solve(rhs)
+    data = values[take]
+    data[diagonal] += RIDGE * max(float(data[diagonal].mean()), 1e-300)
+    upper = sparse.csc_matrix((data, indices, indptr), shape=(k, k))
+    return SymmetricFactor(upper) if factor is None else factor.refactor(upper)
 
 
 def _vertex_order(indptr: np.ndarray, indices: np.ndarray, vertices: np.ndarray, n: int) -> np.ndarray:
@@ -251,11 +247,16 @@ def newton_balance(s, x, tris, moves, along=None, *, planar: bool = True, beta: 
     blocks = [_block(indptr, indices, k, block * n) for k in unknowns]
     values = [np.empty(len(indices)) for _ in unknowns]
 
+    factors: list = [None] * len(unknowns)      # each block's factor, refactored step after step
+
+    def solve(c, rhs):
+        factors[c] = _factor(blocks[c], values[c], factors[c])
+        return factors[c].solve(rhs)
+
     def planar_direction(pool, g):
         gauss_newton_metric(s, tris, a, cot, float(beta), slot, values[0], values[1])
         d = np.zeros_like(s)
-        solving = [(c, pool.submit(_solve, blocks[c], values[c], -g[unknowns[c], c])) for c in range(2)
-                   if len(unknowns[c])]
+        solving = [(c, pool.submit(solve, c, -g[unknowns[c], c])) for c in range(2) if len(unknowns[c])]
         for c, job in solving:
             d[unknowns[c], c] = job.result()
         return d
@@ -265,12 +266,12 @@ def newton_balance(s, x, tris, moves, along=None, *, planar: bool = True, beta: 
         gauss_newton_metric_sphere(s, tris, a, cot, float(beta), basis, slot, values[0])
         along_tangents = np.einsum("nic,ni->nc", basis, g).ravel()
         delta = np.zeros(2 * n)
-        delta[unknowns[0]] = _factor(blocks[0], values[0], ordered=True).solve(-along_tangents[unknowns[0]])
+        delta[unknowns[0]] = solve(0, -along_tangents[unknowns[0]])
         return np.einsum("nic,nc->ni", basis, delta.reshape(n, 2))
 
     direction = planar_direction if planar else sphere_direction
     columns = 2 if planar else 3
-    # on the plane u and v factored side by side: SuperLU lets go of the interpreter while it factors (the
+    # on the plane u and v factored side by side: qdldl lets go of the interpreter while it factors (the
     # pair 1.3-1.8x faster on two cores; each factor the same bits as alone)
     with ThreadPoolExecutor(max_workers=2) as pool:
         for step in range(steps):

@@ -1,12 +1,14 @@
 """Gauss-Newton steps of the planar and spherical balancing (geoimg.parametrization._newton)."""
 import numpy as np
 import pytest
+from scipy import sparse
+from scipy.sparse import linalg as splinalg
 
 import geoimg
 from geoimg.parametrization._balance import balance, target_shares
 from geoimg.parametrization._balance_kernels import (balance_energy, gauss_newton_metric, gauss_newton_metric_sphere,
                                                     step_to)
-from geoimg.parametrization._laplacian import corner_cotangents
+from geoimg.parametrization._laplacian import SymmetricFactor, corner_cotangents
 from geoimg.parametrization._newton import (_pattern, _vertex_order, lower_locally, newton_balance, slides_on_axes,
                                             tangent_basis)
 
@@ -265,3 +267,42 @@ def test_a_sphere_map_with_a_triangle_turned_over_stalls_at_once(ball_map):
     folded[0] = -folded[0]                                  # a vertex thrown to the other side: its fan turns over
     out, steps, (e0, e1), stalled = newton_balance(folded, x, tris, np.ones(len(s), bool), planar=False)
     assert stalled and steps == 0 and e0 == e1 == np.inf and np.array_equal(out, folded)
+
+
+def _random_spd(n, seed):
+    rng = np.random.default_rng(seed)
+    m = sparse.random(n, n, density=4.0 / n, random_state=rng)
+    return (m @ m.T + sparse.identity(n)).tocsc()
+
+
+def test_the_symmetric_factor_solves_as_scipy_and_refactors_to_the_same_bits():
+    a = _random_spd(400, 0)
+    b = np.random.default_rng(1).normal(size=(400, 2))
+    f = SymmetricFactor(sparse.triu(a, format="csc"))
+    np.testing.assert_allclose(f.solve(b), splinalg.spsolve(a, b), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(f.solve(b[:, 0]), f.solve(b)[:, 0], rtol=0, atol=0)
+    a2 = a.copy()
+    a2.data *= np.linspace(1.0, 2.0, a2.nnz)             # new values, the same pattern (not symmetric any more:
+    a2 = sparse.triu(a2 + a2.T, format="csc")             # symmetrized, its upper triangle)
+    again = f.refactor(a2).solve(b)
+    assert again.tobytes() == SymmetricFactor(a2).solve(b).tobytes()
+    assert not np.allclose(again, f.refactor(sparse.triu(a, format="csc")).solve(b))
+    assert b.tobytes() == np.random.default_rng(1).normal(size=(400, 2)).tobytes()     # inputs left as they were
+
+
+def test_a_refactor_on_another_pattern_is_refused():
+    f = SymmetricFactor(sparse.triu(_random_spd(50, 2), format="csc"))
+    with pytest.raises(ValueError, match="pattern"):
+        f.refactor(sparse.triu(_random_spd(50, 3), format="csc"))
+
+
+def test_planar_steps_refactor_the_first_factor(finger_square, monkeypatch):
+    # the Gauss-Newton steps factor each system once and refactor it after: the same map as factoring afresh
+    import geoimg.parametrization._newton as newton
+    x, tris, start, moves, along, _, _ = finger_square
+    kept = newton_balance(start, x, tris, moves, along)
+    made = []
+    fresh = newton._factor
+    monkeypatch.setattr(newton, "_factor", lambda block, values, factor=None: made.append(1) or fresh(block, values))
+    again = newton_balance(start, x, tris, moves, along)
+    assert again[1] == kept[1] and again[0].tobytes() == kept[0].tobytes() and len(made) >= 2 * kept[1]
