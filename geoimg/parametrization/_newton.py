@@ -54,7 +54,7 @@ from scipy import sparse
 from ._balance import lower_along, target_shares
 from ._balance_kernels import (balance_energy, balance_gradient, gauss_newton_metric, gauss_newton_metric_sphere,
                                mapped_areas, step_to)
-from ._laplacian import SymmetricFactor, corner_cotangents, factor_symmetric
+from ._laplacian import SymmetricFactor, corner_cotangents
 
 __all__ = ["newton_balance", "slides_on_axes", "tangent_basis", "NEWTON_STEPS", "NEWTON_TOLERANCE", "SHORTEST_STEP"]
 
@@ -137,17 +137,6 @@ def _factor(block, values: np.ndarray, factor: SymmetricFactor | None = None) ->
     return SymmetricFactor(upper) if factor is None else factor.refactor(upper)
 
 
-def _vertex_order(indptr: np.ndarray, indices: np.ndarray, vertices: np.ndarray, n: int) -> np.ndarray:
-    """The vertices ``vertices`` in SuperLU's minimum-degree order of their graph (the n x n pattern
-    ``indptr, indices``): each vertex's two tangent unknowns kept side by side in that order, the sphere's
-    metric factors with the fill of its own minimum-degree order, the order found once for all steps
-    (homer's 12,000 unknowns: 0.057 s a factor against 0.080).
-    """
-    graph = sparse.csr_matrix((np.ones(len(indices)), indices, indptr), shape=(n, n))[vertices][:, vertices]
-    graph = sparse.diags(np.asarray(graph.sum(axis=1)).ravel() + 1.0) - graph      # positive definite, same pattern
-    return vertices[np.argsort(factor_symmetric(graph.tocsc()).perm_c)]
-
-
 def lower_locally(s, d, e, tris, a, cot, beta, planar, shortest: float = SHORTEST_STEP):
     """The lowest energy along the steps ``s + alpha d`` (on the sphere, put back on it), ``alpha`` 1, 1/2, 1/4,
     ... down to ``shortest``: where a step turns triangles over, only their corners' moves are halved (at
@@ -201,8 +190,7 @@ def newton_balance(s, x, tris, moves, along=None, *, planar: bool = True, beta: 
         Hears each step's energy.
     cache : dict, optional
         Keeps the mesh's sparsity pattern for the next call with the same triangles (a disk's starts and
-        their relaxing go on one mesh; on the sphere, with the same ``moves``: the pattern holds their
-        order), as :func:`._balance.balance` keeps its Sobolev factor.
+        their relaxing go on one mesh), as :func:`._balance.balance` keeps its Sobolev factor.
 
     Returns
     -------
@@ -238,11 +226,9 @@ def newton_balance(s, x, tris, moves, along=None, *, planar: bool = True, beta: 
         indptr, indices, slot = cache["newton_pattern"]
     else:
         if "newton_sphere_pattern" not in cache:
-            vertex_pattern = _pattern(tris, n)
-            order = _vertex_order(*vertex_pattern[:2], np.flatnonzero(moves), n)
-            cache["newton_sphere_pattern"] = _pattern(tris, n, 2) + (order,)
-        indptr, indices, slot, order = cache["newton_sphere_pattern"]
-        unknowns = [(2 * order[:, None] + np.arange(2)).ravel()]
+            cache["newton_sphere_pattern"] = _pattern(tris, n, 2)
+        indptr, indices, slot = cache["newton_sphere_pattern"]
+        unknowns = [(2 * np.flatnonzero(moves)[:, None] + np.arange(2)).ravel()]
     block = 1 if planar else 2
     blocks = [_block(indptr, indices, k, block * n) for k in unknowns]
     values = [np.empty(len(indices)) for _ in unknowns]

@@ -9,7 +9,7 @@ from geoimg.parametrization._balance import balance, target_shares
 from geoimg.parametrization._balance_kernels import (balance_energy, gauss_newton_metric, gauss_newton_metric_sphere,
                                                     step_to)
 from geoimg.parametrization._laplacian import SymmetricFactor, corner_cotangents
-from geoimg.parametrization._newton import (_pattern, _vertex_order, lower_locally, newton_balance, slides_on_axes,
+from geoimg.parametrization._newton import (_pattern, lower_locally, newton_balance, slides_on_axes,
                                             tangent_basis)
 
 import meshes
@@ -232,15 +232,6 @@ def test_on_the_sphere_nothing_slides_along_a_line(ball_map):
     along[0, 0] = 1.0
     with pytest.raises(ValueError, match="tangent plane"):
         newton_balance(s, x, tris, np.ones(len(s), bool), along, planar=False)
-
-
-def test_the_vertex_order_is_a_permutation_of_the_moving_vertices(ball_map):
-    _, tris, s = ball_map
-    n = len(s)
-    indptr, indices, _ = _pattern(tris, n)
-    moving = np.flatnonzero(np.arange(n) % 3 != 0)
-    order = _vertex_order(indptr, indices, moving, n)
-    assert sorted(order.tolist()) == moving.tolist()
 
 
 def test_a_step_that_turns_a_few_triangles_over_is_halved_only_round_them(ball_map):
