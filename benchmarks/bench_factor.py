@@ -1,15 +1,15 @@
 """The Gauss-Newton metric's factorization (issue 53): SuperLU's symmetric mode (what the steps used before),
 qdldl afresh and refactored on the same pattern (what they use now), and cholespy's CHOLMOD where installed,
 on the metrics of real maps: the terrain's and the camel's head's disk maps (u's system), a 17,800-face
-bunny's sphere map (2 x 2 blocks) when a path to one is given. Each the best of 5, one solve checked against
-SuperLU's.
+bunny's sphere map (2 x 2 blocks) when a path to one is given. Each the best of 5 after a warm-up, one
+solve checked against SuperLU's.
 
     python benchmarks/bench_factor.py [--sphere PATH]
 """
 from __future__ import annotations
 
 import argparse
-import time
+import sys
 import warnings
 from pathlib import Path
 
@@ -19,6 +19,9 @@ from scipy import sparse
 import geoimg
 from geoimg.parametrization import _newton
 from geoimg.parametrization._laplacian import SymmetricFactor, factor_symmetric
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_coverage import _best  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = ROOT.parent / "shared" / "data" / "meshes"
@@ -45,15 +48,6 @@ def captured_metric(mesh: geoimg.Mesh, method: str) -> sparse.csc_matrix:
     return kept[0]
 
 
-def best(call, runs: int = 5) -> float:
-    times = []
-    for _ in range(runs):
-        t0 = time.perf_counter()
-        call()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sphere", type=Path, help="a closed genus-0 mesh of at most 20,000 vertices")
@@ -75,11 +69,11 @@ def main() -> None:
         reference = factor_symmetric(full).solve(b)
         f = SymmetricFactor(upper)
         assert np.allclose(f.solve(b), reference, rtol=1e-8, atol=1e-10 * np.abs(reference).max())
-        cells = [best(lambda: factor_symmetric(full)), best(lambda: SymmetricFactor(upper)),
-                 best(lambda: f.refactor(upper))]
+        cells = [_best(lambda: factor_symmetric(full), 5), _best(lambda: SymmetricFactor(upper), 5),
+                 _best(lambda: f.refactor(upper), 5)]
         try:
             from cholespy import CholeskySolverD, MatrixType
-            cells.append(best(lambda: CholeskySolverD(n, full.indptr, full.indices, full.data, MatrixType.CSC)))
+            cells.append(_best(lambda: CholeskySolverD(n, full.indptr, full.indices, full.data, MatrixType.CSC), 5))
         except ImportError:
             cells.append(float("nan"))
         print(f"| {name} | {n:,} | " + " | ".join(f"{c:.4f} s" for c in cells) + " |", flush=True)
