@@ -96,8 +96,8 @@ def tangent_basis(s: np.ndarray) -> np.ndarray:
 
 
 def _pattern(tris: np.ndarray, n: int, block: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The sparsity pattern (CSR ``indptr, indices``) of the ``block n`` square matrices with an entry for
-    every two unknowns of a triangle (vertex ``i``'s unknowns ``block i`` to ``block i + block - 1``), and
+    """The sparsity pattern (CSR ``indptr, indices``) of the ``block n`` square matrices with the diagonal and
+    an entry for every two unknowns of a triangle (vertex ``i``'s unknowns ``block i`` to ``block i + block - 1``), and
     ``slot`` (T, 3 block, 3 block): where each entry of a triangle's unknowns ``block k + c`` (corner ``k``)
     is in the values.
     """
@@ -105,7 +105,9 @@ def _pattern(tris: np.ndarray, n: int, block: int = 1) -> tuple[np.ndarray, np.n
     unknowns = (block * np.asarray(tris, np.int64)[:, :, None] + np.arange(block)).reshape(len(tris), 3 * block)
     rows = np.repeat(unknowns, 3 * block, axis=1).ravel()
     cols = np.tile(unknowns, (1, 3 * block)).ravel()
-    m = sparse.csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(size, size))
+    every = np.arange(size)          # every diagonal entry, a vertex on no triangle's too (its ridge alone)
+    m = sparse.csr_matrix((np.ones(len(rows) + size), (np.concatenate([rows, every]), np.concatenate([cols, every]))),
+                          shape=(size, size))
     m.sum_duplicates()
     m.sort_indices()
     keys = np.repeat(np.arange(size, dtype=np.int64), np.diff(m.indptr)) * size + m.indices

@@ -297,3 +297,14 @@ def test_planar_steps_refactor_the_first_factor(finger_square, monkeypatch):
     monkeypatch.setattr(newton, "_factor", lambda block, values, factor=None: made.append(1) or fresh(block, values))
     again = newton_balance(start, x, tris, moves, along)
     assert again[1] == kept[1] and again[0].tobytes() == kept[0].tobytes() and len(made) >= 2 * kept[1]
+
+
+def test_a_moving_vertex_on_no_triangle_stays_where_it_is(finger_square):
+    # its row of the metric is its ridge alone (no triangle adds to it): solvable, and it does not move
+    x, tris, start, moves, along, _, _ = finger_square
+    x2 = np.vstack([x, [[9.0, 9.0, 0.0]]])
+    start2 = np.vstack([start, [[0.5, 0.5, 0.0]]])
+    out, steps, _, stalled = newton_balance(start2, x2, tris, np.append(moves, True), np.vstack([along, np.zeros(3)]))
+    kept = newton_balance(start, x, tris, moves, along)
+    assert not stalled and steps == kept[1] and out[-1].tolist() == [0.5, 0.5, 0.0]
+    np.testing.assert_allclose(out[:-1], kept[0], rtol=0, atol=1e-5)   # the ridge's mean takes the extra 0 in
