@@ -276,8 +276,12 @@ def _folds(uv: np.ndarray, f: np.ndarray) -> int:
     return int(np.sum(signed * (1.0 if signed.sum() >= 0 else -1.0) <= 0))
 
 
+class GaussNewtonStalled(Exception):
+    """:func:`planar_interior` with ``newton_only``: the Gauss-Newton steps stalled on every start."""
+
+
 def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndarray, balance: str, slide=None,
-                    progress: Progress | None = None) -> tuple[np.ndarray, dict]:
+                    progress: Progress | None = None, *, newton_only: bool = False) -> tuple[np.ndarray, dict]:
     """A disk's planar map from its boundary: ``loop`` held at ``pos`` (or sliding as ``slide`` says), every
     other vertex of the triangles ``v, f`` (each vertex on one) at the weighted mean of its neighbours, then
     relaxed (:func:`relax_planar`).
@@ -296,7 +300,9 @@ def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndar
     the bit); on the hemisphere and Demosthenes the two ended within 1 % and the image within 0.07 dB
     (102.75 -> 102.74, 75.46 -> 75.39); the maps 1.0-1.6x faster (the terrain's disk 17.0 -> 10.7 s).
     ``"slim"`` and ``"none"`` keep the mean-value start. ``progress`` hears from each relaxing, its messages
-    led by the start's name (``"uniform start: Gauss-Newton step 3: energy 0.7032"``).
+    led by the start's name (``"uniform start: Gauss-Newton step 3: energy 0.7032"``). ``newton_only`` (with
+    ``"area"``): a start whose Gauss-Newton steps stall is dropped rather than balanced by the Sobolev steps
+    and sweeps, and :class:`GaussNewtonStalled` is raised where both are (a trial the caller gives up).
 
     Returns
     -------
@@ -324,9 +330,13 @@ def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndar
         if not tries:
             first = area_log_rms(area3, start, f)
         heard = None if progress is None else (lambda msg, name=name: progress(f"{name} start: {msg}"))
-        coords, steps, newton = (relax_planar(v, f, start, loop, balance, slide, heard, rounds, cache=cache)
-                                 if len(free) else (start, 0, False))
+        coords, steps, newton = (relax_planar(v, f, start, loop, balance, slide, heard, rounds, cache=cache,
+                                              newton_only=newton_only) if len(free) else (start, 0, False))
+        if newton_only and not newton:
+            continue
         tries.append(_Start(name, coords, steps, heard, area3, f, newton))
+    if not tries:
+        raise GaussNewtonStalled("the Gauss-Newton steps stalled on every start")
     if len(tries) > 1:          # ... the rest for each start not left far behind (see START_LEAD)
         best = min(tries, key=_Start.rank)
         for i, t in enumerate(tries):         # each compared with the best after its first balancing
@@ -370,7 +380,7 @@ class _Start:
 def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndarray, balance: str,
                  slide=None, progress: Progress | None = None, rounds: int = PLANAR_SWEEP_ROUNDS, *,
                  balanced: bool = False, cache: dict | None = None,
-                 newton: bool = True) -> tuple[np.ndarray, int, bool]:
+                 newton: bool = True, newton_only: bool = False) -> tuple[np.ndarray, int, bool]:
     """A fold-free planar map ``coords`` of the triangles ``v, f`` (every vertex on one), with its boundary
     ``loop``, relaxed as ``balance`` says: ``"slim"``, libigl's SLIM with the boundary held; ``"none"``, as
     it is; ``"area"``, the area balancing the sphere's map uses, the boundary sliding as ``slide`` says
@@ -388,8 +398,9 @@ def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndar
 
     ``cache`` keeps what depends on the mesh alone between calls (the Sobolev factor,
     :func:`._balance.balance`; the Gauss-Newton pattern, :func:`._newton.newton_balance`). ``progress``
-    hears from either. Returns the coordinates, the steps taken, and whether Gauss-Newton
-    steps made the map.
+    hears from either. ``newton_only``: where the Gauss-Newton steps stall, ``coords`` come back as they
+    are (no Sobolev steps). Returns the coordinates, the steps taken, and whether Gauss-Newton steps made the
+    map.
     """
     if balance == "slim":
         return (*relax(v, f, coords, loop), False)
@@ -407,6 +418,8 @@ def relax_planar(v: np.ndarray, f: np.ndarray, coords: np.ndarray, loop: np.ndar
                                                 steps=NEWTON_FIRST_STEPS if first else NEWTON_STEPS)
         if not stalled:
             return out[:, :2], steps, True
+    if newton_only:             # no Sobolev steps: the map as it came, not made by Gauss-Newton steps
+        return coords, 0, False
     out, steps, _ = settle(start, v, f, rounds, progress=progress, planar=True, held=held, along=along,
                            balanced=balanced, cache=cache)
     return out[:, :2], steps, False

@@ -309,3 +309,25 @@ def test_a_start_far_behind_after_its_first_balancing_goes_no_further(monkeypatc
     assert np.array_equal(quick.coords, full.coords)
     assert quick.info["balance_steps"] == full.info["balance_steps"]
     assert quick.info["start_errors"]["mean-value"] > full.info["start_errors"]["mean-value"]
+
+
+def test_a_further_cut_whose_gauss_newton_steps_stall_is_given_up(monkeypatch):
+    # a map made by Gauss-Newton steps is not traded for one they cannot make: the trial of a further cut
+    # whose steps stall on both starts is given up before its Sobolev balancing. Trimesh's plate_holes.STL
+    # stalls on every start, so its first map is the Sobolev steps' and its trial goes all the way; told its
+    # first map was made by Gauss-Newton steps, the trial is given up and the first map kept as it was
+    import geoimg.parametrization._cut as cut
+    plate = geoimg.mesh.repair(load_data("plate_holes.STL"))[0].mesh
+    _, before, _, _, info = cut_coords(plate)
+    assert len(info["cut_errors"]) == 2 and not info["gauss_newton"] and "given up" not in info["stages"][-1]
+    real = cut._map_cut
+
+    def first_by_newton(*args, **kwargs):
+        made = real(*args, **kwargs)
+        made.result[4]["gauss_newton"] = True
+        return made
+
+    monkeypatch.setattr(cut, "_map_cut", first_by_newton)
+    _, coords, _, _, info = cut_coords(plate)
+    assert info["stages"][-1] == "a further cut given up: its Gauss-Newton steps stalled"
+    assert info["cut_branches"] == 0 and len(info["cut_errors"]) == 1 and np.array_equal(coords, before)
