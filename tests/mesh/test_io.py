@@ -200,6 +200,8 @@ def test_ascii_off_with_bad_indices_is_refused_either_way(tmp_path):
     ("0 0 0\n1 0 0\n1 1 0\n0 1 0\n", "3 0 1 4\n3 0 2 3\n"),                          # an index past the end
     ("0 0 0\n1 0 0\n1 1 0\n0 1 0\n", "3 0 -1 2\n3 0 2 3\n"),
     ("0 0 0\n1 0 0\n1 1 0\n0 1 0\n", "3 0 1 2 7\n3 0 2\n"),                           # counts that add up
+    ("0 0 0\n1 0 0\n1 1 0\n0 1 0\n", "3 0 1 99999999999999999999\n3 0 2 3\n"),         # past 64 bits
+    ("0 0 0\n1 0 0\n1 1 0\n0 1 0\n", "2 0 1\n2 1 2\n"),                                   # two corners a face
     ("0 0 0\n1 0 x\n1 1 0\n0 1 0\n", "3 0 1 2\n3 0 2 3\n"),
 ])
 def test_ascii_off_read_in_one_parse_as_line_by_line(tmp_path, monkeypatch, vertices, faces):
