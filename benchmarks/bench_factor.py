@@ -34,10 +34,7 @@ def captured_metric(mesh: geoimg.Mesh, method: str) -> sparse.csc_matrix:
 
     def spy(block, values, factor=None):
         if not kept:
-            indptr, indices, take, diagonal = block
-            data = values[take].copy()
-            data[diagonal] += _newton.RIDGE * max(float(data[diagonal].mean()), 1e-300)
-            kept.append(sparse.csc_matrix((data, indices, indptr), shape=(len(indptr) - 1,) * 2))
+            kept.append(_newton._metric_block(block, values))
         return real(block, values, factor)
 
     _newton._factor = spy

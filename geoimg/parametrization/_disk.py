@@ -332,7 +332,7 @@ def planar_interior(v: np.ndarray, f: np.ndarray, loop: np.ndarray, pos: np.ndar
         heard = None if progress is None else (lambda msg, name=name: progress(f"{name} start: {msg}"))
         coords, steps, newton = (relax_planar(v, f, start, loop, balance, slide, heard, rounds, cache=cache,
                                               newton_only=newton_only) if len(free) else (start, 0, False))
-        if newton_only and not newton:
+        if newton_only and len(free) and not newton:     # its Gauss-Newton steps stalled: dropped
             continue
         tries.append(_Start(name, coords, steps, heard, area3, f, newton))
     if not tries:

@@ -127,15 +127,22 @@ def _block(indptr: np.ndarray, indices: np.ndarray, keep: np.ndarray, n: int):
     return block.indptr, block.indices, block.data.astype(np.int64) - 1, np.flatnonzero(block.indices == columns)
 
 
-def _factor(block, values: np.ndarray, factor: SymmetricFactor | None = None) -> SymmetricFactor:
-    """The factored block of the metric with the given values, its diagonal raised by :data:`RIDGE` of its
-    mean; ``factor``: the block's factor of an earlier step, refactored in place (its order kept).
+def _metric_block(block, values: np.ndarray) -> sparse.csc_matrix:
+    """The upper triangle (CSC, :func:`_block`'s pattern) of the block of the metric with the given values,
+    its diagonal raised by :data:`RIDGE` of its mean (a solve where the metric is flat).
     """
     indptr, indices, take, diagonal = block
     k = len(indptr) - 1
     data = values[take]
     data[diagonal] += RIDGE * max(float(data[diagonal].mean()), 1e-300)
-    upper = sparse.csc_matrix((data, indices, indptr), shape=(k, k))
+    return sparse.csc_matrix((data, indices, indptr), shape=(k, k))
+
+
+def _factor(block, values: np.ndarray, factor: SymmetricFactor | None = None) -> SymmetricFactor:
+    """The factored :func:`_metric_block`; ``factor``: the block's factor of an earlier step, refactored in
+    place (its order kept).
+    """
+    upper = _metric_block(block, values)
     return SymmetricFactor(upper) if factor is None else factor.refactor(upper)
 
 
