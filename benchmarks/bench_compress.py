@@ -61,10 +61,17 @@ def ours(mesh: geoimg.Mesh, budget: int) -> dict:
     except geoimg.GeoimgError as e:
         return {"budget": budget, "refused": str(e)}
     quads = c.image.to_mesh()
-    return {"budget": budget, "bytes": c.nbytes, "resolution": c.resolution,
+    return {"budget": budget, "bytes": c.nbytes, "resolution": c.resolution, "base": c.base,
             "psnr_db": round(float(surface_distance(mesh, quads, n=SAMPLES)["psnr_db"]), 2),
             "boundary_loops": int(topology(quads).boundary_loops), "genus": int(topology(quads).genus),
             "seconds": round(time.perf_counter() - t0, 1)}
+
+
+def where(row: dict) -> str:
+    """A file's resolution, and its base's where it is displaced: ``257²`` or ``257² on 65²``."""
+    if "resolution" not in row:
+        return "refused"
+    return f"{row['resolution']}²" + (f" on {row['base']}²" if row.get("base") else "")
 
 
 def stream(path: Path, kbs: list[float], picture: Path | None) -> None:
@@ -183,8 +190,7 @@ def main() -> None:
         d = {bits: draco(mesh, bits) for bits in (8, 10, 11)}
         at_q8 = ours(mesh, d[8][0])
         budgets = [ours(mesh, int(kb * 1000)) for kb in args.kb]
-        cells = [f"{b['bytes']} B {b['psnr_db']} ({b['resolution']}²)" if "bytes" in b else "too small"
-                 for b in budgets]
+        cells = [f"{b['bytes']} B {b['psnr_db']} ({where(b)})" if "bytes" in b else "too small" for b in budgets]
         row = {"mesh": path.name, "vertices": mesh.n_vertices, "topology": top.describe(),
                "draco": {b: {"bytes": s, "psnr_db": round(p, 2)} for b, (s, p) in d.items()},
                "geoimg_at_q8": at_q8, "geoimg": budgets}
@@ -192,7 +198,7 @@ def main() -> None:
         gain = at_q8.get("psnr_db", float("nan")) - d[8][1]
         print(f"| {path.name} | {mesh.n_vertices} | {'closed' if top.closed else 'open'}, genus {top.genus} | "
               + " | ".join(f"{s} B {p:.1f}" for s, p in d.values())
-              + f" | {at_q8.get('bytes')} B {at_q8.get('psnr_db')} ({gain:+.1f}) | " + " | ".join(cells)
+              + f" | {at_q8.get('bytes')} B {at_q8.get('psnr_db')} ({gain:+.1f}; {where(at_q8)}) | " + " | ".join(cells)
               + f" | {top.boundary_loops}, {top.genus} -> {at_q8.get('boundary_loops')}, {at_q8.get('genus')} |",
               flush=True)
     if args.json:

@@ -12,7 +12,9 @@ import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+from collections.abc import Callable
 
+import igl
 import numpy as np
 
 from ._atomic import atomic_path
@@ -22,7 +24,8 @@ from ._threads import fixed_order
 from ._types import Progress
 from .errors import InputError, InputTypeError
 from .image import GeometryImage, load_image
-from .image._jp2 import LOSSLESS, decode, encode
+from .image._displacement import base_frame
+from .image._jp2 import LOSSLESS, decode, encode, offsets_codestream
 from .mesh import Mesh, load_mesh
 from .mesh._metrics import ReferenceDistances
 from .parametrization import parametrize
@@ -33,6 +36,9 @@ DEFAULT_RESOLUTIONS = (33, 65, 129, 257, 513)
 LEVELS = (20.0, 140.0)         # the coder's PSNR targets searched (dB of its 16-bit range)
 SEARCH_STEPS = 10              # bisection steps of the level: 0.12 dB apart at the end
 SAMPLES = 20_000               # area samples a side for each candidate's error
+DISPLACED_SHARES = (0.4, 0.5)        # a displaced candidate's base: these shares of the budget tried
+DISPLACED_FROM = 129           # displaced candidates at this side and above, on bases of 1/2 and 1/4 the side
+PROJECTION_ROUNDS = 3          # the offsets: the closest point's distance along the normal, refined this often
 
 
 @dataclass(frozen=True)
@@ -53,6 +59,9 @@ class Compressed:
         Of the decoded shape against the source (the mesh, or the source image's pixels).
     tried : list of dict
         Every candidate resolution: its bytes and PSNR, or why it was left out.
+    base : int or None
+        A displaced file's base side (:mod:`geoimg.image._displacement`: the base coded, the offsets along its
+        normals at ``resolution``); None for a plain image.
 
     Examples
     --------
@@ -69,6 +78,7 @@ class Compressed:
     level: float
     psnr_db: float
     tried: list = field(default_factory=list)
+    base: int | None = None
 
     @property
     def nbytes(self) -> int:
@@ -147,19 +157,99 @@ def _level_for_bytes(image: GeometryImage, max_bytes: int, channels: dict) -> tu
     lossless = encode(image, LOSSLESS, **channels)
     if len(lossless) <= max_bytes:
         return LOSSLESS, lossless
+    found = _bisect_level(lambda level: (len(data := encode(image, level, **channels)), data), max_bytes)
+    return found if isinstance(found, int) else (found[0], found[1])
+
+
+def _bisect_level(coded: Callable[[float], tuple[int, Any]], max_bytes: int) -> tuple[float, Any] | int:
+    """The highest of :data:`LEVELS` (bisected) whose file fits ``max_bytes``, and what ``coded(level)`` (the
+    file's size and anything) gave with it; or the lowest level's size, when that does not fit.
+    """
     lo, hi = LEVELS
-    low = encode(image, lo, **channels)
-    if len(low) > max_bytes:
-        return len(low)
+    size, low = coded(lo)
+    if size > max_bytes:
+        return size
     best = (lo, low)
     for _ in range(SEARCH_STEPS):
         mid = 0.5 * (lo + hi)
-        data = encode(image, mid, **channels)
-        if len(data) <= max_bytes:
-            lo, best = mid, (mid, data)
+        size, got = coded(mid)
+        if size <= max_bytes:
+            lo, best = mid, (mid, got)
         else:
             hi = mid
     return best
+
+
+class _Surface:
+    """Closest points on a mesh (libigl's AABB tree, built once)."""
+
+    def __init__(self, mesh: Mesh):
+        self.vertices = np.ascontiguousarray(mesh.vertices, np.float64)
+        self.tris = np.ascontiguousarray(mesh.triangulate(quads="shorter")[0], np.int64)
+        self.tree = igl.AABB()
+        self.tree.init(self.vertices, self.tris)
+
+    def offsets(self, points: np.ndarray, normals: np.ndarray, rounds: int = PROJECTION_ROUNDS) -> np.ndarray:
+        """How far along each normal (H, W, 3) from each point (H, W, 3) the mesh is: the closest point's
+        distance along the normal, then ``rounds`` times the closest point's to the point so moved (a line
+        that crosses the surface at a slant converges to where it crosses).
+        """
+        h = np.zeros(points.shape[:2])
+        for _ in range(rounds + 1):
+            moved = points + h[..., None] * normals
+            _, _, closest = self.tree.squared_distance(self.vertices, self.tris, moved.reshape(-1, 3))
+            h += ((closest.reshape(points.shape) - moved) * normals).sum(axis=-1)
+        return h
+
+
+def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Surface, max_bytes: int,
+                         share: float) -> tuple[float, bytes] | None:
+    """A displaced file of ``full``'s size on ``base`` (coded in ``share`` of the budget) within
+    ``max_bytes``: the offsets' level bisected; None where the budget holds no such file.
+    """
+    got = _level_for_bytes(base, int(share * max_bytes), {})
+    if isinstance(got, int):
+        return None
+    base_level, base_data = got
+    points, normals = base_frame(decode(base_data).pixels, full.domain, full.shape)
+    offsets = surface.offsets(points, normals)
+    # the file is the base's, the record and the offsets' codestream: only the last changes with its level
+    first = encode(base, base_level, offsets=offsets, offsets_level=LEVELS[0])
+    fixed = len(first) - len(offsets_codestream(offsets, LEVELS[0])[0])
+    found = _bisect_level(lambda level: (fixed + len(offsets_codestream(offsets, level)[0]), None), max_bytes)
+    if isinstance(found, int):
+        return None
+    return found[0], encode(base, base_level, offsets=offsets, offsets_level=found[0])
+
+
+def _displaced_candidates(images: list[GeometryImage], mesh: Mesh, reference, max_bytes: int, tried: list,
+                          say: Callable[[str], None]) -> list[Compressed]:
+    """Displaced files (:mod:`geoimg.image._displacement`) within ``max_bytes``: each image of at least
+    :data:`DISPLACED_FROM` pixels a side on each smaller one of 1/2 and 1/4 its side, the base coded in each of
+    :data:`DISPLACED_SHARES` of the budget; each decoded and measured, its figures added to ``tried``.
+    """
+    surface: _Surface | None = None
+    out: list[Compressed] = []
+    for full in images:
+        n = full.shape[0]
+        if n < DISPLACED_FROM or full.mask is not None:
+            continue
+        for base in images:
+            if base.shape[0] not in ((n - 1) // 2 + 1, (n - 1) // 4 + 1) or base.domain != full.domain:
+                continue
+            say(f"searching a displaced image at {n} x {full.shape[1]} on {base.shape[0]} x {base.shape[1]}")
+            surface = surface or _Surface(mesh)
+            for share in DISPLACED_SHARES:
+                got = _displaced_for_bytes(full, base, surface, max_bytes, share)
+                if got is None:
+                    continue
+                level, data = got
+                decoded = decode(data)
+                db = _error_db(reference, decoded)
+                tried.append({"resolution": n, "base": base.shape[0], "share": share, "bytes": len(data),
+                              "psnr_db": round(db, 2), "level": round(level, 2)})
+                out.append(Compressed(data, decoded, n, float(level), float(db), base=base.shape[0]))
+    return out
 
 
 def _level_for_psnr(image: GeometryImage, reference, target: float,
@@ -252,8 +342,9 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
     if isinstance(source, (str, Path)) and isinstance(reference, Mesh):
         for image in images:
             image.metadata["source"] = Path(source).name
-    if isinstance(reference, Mesh):              # the mesh's samples and tree, made once for every candidate
-        reference = ReferenceDistances(reference, SAMPLES)
+    mesh = reference if isinstance(reference, Mesh) else None
+    if mesh is not None:                         # the mesh's samples and tree, made once for every candidate
+        reference = ReferenceDistances(mesh, SAMPLES)
     say = progress or (lambda message: None)
     channels = {"colors": bool(colors), "normals": bool(normals)}
     tried: list[dict] = []
@@ -278,6 +369,8 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
             decoded = decode(data)
         tried.append({"resolution": n, "bytes": len(data), "psnr_db": round(db, 2), "level": round(level, 2)})
         found.append(Compressed(data, decoded, n, float(level), float(db)))
+    if mesh is not None and max_bytes is not None and not (colors or normals):
+        found += _displaced_candidates(images, mesh, reference, int(max_bytes), tried, say)
     if not found:
         if max_bytes is not None:
             smallest = min(tried, key=lambda t: t["least_bytes"])
@@ -293,4 +386,4 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
     if path is not None:
         with atomic_path(path, overwrite) as tmp:
             tmp.write_bytes(best.data)
-    return Compressed(best.data, best.image, best.resolution, best.level, best.psnr_db, tried)
+    return Compressed(best.data, best.image, best.resolution, best.level, best.psnr_db, tried, best.base)

@@ -230,3 +230,75 @@ def test_normals_are_coded_when_asked_and_cost_bytes(spot_image, tmp_path, capsy
     src, out = str(data_file("spot_low_resolution.obj")), tmp_path / "n.jp2"
     assert main(["compress", src, "-o", str(out), "--bytes", "3000", "--res", "33", "--normals"]) == 0
     assert "with its normals" in capsys.readouterr().out and geoimg.load_image(out).normals is not None
+
+
+@pytest.fixture(scope="module")
+def displaced_ball():
+    """A unit sphere as a displaced file: a 17^2 ball (lossless), offsets at 65^2 coded at level 80."""
+    from geoimg.image._displacement import base_frame
+    d = geoimg.OctahedralDomain()
+    base = geoimg.GeometryImage(d.directions(17).astype(np.float32), None, d)
+    points, normals = base_frame(decode(encode(base, 0)).pixels, d, (65, 65))
+    offsets = 1.0 - np.linalg.norm(points, axis=-1)           # to the sphere along the (radial) normals
+    return base, offsets, encode(base, 0, offsets=offsets, offsets_level=80)
+
+
+def test_a_displaced_file_is_the_base_moved_along_its_normals(displaced_ball):
+    import imagecodecs
+    base, offsets, data = displaced_ball
+    back = decode(data)
+    assert back.shape == (65, 65) and back.domain == base.domain
+    radius = np.linalg.norm(back.pixels.astype(np.float64), axis=-1)
+    assert np.abs(radius - 1).max() < 2e-3 < np.abs(offsets).max()       # the offsets did the work
+    assert topology(back.to_mesh()).closed                                # glued pixels welded
+    assert imagecodecs.jpeg2k_decode(data).shape == (17, 17, 3)          # a plain reader shows the base
+
+
+def test_a_displaced_file_streams_base_first_then_the_offsets_levels(displaced_ball, tmp_path):
+    base, _, data = displaced_ball
+    second = data.rindex(b"jp2c") - 4                                     # the offsets' box
+    only_base = decode(data, max_bytes=second)
+    assert only_base.shape == (17, 17) and only_base.metadata["jpeg2000_offset_levels"] == "none"
+    levels = [decode(data, max_bytes=k).metadata.get("jpeg2000_offset_levels")
+              for k in range(second + 200, len(data), 300)]
+    assert any(re.fullmatch(r"\d of \d", str(v)) for v in levels)
+    assert decode(data, max_bytes=len(data)).metadata.get("jpeg2000_offset_levels") is None     # all of it
+    (tmp_path / "cut.jp2").write_bytes(data[: len(data) - 40])
+    with pytest.warns(UserWarning, match=r"truncated after \d+ bytes: decoded its offsets' first \d of \d"):
+        assert geoimg.load_image(tmp_path / "cut.jp2").shape == (65, 65)
+
+
+def test_damaged_displaced_files_and_bad_offsets_are_refused(displaced_ball, spot_image):
+    base, offsets, data = displaced_ball
+    second = data.rindex(b"jp2c") + 4
+    damaged = data[:second] + data[second:].replace(b"\xff\x51", b"\xff\x01", 1)
+    with pytest.raises(geoimg.ImageFileError, match="offsets' JPEG 2000 codestream cannot be decoded"):
+        decode(damaged)
+    other = encode(base, 0, offsets=offsets[:33, :33], offsets_level=80)   # the other file's offsets: 33^2
+    swapped = data[:second - 8] + other[other.rindex(b"jp2c") - 4:]       # its whole box in place of ours
+    with pytest.raises(geoimg.ImageFileError, match="its record asks for"):
+        decode(swapped)
+    for bad, message in ((np.full((65, 65), np.nan), "NaN"), (np.zeros(5), "an \\(H, W\\) array")):
+        with pytest.raises(geoimg.ImageError, match=message):
+            encode(base, 0, offsets=bad)
+    masked = geoimg.GeometryImage(spot_image.pixels, np.ones((33, 33), bool), spot_image.domain)
+    with pytest.raises(geoimg.ImageError, match="no mask"):
+        encode(masked, 0, offsets=np.zeros((65, 65)))
+    assert np.isfinite(offsets).all() and offsets.shape == (65, 65)       # the input left as it was
+
+
+@pytest.mark.slow
+def test_a_low_budget_is_spent_on_a_displaced_image_that_beats_the_plain_ones(tmp_path):
+    import imagecodecs
+    spot = load_data("spot.obj")
+    path = tmp_path / "spot.jp2"
+    made = geoimg.compress(spot, path, max_bytes=3000, resolutions=(33, 65, 129))
+    plain = [t for t in made.tried if "base" not in t and "psnr_db" in t]
+    displaced = [t for t in made.tried if "base" in t]
+    assert {(t["base"], t["share"]) for t in displaced} == {(33, 0.4), (33, 0.5), (65, 0.4), (65, 0.5)}
+    assert made.base in (33, 65) and made.nbytes <= 3000
+    assert made.psnr_db > max(t["psnr_db"] for t in plain) + 1.0
+    read = geoimg.load_image(path)
+    assert np.array_equal(read.pixels, made.image.pixels) and read.shape == (129, 129)
+    assert topology(read.to_mesh()).closed and topology(read.to_mesh()).genus == 0
+    assert imagecodecs.jpeg2k_decode(made.data).shape == (made.base, made.base, 3)

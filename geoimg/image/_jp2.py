@@ -36,11 +36,12 @@ import numpy as np
 from .._optional import require
 from ..errors import ImageError, ImageFileError, InputError
 from ..parametrization._octahedral import sphere_to_square, square_to_sphere
+from ._displacement import base_frame, displace
 from ._domain import Domain
 from ._image import GeometryImage
 from ._j2k_packets import cut_after, read_layout, resolution_ends, without_comments
 
-__all__ = ["encode", "decode", "read_jp2", "RECORD_UUID", "HEADROOM", "TOP"]
+__all__ = ["encode", "decode", "read_jp2", "offsets_codestream", "RECORD_UUID", "HEADROOM", "TOP"]
 
 SIGNATURE = b"\x00\x00\x00\x0cjP  \r\n\x87\n"      # the JP2 signature box
 RECORD_UUID = bytes.fromhex("9c0e6e2d4a3b4f1ca1d76765_6f696d67".replace("_", ""))   # ends in "geoimg"
@@ -155,7 +156,7 @@ def _unpack_record(payload: bytes) -> dict:
 
 
 def encode(image: GeometryImage, level: float, *, resolutions: int | None = None, colors: bool = False,
-           normals: bool = False) -> bytes:
+           normals: bool = False, offsets: np.ndarray | None = None, offsets_level: float | None = None) -> bytes:
     """A JP2 file of ``image``: coded to about ``level`` dB of the coder's own PSNR (over the 16-bit range;
     ``0``: reversible, lossless after the quantization), geoimg's record in a box before the codestream.
 
@@ -173,6 +174,13 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
     normals : bool, default False
         Also code the image's normals (two more channels: the octahedral encoding of each unit normal, on
         :data:`NORMAL_TOP` levels), when it has them; otherwise a reader computes them from the grid.
+    offsets : numpy.ndarray, optional
+        (H, W) distances along the normals of ``image`` upsampled to H x W (see
+        :mod:`geoimg.image._displacement`): ``image`` is then the base of a displaced image, and the offsets
+        are coded as one 16-bit channel in a second codestream box after the base's (a JPEG 2000 reader that
+        knows only the first shows the base).
+    offsets_level : float, optional
+        The coder's target PSNR for the offsets (0: reversible); ``level`` by default.
 
     Returns
     -------
@@ -195,6 +203,8 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
         square = sphere_to_square(np.asarray(image.normals, np.float64))      # the octahedral map, in [0, 1]^2
         q = np.concatenate([q, np.round(square * NORMAL_TOP).astype(np.uint16)], axis=2)
         record["normals"] = 2
+    if offsets is not None and (image.mask is not None or q.shape[2] != 3):
+        raise ImageError("offsets: a displaced image has no mask, no coded colours and no coded normals")
     if resolutions is None:
         resolutions = int(max(1, min(6, np.floor(np.log2(min(q.shape[:2]))))))
     codec = _codec()
@@ -203,12 +213,52 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
     else:
         data = codec.jpeg2k_encode(q, level=float(level), codecformat="jp2", reversible=False, mct=False,
                                    resolutions=resolutions)
-    return _with_record(bytes(data), record)
+    after = b""
+    if offsets is not None:
+        cs, record["offsets"] = offsets_codestream(offsets, level if offsets_level is None else offsets_level)
+        after = struct.pack(">I4s", 8 + len(cs), b"jp2c") + cs
+    return _with_record(bytes(data), record, after)
 
 
-def _with_record(data: bytes, record: dict) -> bytes:
-    """``data`` (a JP2 file) with a ``uuid`` box holding ``record`` before its codestream box, and the
-    codestream without the coder's comment.
+def offsets_codestream(offsets: np.ndarray, level: float) -> tuple[bytes, dict]:
+    """The offsets (H, W) of a displaced image as one channel of 16-bit levels coded at ``level`` (a raw
+    codestream without the coder's comment), and the record that turns the levels back into distances.
+
+    Parameters
+    ----------
+    offsets : numpy.ndarray
+        (H, W) distances, finite.
+    level : float
+        The coder's target PSNR in dB, or 0 for reversible coding.
+
+    Returns
+    -------
+    bytes, dict
+        The codestream, and ``{"shape", "offset", "step"}``.
+
+    Examples
+    --------
+    >>> cs, fields = offsets_codestream(np.linspace(-1, 1, 64).reshape(8, 8), 60)
+    >>> cs[:2].hex(), fields["shape"]                      # a codestream begins with SOC, 0xff4f
+    ('ff4f', [8, 8])
+    """
+    h = np.asarray(offsets, np.float64)
+    if h.ndim != 2 or min(h.shape) < 2:
+        raise ImageError(f"offsets: expected an (H, W) array of at least 2 x 2, got shape {h.shape}")
+    if not np.isfinite(h).all():
+        raise ImageError("offsets: NaN or infinite distances cannot be coded")
+    step = _short(max(float(np.ptp(h)), 1e-300) / TOP, max(float(np.ptp(h)), 1e-300) / TOP / 64 / TOP)
+    lo = _short(float(h.min()), step / 64)
+    q = np.clip(np.round((h - lo) / step) + HEADROOM, 0, 65535).astype(np.uint16)
+    resolutions = int(max(1, min(6, np.floor(np.log2(min(q.shape))))))
+    cs = _codec().jpeg2k_encode(q, level=float(level), codecformat="j2k", reversible=level == LOSSLESS,
+                                resolutions=resolutions)
+    return without_comments(bytes(cs)), {"shape": list(q.shape), "offset": lo, "step": step}
+
+
+def _with_record(data: bytes, record: dict, after: bytes = b"") -> bytes:
+    """``data`` (a JP2 file) with a ``uuid`` box holding ``record`` before its codestream box, the
+    codestream without the coder's comment, and the boxes ``after`` right after it.
     """
     payload = RECORD_UUID + _pack_record(record)
     box = struct.pack(">I4s", 8 + len(payload), b"uuid") + payload
@@ -216,7 +266,7 @@ def _with_record(data: bytes, record: dict) -> bytes:
         if kind == b"jp2c":
             header = 16 if struct.unpack(">I", data[start:start + 4])[0] == 1 else 8
             cs = without_comments(data[start + header:end])
-            return data[:start] + box + struct.pack(">I4s", 8 + len(cs), b"jp2c") + cs + data[end:]
+            return data[:start] + box + struct.pack(">I4s", 8 + len(cs), b"jp2c") + cs + after + data[end:]
     raise ImageError("the coder wrote no JPEG 2000 codestream box")
 
 
@@ -248,10 +298,11 @@ def _record(data: bytes, where: str) -> dict:
                          "coordinates (geoimg compress writes geometry images)")
 
 
-def _prefix(data: bytes, max_bytes: int | None, where: str) -> tuple[bytes, str | None]:
+def _prefix(data: bytes, max_bytes: int | None, where: str) -> tuple[bytes, str | None, bytes | None, str | None]:
     """The whole file to decode and, when it is not all of ``data``, how many resolution levels it holds of
     how many: the first ``max_bytes`` (or a truncated file's bytes, with a warning), its codestream cut after
-    the last resolution level they hold whole.
+    the last resolution level they hold whole. Then a displaced image's offsets codestream (the second
+    codestream box) likewise, or None where those bytes hold none of its levels whole.
     """
     asked = max_bytes is not None
     head = data[:max_bytes] if asked else data
@@ -260,10 +311,32 @@ def _prefix(data: bytes, max_bytes: int | None, where: str) -> tuple[bytes, str 
     if not found:
         raise ImageFileError(f"{where}: {what} no JPEG 2000 codestream (geoimg's record and the header come "
                              "first); read more of the file")
-    start, _ = found[0]
+    (start, end), second = found[0], (found[1] if len(found) > 1 else None)
+    cs, levels = _whole_levels(head, start, where, what)
+    if levels is not None and not asked:
+        warnings.warn(f"{where}: truncated after {len(data)} bytes: decoded its first {levels} resolution levels",
+                      stacklevel=4)
+    used = head[:end] if levels is None else head[:start] + struct.pack(">I4s", 8 + len(cs), b"jp2c") + cs
+    offsets, offset_levels = None, None
+    if second is not None:
+        try:
+            offsets, offset_levels = _whole_levels(head, second[0], where, what)
+        except ImageFileError:
+            if not asked:
+                raise
+        if offset_levels is not None and not asked:
+            warnings.warn(f"{where}: truncated after {len(data)} bytes: decoded its offsets' first {offset_levels} "
+                          "resolution levels", stacklevel=4)
+    return used, levels, offsets, offset_levels
+
+
+def _whole_levels(head: bytes, start: int, where: str, what: str) -> tuple[bytes, str | None]:
+    """The codestream of the box at ``start`` in ``head``: whole, or cut after the last resolution level it
+    holds whole, and then how many levels of how many.
+    """
     length = struct.unpack(">I", head[start:start + 4])[0]
     if length == 0 or start + length <= len(head):          # the codestream is whole (a box to the end: as given)
-        return head, None
+        return head[start + 8:(start + length) if length else len(head)], None
     cs = head[start + 8:]
     try:
         layout, ends = read_layout(cs), resolution_ends(cs)
@@ -273,11 +346,7 @@ def _prefix(data: bytes, max_bytes: int | None, where: str) -> tuple[bytes, str 
         raise ImageFileError(f"{where}: {what} no whole resolution level (the coarsest needs more); read more "
                              "of the file")
     r = len(ends) - 1
-    if not asked:
-        warnings.warn(f"{where}: truncated after {len(data)} bytes: decoded its first {r + 1} of "
-                      f"{layout.levels + 1} resolution levels", stacklevel=4)
-    body = cut_after(cs, r, ends)
-    return head[:start] + struct.pack(">I4s", 8 + len(body), b"jp2c") + body, f"{r + 1} of {layout.levels + 1}"
+    return cut_after(cs, r, ends), f"{r + 1} of {layout.levels + 1}"
 
 
 def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) -> GeometryImage:
@@ -317,7 +386,7 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
     if max_bytes is not None and (isinstance(max_bytes, bool) or not isinstance(max_bytes, (int, np.integer))
                                   or max_bytes < 1):
         raise InputError(f"max_bytes: expected a whole number of bytes, got {max_bytes!r}")
-    used, levels = _prefix(data, max_bytes, where)
+    used, levels, offsets, offset_levels = _prefix(data, max_bytes, where)
     try:
         q = np.asarray(_codec().jpeg2k_decode(used))
     except Exception as e:                   # imagecodecs' own error type: a truncated or damaged codestream
@@ -343,6 +412,15 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
             mask = np.unpackbits(bits)[: q.shape[0] * q.shape[1]].reshape(q.shape[:2]).astype(bool)
         pixels = (q.astype(np.float64) - float(record["headroom"])) * step + offset
         pixels = domain.average_glued(pixels)
+        if "offsets" in record:
+            if mask is not None or colored or normal:
+                raise ValueError("a displaced image with a mask, colours or normals")
+            if offsets is not None:
+                pixels = _displaced(pixels, domain, record["offsets"], offsets, float(record["headroom"]), where)
+                if offset_levels is not None:
+                    meta["jpeg2000_offset_levels"] = offset_levels
+            else:
+                meta["jpeg2000_offset_levels"] = "none"
         if normals is not None:                  # glued normals: one direction, the group's mean
             normals = domain.average_glued(normals)
             normals = (normals / np.maximum(np.linalg.norm(normals, axis=-1, keepdims=True), 1e-300)).astype(np.float32)
@@ -353,6 +431,26 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
     except (TypeError, ValueError, zlib.error) as e:
         raise ImageFileError(f"{where}: geoimg's record does not fit its pixels ({' '.join(str(e).split())[:120]})"
                              ) from None
+
+
+def _displaced(base: np.ndarray, domain: Domain, fields: dict, cs: bytes, headroom: float, where: str) -> np.ndarray:
+    """A displaced image's pixels: the decoded ``base`` upsampled, moved along its normals by the offsets that
+    the codestream ``cs`` holds (quantized as ``fields`` say), glued pixels welded.
+    """
+    shape = tuple(int(k) for k in fields["shape"])
+    if len(shape) != 2 or not 2 <= min(shape) <= max(shape) <= 1 << 16 or min(base.shape[:2]) < 2:
+        raise ValueError(f"an offsets image of shape {shape} on a base of {base.shape[:2]}")
+    try:
+        q = np.asarray(_codec().jpeg2k_decode(cs))
+    except Exception as e:                   # imagecodecs' own error type: a truncated or damaged codestream
+        raise ImageFileError(f"{where}: the offsets' JPEG 2000 codestream cannot be decoded, truncated or damaged "
+                             f"({' '.join(str(e).split())[:120]})") from None
+    if q.shape != shape or q.dtype != np.uint16:
+        raise ImageFileError(f"{where}: offsets of shape {q.shape} and type {q.dtype}; its record asks for {shape} "
+                             "16-bit levels")
+    distances = (q.astype(np.float64) - headroom) * float(fields["step"]) + float(fields["offset"])
+    points, normals = base_frame(base, domain, shape)
+    return displace(points, normals, distances, domain)
 
 
 def read_jp2(path, max_bytes: int | None = None) -> GeometryImage:
