@@ -209,13 +209,15 @@ def cmd_compress(args) -> int:
         extra = [what for what, got in (("colours", made.image.colors), ("normals", made.image.normals))
                  if got is not None]
         tint = f", with its {' and '.join(extra)}" if extra else ""
+        on = f" displaced on a {made.base} x {made.base} base" if made.base else ""
         print(f"wrote {args.output}: {made.nbytes} bytes{budget}, a {n[1]} x {n[0]} {made.image.domain.kind} "
-              f"image{tint}, PSNR to {against} {made.psnr_db:.1f} dB")
+              f"image{on}{tint}, PSNR to {against} {made.psnr_db:.1f} dB")
         for t in made.tried:
             what = (f"{t['bytes']} bytes, {t['psnr_db']} dB" if "bytes" in t else
                     f"needs at least {t['least_bytes']} bytes" if "least_bytes" in t else
                     f"at best {t['best_psnr_db']} dB")
-            print(f"  {t['resolution']} x {t['resolution']}: {what}")
+            base = f" on {t['base']} x {t['base']} ({t['share']:.0%} of the budget)" if "base" in t else ""
+            print(f"  {t['resolution']} x {t['resolution']}{base}: {what}")
     return 0
 
 
@@ -236,8 +238,11 @@ def cmd_mesh(args) -> int:
     out, *beside = write_all(mesh_file_jobs(mesh, args.output), overwrite=args.force)
     if not args.quiet:
         also = f" (its material {beside[0].name} and texture {beside[1].name} beside it)" if beside else ""
-        levels = image.metadata.get("jpeg2000_levels")
-        part = f"; from its first {image.metadata['jpeg2000_bytes']} bytes: {levels} wavelet levels" if levels else ""
+        levels, offsets = image.metadata.get("jpeg2000_levels"), image.metadata.get("jpeg2000_offset_levels")
+        held = ([f"{levels} wavelet levels"] if levels else []) + (
+            ["no offsets (the base alone)" if offsets == "none" else f"the offsets' {offsets} wavelet levels"]
+            if offsets else [])
+        part = f"; from its first {image.metadata['jpeg2000_bytes']} bytes: {', '.join(held)}" if held else ""
         print(f"wrote {out}: {mesh.n_vertices} vertices, {mesh.n_faces} quads{also}{part}")
     return 0
 

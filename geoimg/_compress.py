@@ -2,11 +2,15 @@
 coder's rate for the least error within a byte budget (or the fewest bytes for an error), measuring each
 candidate exactly (the decoded image's quad mesh against the mesh: two-sided RMS by an AABB tree).
 
+With a byte budget, a mesh may also become a *displaced* file: a coarse base and one channel of offsets along
+its normals (:mod:`geoimg.image._displacement`), which spends no bytes on where samples sit along the surface.
+
 The file is a standard JP2 (see :mod:`geoimg.image._jp2`): :func:`geoimg.load_image`, ``geoimg mesh``,
 ``geoimg info`` read it like any geometry image, welding what its domain glues.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 from dataclasses import dataclass, field
@@ -232,11 +236,13 @@ def _displaced_candidates(images: list[GeometryImage], mesh: Mesh, reference, ma
     out: list[Compressed] = []
     for full in images:
         n = full.shape[0]
-        if n < DISPLACED_FROM or full.mask is not None:
+        if n < DISPLACED_FROM or not full.valid.all():
             continue
         for base in images:
-            if base.shape[0] not in ((n - 1) // 2 + 1, (n - 1) // 4 + 1) or base.domain != full.domain:
+            if (base.shape[0] not in ((n - 1) // 2 + 1, (n - 1) // 4 + 1) or base.domain != full.domain
+                    or not base.valid.all()):
                 continue
+            base = dataclasses.replace(base, mask=None)          # every pixel valid: a displaced file has no mask
             say(f"searching a displaced image at {n} x {full.shape[1]} on {base.shape[0]} x {base.shape[1]}")
             surface = surface or _Surface(mesh)
             for share in DISPLACED_SHARES:
@@ -285,8 +291,12 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
 
     A mesh is converted (the faithful default, one map) at each of ``resolutions``; for each the coder's rate
     is searched (bisection on its target PSNR; lossless when that fits), and every candidate is decoded and
-    measured against the mesh (exact two-sided RMS; PSNR = 20 log10(diagonal / RMS)): the best is kept. An
-    image is coded at its own size and measured against its own pixels.
+    measured against the mesh (exact two-sided RMS; PSNR = 20 log10(diagonal / RMS)): the best is kept. With a
+    byte budget, a mesh is also tried as *displaced* files (:mod:`geoimg.image._displacement`: each image of at
+    least :data:`DISPLACED_FROM` a side on a base of 1/2 and of 1/4 its side, coded in each of
+    :data:`DISPLACED_SHARES` of the budget, and one channel of offsets along the base's normals for the rest),
+    which at low rates hold 2-9 dB more; a PSNR target searches plain images only. An image is coded at its
+    own size and measured against its own pixels.
 
     Parameters
     ----------

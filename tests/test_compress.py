@@ -1,6 +1,7 @@
 """Shapes compressed into JPEG 2000 geometry images: the budget honoured, closed in closed out (the glued
 seams welded after lossy coding moved them apart), files that any reader of geoimg takes, and every bad input
 refused in one line with no file left behind."""
+import dataclasses
 import re
 
 import numpy as np
@@ -302,3 +303,37 @@ def test_a_low_budget_is_spent_on_a_displaced_image_that_beats_the_plain_ones(tm
     assert np.array_equal(read.pixels, made.image.pixels) and read.shape == (129, 129)
     assert topology(read.to_mesh()).closed and topology(read.to_mesh()).genus == 0
     assert imagecodecs.jpeg2k_decode(made.data).shape == (made.base, made.base, 3)
+
+
+@pytest.mark.slow
+def test_the_commands_say_a_file_is_displaced_and_what_a_prefix_of_it_holds(tmp_path, capsys):
+    out = tmp_path / "s.jp2"
+    assert main(["compress", str(data_file("spot.obj")), "-o", str(out), "--bytes", "3000", "--res", "65", "129"]) == 0
+    text = capsys.readouterr().out
+    base = int(re.search(r"129 x 129 octahedral image displaced on a (\d+) x \1 base", text).group(1))
+    assert re.search(r"129 x 129 on 65 x 65 \(40% of the budget\): \d+ bytes", text)
+    data = out.read_bytes()
+    second = data.rindex(b"jp2c") - 4
+    assert main(["mesh", str(out), "-o", str(tmp_path / "base.obj"), "--bytes", str(second)]) == 0
+    assert "no offsets (the base alone)" in capsys.readouterr().out
+    assert geoimg.load_mesh(tmp_path / "base.obj").n_vertices == (base - 1) ** 2 + 2
+    assert main(["mesh", str(out), "-o", str(tmp_path / "all.obj")]) == 0
+    assert "wavelet levels" not in capsys.readouterr().out
+    assert geoimg.load_mesh(tmp_path / "all.obj").n_vertices == 128 ** 2 + 2
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, kind, loops, genus", [("demosthenes-low-res.obj", "planar", 1, 0),
+                                                      ("torus.obj", "cut", 0, 1)])
+def test_disk_and_cut_open_shapes_are_displaced_and_keep_their_rims_and_handles(name, kind, loops, genus):
+    from geoimg._compress import _displaced_for_bytes, _Surface
+    mesh = load_data(name)
+    made = geoimg.compress(mesh, max_bytes=3000, resolutions=(65, 129))
+    displaced = [t for t in made.tried if "base" in t]             # their all-true masks are no masks
+    assert len(displaced) == 2 and all(t["base"] == 65 and t["bytes"] <= 3000 for t in displaced)
+    full, base = (geoimg.mesh_to_image(mesh, r, fidelity=False) for r in (129, 65))
+    _, data = _displaced_for_bytes(full, dataclasses.replace(base, mask=None), _Surface(mesh), 3000, 0.5)
+    back = decode(data)
+    assert back.domain.kind == kind and back.shape == (129, 129) and len(data) <= 3000
+    top = topology(back.to_mesh())
+    assert (top.boundary_loops, top.genus) == (loops, genus)

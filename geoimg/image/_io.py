@@ -129,7 +129,8 @@ def load_image(path: PathLike, *, assume: str | None = None, approximate: bool =
         Read a 16-bit PNG preview as approximate geometry.
     max_bytes : int, optional
         A ``.jp2`` file's first bytes only: the shape as far as its whole wavelet levels go (a coarser shape at
-        the same resolution), as a viewer streaming the file has it (``metadata["jpeg2000_levels"]``).
+        the same resolution), as a viewer streaming the file has it (``metadata["jpeg2000_levels"]``); of a
+        displaced file, its base, then the offsets' whole levels (``metadata["jpeg2000_offset_levels"]``).
 
     Returns
     -------

@@ -9,6 +9,12 @@ Progressive: the codestream holds the coarsest wavelet level first, then each fi
 file decode to the shape as far as its whole levels go (:func:`decode` with ``max_bytes``, a truncated file
 likewise, with a warning; see :mod:`geoimg.image._j2k_packets`).
 
+Displaced files (:mod:`geoimg.image._displacement`): the codestream is a coarse base's X, Y, Z, and a second
+codestream box after it holds one channel of offsets along the upsampled base's normals (its quantization in
+the record's ``offsets``). JPEG 2000 readers use the first codestream of a JP2 file and skip the others, so
+any of them shows the base; geoimg's reader displaces it. A prefix holds the base first, then the offsets'
+levels.
+
 Why ``imagecodecs`` and not OpenImageIO (which geoimg reads its other images with): OpenImageIO's JPEG 2000
 writer has no rate control, and rate is what compression is for.
 
@@ -362,7 +368,9 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
     max_bytes : int, optional
         Decode only the first ``max_bytes`` bytes: the shape as far as the whole wavelet levels they hold go
         (a coarser shape, at the same resolution); ``metadata["jpeg2000_levels"]`` says how many of how many.
-        A truncated file is decoded so too, with a warning.
+        Of a displaced file, the base (at its own size, ``metadata["jpeg2000_offset_levels"]`` ``"none"``)
+        until the offsets' first level is whole, then the offsets' whole levels. A truncated file is decoded so
+        too, with a warning.
 
     Returns
     -------
