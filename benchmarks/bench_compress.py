@@ -81,8 +81,9 @@ def stream(path: Path, kbs: list[float], picture: Path | None) -> None:
     whole = geoimg.compress(mesh, max_bytes=int(max(kbs) * 1000))
     file = Path(tempfile.mkdtemp()) / "stream.jp2"
     file.write_bytes(whole.data)
-    print(f"{path.name}: one file of {whole.nbytes} bytes, {whole.resolution}²")
-    print("| first k bytes | wavelet levels | PSNR (dB) | a file of k bytes: PSNR (dB), resolution |")
+    print(f"{path.name}: one file of {whole.nbytes} bytes, "
+          f"{where({'resolution': whole.resolution, 'base': whole.base})}")
+    print("| first k bytes | wavelet levels held | PSNR (dB) | a file of k bytes: PSNR (dB), resolution |")
     print("|---:|---|---:|---|")
     first, alone = [], []
     for kb in kbs:
@@ -91,7 +92,12 @@ def stream(path: Path, kbs: list[float], picture: Path | None) -> None:
         own = geoimg.compress(mesh, max_bytes=k)
         p1 = surface_distance(mesh, part.to_mesh(), n=SAMPLES)["psnr_db"]
         p2 = surface_distance(mesh, own.image.to_mesh(), n=SAMPLES)["psnr_db"]
-        print(f"| {k} | {part.metadata.get('jpeg2000_levels', 'all')} | {p1:.1f} | {p2:.1f} ({own.resolution}²) |",
+        held = part.metadata.get("jpeg2000_levels", "all")
+        if "jpeg2000_offset_levels" in part.metadata:      # a displaced file: the base's levels, then the offsets'
+            held = f"base {held}, offsets {part.metadata['jpeg2000_offset_levels']}"
+        elif whole.base:
+            held = "base all, offsets all"
+        print(f"| {k} | {held} | {p1:.1f} | {p2:.1f} ({where({'resolution': own.resolution, 'base': own.base})}) |",
               flush=True)
         first.append((f"first {kb:g} KB of one file: {p1:.1f} dB", part))
         alone.append((f"a {kb:g} KB file: {p2:.1f} dB", own.image))

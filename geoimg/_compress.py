@@ -11,6 +11,7 @@ The file is a standard JP2 (see :mod:`geoimg.image._jp2`): :func:`geoimg.load_im
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import numbers
 from dataclasses import dataclass, field
@@ -40,7 +41,8 @@ DEFAULT_RESOLUTIONS = (33, 65, 129, 257, 513)
 LEVELS = (20.0, 140.0)         # the coder's PSNR targets searched (dB of its 16-bit range)
 SEARCH_STEPS = 10              # bisection steps of the level: 0.12 dB apart at the end
 SAMPLES = 20_000               # area samples a side for each candidate's error
-DISPLACED_SHARES = (0.4, 0.5)        # a displaced candidate's base: these shares of the budget tried
+DISPLACED_SHARES = (0.4, 0.5)        # a displaced candidate's base: these shares of the budget tried, then
+SHARE_STEP, SHARE_RANGE = 0.1, (0.2, 0.8)   # steps of 0.1 on from the better one while they gain (within 0.2-0.8)
 DISPLACED_FROM = 129           # displaced candidates at this side and above, on bases of 1/2 and 1/4 the side
 PROJECTION_ROUNDS = 3          # the offsets: the closest point's distance along the normal, refined this often
 
@@ -226,11 +228,53 @@ def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Sur
     return found[0], encode(base, base_level, offsets=offsets, offsets_level=found[0])
 
 
+def _measured_displaced(full: GeometryImage, base: GeometryImage, surface: _Surface, reference, max_bytes: int,
+                        tried: list, out: list, share: float) -> float:
+    """The displaced candidate with the base in ``share`` of the budget, decoded and measured: its figures added
+    to ``tried``, itself to ``out``; its PSNR (-inf where no such file fits).
+    """
+    got = _displaced_for_bytes(full, base, surface, max_bytes, share)
+    if got is None:
+        return -math.inf
+    level, data = got
+    decoded = decode(data)
+    db = _error_db(reference, decoded)
+    n = full.shape[0]
+    tried.append({"resolution": n, "base": base.shape[0], "share": share, "bytes": len(data),
+                  "psnr_db": round(db, 2), "level": round(level, 2)})
+    out.append(Compressed(data, decoded, n, float(level), float(db), base=base.shape[0]))
+    return db
+
+
+def _walk_shares(attempt: Callable[[float], float]) -> None:
+    """Each of :data:`DISPLACED_SHARES`, then steps of :data:`SHARE_STEP` on from the better of the last two
+    (away from the worse) while each gains, within :data:`SHARE_RANGE`: ``attempt(share)`` measures one.
+
+    >>> seen = []
+    >>> _walk_shares(lambda share: seen.append(share) or -(share - 0.7) ** 2)
+    >>> seen
+    [0.4, 0.5, 0.6, 0.7, 0.8]
+    """
+    shares = [float(x) for x in DISPLACED_SHARES]
+    scores = [attempt(x) for x in shares]
+    step = SHARE_STEP if scores[-1] >= scores[-2] else -SHARE_STEP
+    at, best = (shares[-1], scores[-1]) if step > 0 else (shares[-2], scores[-2])
+    while True:
+        nxt = round(at + step, 6)
+        if not SHARE_RANGE[0] <= nxt <= SHARE_RANGE[1]:
+            return
+        got = attempt(nxt)
+        if not got > best:
+            return
+        at, best = nxt, got
+
+
 def _displaced_candidates(images: list[GeometryImage], mesh: Mesh, reference, max_bytes: int, tried: list,
                           say: Callable[[str], None]) -> list[Compressed]:
     """Displaced files (:mod:`geoimg.image._displacement`) within ``max_bytes``: each image of at least
-    :data:`DISPLACED_FROM` pixels a side on each smaller one of 1/2 and 1/4 its side, the base coded in each of
-    :data:`DISPLACED_SHARES` of the budget; each decoded and measured, its figures added to ``tried``.
+    :data:`DISPLACED_FROM` pixels a side on each smaller one of 1/2 and 1/4 its side, the base coded in the
+    shares of the budget that :func:`_walk_shares` tries; each decoded and measured, its figures added to
+    ``tried``.
     """
     surface: _Surface | None = None
     out: list[Compressed] = []
@@ -245,16 +289,7 @@ def _displaced_candidates(images: list[GeometryImage], mesh: Mesh, reference, ma
             base = dataclasses.replace(base, mask=None)          # every pixel valid: a displaced file has no mask
             say(f"searching a displaced image at {n} x {full.shape[1]} on {base.shape[0]} x {base.shape[1]}")
             surface = surface or _Surface(mesh)
-            for share in DISPLACED_SHARES:
-                got = _displaced_for_bytes(full, base, surface, max_bytes, share)
-                if got is None:
-                    continue
-                level, data = got
-                decoded = decode(data)
-                db = _error_db(reference, decoded)
-                tried.append({"resolution": n, "base": base.shape[0], "share": share, "bytes": len(data),
-                              "psnr_db": round(db, 2), "level": round(level, 2)})
-                out.append(Compressed(data, decoded, n, float(level), float(db), base=base.shape[0]))
+            _walk_shares(functools.partial(_measured_displaced, full, base, surface, reference, max_bytes, tried, out))
     return out
 
 
@@ -293,8 +328,9 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
     is searched (bisection on its target PSNR; lossless when that fits), and every candidate is decoded and
     measured against the mesh (exact two-sided RMS; PSNR = 20 log10(diagonal / RMS)): the best is kept. With a
     byte budget, a mesh is also tried as *displaced* files (:mod:`geoimg.image._displacement`: each image of at
-    least :data:`DISPLACED_FROM` a side on a base of 1/2 and of 1/4 its side, coded in each of
-    :data:`DISPLACED_SHARES` of the budget, and one channel of offsets along the base's normals for the rest),
+    least :data:`DISPLACED_FROM` a side on a base of 1/2 and of 1/4 its side, coded in 40 % and 50 % of the
+    budget and on in steps of 10 % while that gains, and one channel of offsets along the base's normals for
+    the rest),
     which at low rates hold 2-9 dB more; a PSNR target searches plain images only. An image is coded at its
     own size and measured against its own pixels.
 
