@@ -346,7 +346,7 @@ def test_the_base_share_walks_towards_the_better_side_and_stops_where_it_loses()
                             (lambda x: -abs(x - 0.53), [0.4, 0.5, 0.6]),           # up one, which loses
                             (lambda x: 1.0, [0.4, 0.5, 0.6])):                     # a tie: up, no gain
         seen: list = []
-        _walk_shares(lambda share, score=score: seen.append(share) or score(share))
+        _walk_shares(lambda share, score=score, seen=seen: seen.append(share) or score(share))
         assert seen == expected
     seen = []                                    # nothing fits from 0.5 on: down from 0.4
     _walk_shares(lambda share: seen.append(share) or (-np.inf if share >= 0.5 else share))

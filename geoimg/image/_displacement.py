@@ -25,7 +25,6 @@ True
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 from ._domain import Domain
 
@@ -65,6 +64,8 @@ def base_frame(base: np.ndarray, domain: Domain, shape: tuple[int, int]) -> tupl
     >>> bool(np.allclose(p[::2, ::2], base)), n[4, 4].tolist()       # the base's pixels kept
     (True, [0.0, 0.0, 1.0])
     """
+    from scipy import ndimage          # here: reading an image (geoimg mesh) starts without scipy
+
     b = np.asarray(base, np.float64)
     height, width = int(shape[0]), int(shape[1])
     padded = domain.pad(b, PAD)
