@@ -44,6 +44,7 @@ SAMPLES = 20_000               # area samples a side for each candidate's error
 DISPLACED_SHARES = (0.4, 0.5)        # a displaced candidate's base: these shares of the budget tried, then
 SHARE_STEP, SHARE_RANGE = 0.1, (0.2, 0.8)   # steps of 0.1 on from the better one while they gain (within 0.2-0.8)
 DISPLACED_FROM = 129           # displaced candidates at this side and above, on bases of 1/2 and 1/4 the side
+PSNR_BUDGET_STEPS = 8         # with a PSNR target: a displaced file's budget bisected at most this often
 PROJECTION_ROUNDS = 3          # the offsets: the closest point's distance along the normal, refined this often
 
 
@@ -231,7 +232,7 @@ def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Sur
 def _measured_displaced(full: GeometryImage, base: GeometryImage, surface: _Surface, reference, max_bytes: int,
                         tried: list, out: list, share: float) -> float:
     """The displaced candidate with the base in ``share`` of the budget, decoded and measured: its figures added
-    to ``tried``, itself to ``out``; its PSNR (-inf where no such file fits).
+    to ``tried``, ``(candidate, full, base, share)`` to ``out``; its PSNR (-inf where no such file fits).
     """
     got = _displaced_for_bytes(full, base, surface, max_bytes, share)
     if got is None:
@@ -242,7 +243,7 @@ def _measured_displaced(full: GeometryImage, base: GeometryImage, surface: _Surf
     n = full.shape[0]
     tried.append({"resolution": n, "base": base.shape[0], "share": share, "bytes": len(data),
                   "psnr_db": round(db, 2), "level": round(level, 2)})
-    out.append(Compressed(data, decoded, n, float(level), float(db), base=base.shape[0]))
+    out.append((Compressed(data, decoded, n, float(level), float(db), base=base.shape[0]), full, base, share))
     return db
 
 
@@ -270,14 +271,14 @@ def _walk_shares(attempt: Callable[[float], float]) -> None:
 
 
 def _displaced_candidates(images: list[GeometryImage], mesh: Mesh, reference, max_bytes: int, tried: list,
-                          say: Callable[[str], None]) -> list[Compressed]:
+                          say: Callable[[str], None]) -> list[tuple]:
     """Displaced files (:mod:`geoimg.image._displacement`) within ``max_bytes``: each image of at least
     :data:`DISPLACED_FROM` pixels a side on each smaller one of 1/2 and 1/4 its side, the base coded in the
     shares of the budget that :func:`_walk_shares` tries; each decoded and measured, its figures added to
-    ``tried``.
+    ``tried``: ``(candidate, full, base, share)`` each.
     """
     surface: _Surface | None = None
-    out: list[Compressed] = []
+    out: list[tuple] = []
     for full in images:
         n = full.shape[0]
         if n < DISPLACED_FROM or not full.valid.all():
@@ -291,6 +292,34 @@ def _displaced_candidates(images: list[GeometryImage], mesh: Mesh, reference, ma
             surface = surface or _Surface(mesh)
             _walk_shares(functools.partial(_measured_displaced, full, base, surface, reference, max_bytes, tried, out))
     return out
+
+
+def _displaced_for_psnr(images: list[GeometryImage], mesh: Mesh, reference, target: float, plain_bytes: int,
+                        tried: list, say: Callable[[str], None]) -> list[Compressed]:
+    """Displaced files that reach ``target`` dB in fewer bytes than the plain file's ``plain_bytes``: the
+    displaced search at that size, then the budget of its best candidate's image, base and share bisected
+    down to a 50th of it (:data:`PSNR_BUDGET_STEPS` steps at most). Those that reach ``target``.
+    """
+    probes = _displaced_candidates(images, mesh, reference, plain_bytes, tried, say)
+    reaching = [c for c, *_ in probes if c.psnr_db >= target]
+    if not reaching:
+        return []
+    _, full, base, share = max(probes, key=lambda p: p[0].psnr_db)
+    surface = _Surface(mesh)                 # (the search's own is gone with it: built again, 1-2 % of the time)
+    lo, hi = plain_bytes // 4, min(c.nbytes for c in reaching)
+    say(f"searching the fewest bytes of a displaced image at {full.shape[0]} x {full.shape[1]} on "
+        f"{base.shape[0]} x {base.shape[1]}")
+    for _ in range(PSNR_BUDGET_STEPS):
+        if hi - lo <= plain_bytes // 50:
+            break
+        mid = (lo + hi) // 2
+        out: list = []
+        if _measured_displaced(full, base, surface, reference, mid, tried, out, share) >= target:
+            reaching.append(out[0][0])
+            hi = out[0][0].nbytes
+        else:
+            lo = mid
+    return reaching
 
 
 def _level_for_psnr(image: GeometryImage, reference, target: float,
@@ -331,8 +360,9 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
     least :data:`DISPLACED_FROM` a side on a base of 1/2 and of 1/4 its side, coded in 40 % and 50 % of the
     budget and on in steps of 10 % while that gains, and one channel of offsets along the base's normals for
     the rest),
-    which at low rates hold 2-9 dB more; a PSNR target searches plain images only. An image is coded at its
-    own size and measured against its own pixels.
+    which at low rates hold 1-9 dB more. With a PSNR target, the plain files' search comes first; then the
+    displaced search at the plain file's size, and the budget of its best candidate bisected down. An image is
+    coded at its own size and measured against its own pixels.
 
     Parameters
     ----------
@@ -415,8 +445,12 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
             decoded = decode(data)
         tried.append({"resolution": n, "bytes": len(data), "psnr_db": round(db, 2), "level": round(level, 2)})
         found.append(Compressed(data, decoded, n, float(level), float(db)))
-    if mesh is not None and max_bytes is not None and not (colors or normals):
-        found += _displaced_candidates(images, mesh, reference, int(max_bytes), tried, say)
+    if mesh is not None and not (colors or normals):
+        if max_bytes is not None:
+            found += [c for c, *_ in _displaced_candidates(images, mesh, reference, int(max_bytes), tried, say)]
+        elif found:
+            found += _displaced_for_psnr(images, mesh, reference, float(psnr or 0.0),
+                                         min(c.nbytes for c in found), tried, say)
     if not found:
         if max_bytes is not None:
             smallest = min(tried, key=lambda t: t["least_bytes"])

@@ -351,3 +351,14 @@ def test_the_base_share_walks_towards_the_better_side_and_stops_where_it_loses()
     seen = []                                    # nothing fits from 0.5 on: down from 0.4
     _walk_shares(lambda share: seen.append(share) or (-np.inf if share >= 0.5 else share))
     assert seen == [0.4, 0.5, 0.3]
+
+
+@pytest.mark.slow
+def test_a_psnr_target_is_reached_in_fewer_bytes_by_a_displaced_file():
+    spot = load_data("spot.obj")
+    made = geoimg.compress(spot, psnr=64, resolutions=(65, 129))
+    plain = [t["bytes"] for t in made.tried if "base" not in t and "bytes" in t]
+    assert made.base is not None and made.psnr_db >= 64 and made.nbytes < min(plain)
+    reaching = [t["bytes"] for t in made.tried if "base" in t and t["psnr_db"] >= 64.01]   # (rounded figures)
+    assert made.nbytes <= min(reaching)                     # the fewest bytes of those that reach it
+    assert decode(made.data).shape == (129, 129)
