@@ -282,6 +282,8 @@ def test_damaged_displaced_files_and_bad_offsets_are_refused(displaced_ball, spo
     for bad, message in ((np.full((65, 65), np.nan), "NaN"), (np.zeros(5), "an \\(H, W\\) array")):
         with pytest.raises(geoimg.ImageError, match=message):
             encode(base, 0, offsets=bad)
+    with pytest.raises(geoimg.GeoimgError, match="odd side"):             # not an octahedral image's size
+        encode(base, 0, offsets=np.zeros((64, 64)))
     masked = geoimg.GeometryImage(spot_image.pixels, np.ones((33, 33), bool), spot_image.domain)
     with pytest.raises(geoimg.ImageError, match="no mask"):
         encode(masked, 0, offsets=np.zeros((65, 65)))

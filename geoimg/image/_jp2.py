@@ -211,6 +211,8 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
         record["normals"] = 2
     if offsets is not None and (image.mask is not None or q.shape[2] != 3):
         raise ImageError("offsets: a displaced image has no mask, no coded colours and no coded normals")
+    if offsets is not None and np.ndim(offsets) == 2:
+        image.domain.check_shape(np.shape(offsets))          # the displaced image is of the base's domain
     if resolutions is None:
         resolutions = int(max(1, min(6, np.floor(np.log2(min(q.shape[:2]))))))
     codec = _codec()
