@@ -320,6 +320,7 @@ def test_the_commands_say_a_file_is_displaced_and_what_a_prefix_of_it_holds(tmp_
     assert main(["mesh", str(out), "-o", str(tmp_path / "base.obj"), "--bytes", str(second)]) == 0
     assert "no offsets (the base alone)" in capsys.readouterr().out
     assert geoimg.load_mesh(tmp_path / "base.obj").n_vertices == (base - 1) ** 2 + 2
+    assert main(["info", str(out)]) == 0 and f"jpeg2000_base: {base} x {base}" in capsys.readouterr().out
     assert main(["mesh", str(out), "-o", str(tmp_path / "all.obj")]) == 0
     assert "wavelet levels" not in capsys.readouterr().out
     assert geoimg.load_mesh(tmp_path / "all.obj").n_vertices == 128 ** 2 + 2

@@ -426,6 +426,7 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
             if mask is not None or colored or normal:
                 raise ValueError("a displaced image with a mask, colours or normals")
             if offsets is not None:
+                meta["jpeg2000_base"] = f"{pixels.shape[1]} x {pixels.shape[0]}"     # what geoimg info shows
                 pixels = _displaced(pixels, domain, record["offsets"], offsets, float(record["headroom"]), where)
                 if offset_levels is not None:
                     meta["jpeg2000_offset_levels"] = offset_levels
