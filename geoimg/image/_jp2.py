@@ -103,18 +103,40 @@ def _quantized(image: GeometryImage) -> tuple[np.ndarray, dict]:
     valid = image.valid
     if not np.isfinite(p[valid]).all():
         raise ImageError("pixels: NaN or infinite coordinates cannot be coded")
-    lo = p[valid].min(axis=0)
-    step = max(float((p[valid].max(axis=0) - lo).max()), 1e-300) / TOP
-    # the offset and step as few digits as keep them within 1/64 of a step (both quantize with what is written)
-    step = _short(step, step / 64 / TOP)
-    lo = np.array([_short(x, step / 64) for x in lo])
-    q = np.clip(np.round((p - lo) / step) + HEADROOM, 0, 65535)
+    kept = p[valid]
+    lo, step = _grid(kept.min(axis=0), float((kept.max(axis=0) - kept.min(axis=0)).max()))
+    q = _to_levels(p, lo, step)
     q[~valid] = HEADROOM
     kept = {k: v for k, v in image.metadata_record().items() if k in KEPT or k in type(image.domain).METADATA_KEYS}
     record = {"offset": lo.tolist(), "step": step, "headroom": HEADROOM, "meta": kept}
     if image.mask is not None:
         record["mask"] = np.packbits(image.mask.ravel()).tobytes()
     return q.astype(np.uint16), record
+
+
+def _grid(lo: np.ndarray, span: float) -> tuple[np.ndarray, float]:
+    """The quantization of values from ``lo`` (per channel) over ``span``: its offset and its step (``span``
+    over :data:`TOP` levels), each with as few digits as keep it within 1/64 of a step (both quantize with what
+    is written).
+    """
+    step = max(span, 1e-300) / TOP
+    step = _short(step, step / 64 / TOP)
+    return np.array([_short(x, step / 64) for x in np.atleast_1d(lo)]), step
+
+
+def _to_levels(values: np.ndarray, lo, step: float) -> np.ndarray:
+    """``values`` as levels of :func:`_grid`'s quantization, :data:`HEADROOM` free at both ends (float)."""
+    return np.clip(np.round((values - lo) / step) + HEADROOM, 0, 65535)
+
+
+def _from_levels(q: np.ndarray, lo, step: float, headroom: float) -> np.ndarray:
+    """Levels back to values (float64): the inverse of :func:`_to_levels`."""
+    return (q.astype(np.float64) - headroom) * step + lo
+
+
+def _wavelet_levels(shape: tuple) -> int:
+    """The codestream's resolutions for an image of ``shape``: as many as its size allows, at most 6."""
+    return int(max(1, min(6, np.floor(np.log2(min(shape[:2]))))))
 
 
 def _short(x: float, within: float) -> float:
@@ -214,7 +236,7 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
     if offsets is not None and np.ndim(offsets) == 2:
         image.domain.check_shape(np.shape(offsets))          # the displaced image is of the base's domain
     if resolutions is None:
-        resolutions = int(max(1, min(6, np.floor(np.log2(min(q.shape[:2]))))))
+        resolutions = _wavelet_levels(q.shape)
     codec = _codec()
     if level == LOSSLESS:
         data = codec.jpeg2k_encode(q, codecformat="jp2", reversible=True, mct=False, resolutions=resolutions)
@@ -255,12 +277,11 @@ def offsets_codestream(offsets: np.ndarray, level: float) -> tuple[bytes, dict]:
         raise ImageError(f"offsets: expected an (H, W) array of at least 2 x 2, got shape {h.shape}")
     if not np.isfinite(h).all():
         raise ImageError("offsets: NaN or infinite distances cannot be coded")
-    step = _short(max(float(np.ptp(h)), 1e-300) / TOP, max(float(np.ptp(h)), 1e-300) / TOP / 64 / TOP)
-    lo = _short(float(h.min()), step / 64)
-    q = np.clip(np.round((h - lo) / step) + HEADROOM, 0, 65535).astype(np.uint16)
-    resolutions = int(max(1, min(6, np.floor(np.log2(min(q.shape))))))
+    lows, step = _grid(np.array([h.min()]), float(np.ptp(h)))
+    lo = float(lows[0])
+    q = _to_levels(h, lo, step).astype(np.uint16)
     cs = _codec().jpeg2k_encode(q, level=float(level), codecformat="j2k", reversible=level == LOSSLESS,
-                                resolutions=resolutions)
+                                resolutions=_wavelet_levels(q.shape))
     return without_comments(bytes(cs)), {"shape": list(q.shape), "offset": lo, "step": step}
 
 
@@ -420,7 +441,7 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
         if "mask" in record:
             bits = np.frombuffer(record["mask"], np.uint8)
             mask = np.unpackbits(bits)[: q.shape[0] * q.shape[1]].reshape(q.shape[:2]).astype(bool)
-        pixels = (q.astype(np.float64) - float(record["headroom"])) * step + offset
+        pixels = _from_levels(q, offset, step, float(record["headroom"]))
         pixels = domain.average_glued(pixels)
         if "offsets" in record:
             if mask is not None or colored or normal:
@@ -459,7 +480,7 @@ def _displaced(base: np.ndarray, domain: Domain, fields: dict, cs: bytes, headro
     if q.shape != shape or q.dtype != np.uint16:
         raise ImageFileError(f"{where}: offsets of shape {q.shape} and type {q.dtype}; its record asks for {shape} "
                              "16-bit levels")
-    distances = (q.astype(np.float64) - headroom) * float(fields["step"]) + float(fields["offset"])
+    distances = _from_levels(q, float(fields["offset"]), float(fields["step"]), headroom)
     points, normals = base_frame(base, domain, shape)
     return displace(points, normals, distances, domain)
 
