@@ -188,23 +188,29 @@ def _bisect_level(coded: Callable[[float], tuple[int, Any]], max_bytes: int) -> 
 
 
 class _Surface:
-    """Closest points on a mesh (libigl's AABB tree, built once)."""
+    """Closest points on a mesh (libigl's AABB tree, built at the first query and kept)."""
 
     def __init__(self, mesh: Mesh):
-        self.vertices = np.ascontiguousarray(mesh.vertices, np.float64)
-        self.tris = np.ascontiguousarray(mesh.triangulate(quads="shorter")[0], np.int64)
-        self.tree = igl.AABB()
-        self.tree.init(self.vertices, self.tris)
+        self.mesh = mesh
+
+    @functools.cached_property
+    def _tree(self) -> tuple[np.ndarray, np.ndarray, Any]:
+        vertices = np.ascontiguousarray(self.mesh.vertices, np.float64)
+        tris = np.ascontiguousarray(self.mesh.triangulate(quads="shorter")[0], np.int64)
+        tree = igl.AABB()
+        tree.init(vertices, tris)
+        return vertices, tris, tree
 
     def offsets(self, points: np.ndarray, normals: np.ndarray, rounds: int = PROJECTION_ROUNDS) -> np.ndarray:
         """How far along each normal (H, W, 3) from each point (H, W, 3) the mesh is: the closest point's
         distance along the normal, then ``rounds`` times the closest point's to the point so moved (a line
         that crosses the surface at a slant converges to where it crosses).
         """
+        vertices, tris, tree = self._tree
         h = np.zeros(points.shape[:2])
         for _ in range(rounds + 1):
             moved = points + h[..., None] * normals
-            _, _, closest = self.tree.squared_distance(self.vertices, self.tris, moved.reshape(-1, 3))
+            _, _, closest = tree.squared_distance(vertices, tris, moved.reshape(-1, 3))
             h += ((closest.reshape(points.shape) - moved) * normals).sum(axis=-1)
         return h
 
@@ -221,9 +227,9 @@ def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Sur
     points, normals = base_frame(decode(base_data).pixels, full.domain, full.shape)
     offsets = surface.offsets(points, normals)
     # the file is the base's, the record and the offsets' codestream: only the last changes with its level
-    first = encode(base, base_level, offsets=offsets, offsets_level=LEVELS[0])
-    fixed = len(first) - len(offsets_codestream(offsets, LEVELS[0])[0])
-    found = _bisect_level(lambda level: (fixed + len(offsets_codestream(offsets, level)[0]), None), max_bytes)
+    coded = functools.cache(lambda level: len(offsets_codestream(offsets, level)[0]))     # each level coded once
+    fixed = len(encode(base, base_level, offsets=offsets, offsets_level=LEVELS[0])) - coded(LEVELS[0])
+    found = _bisect_level(lambda level: (fixed + coded(level), None), max_bytes)
     if isinstance(found, int):
         return None
     return found[0], encode(base, base_level, offsets=offsets, offsets_level=found[0])
@@ -270,14 +276,13 @@ def _walk_shares(attempt: Callable[[float], float]) -> None:
         at, best = nxt, got
 
 
-def _displaced_candidates(images: list[GeometryImage], mesh: Mesh, reference, max_bytes: int, tried: list,
+def _displaced_candidates(images: list[GeometryImage], surface: _Surface, reference, max_bytes: int, tried: list,
                           say: Callable[[str], None]) -> list[tuple]:
     """Displaced files (:mod:`geoimg.image._displacement`) within ``max_bytes``: each image of at least
     :data:`DISPLACED_FROM` pixels a side on each smaller one of 1/2 and 1/4 its side, the base coded in the
     shares of the budget that :func:`_walk_shares` tries; each decoded and measured, its figures added to
     ``tried``: ``(candidate, full, base, share)`` each.
     """
-    surface: _Surface | None = None
     out: list[tuple] = []
     for full in images:
         n = full.shape[0]
@@ -289,23 +294,21 @@ def _displaced_candidates(images: list[GeometryImage], mesh: Mesh, reference, ma
                 continue
             base = dataclasses.replace(base, mask=None)          # every pixel valid: a displaced file has no mask
             say(f"searching a displaced image at {n} x {full.shape[1]} on {base.shape[0]} x {base.shape[1]}")
-            surface = surface or _Surface(mesh)
             _walk_shares(functools.partial(_measured_displaced, full, base, surface, reference, max_bytes, tried, out))
     return out
 
 
-def _displaced_for_psnr(images: list[GeometryImage], mesh: Mesh, reference, target: float, plain_bytes: int,
-                        tried: list, say: Callable[[str], None]) -> list[Compressed]:
+def _displaced_for_psnr(images: list[GeometryImage], surface: _Surface, reference, target: float,
+                        plain_bytes: int, tried: list, say: Callable[[str], None]) -> list[Compressed]:
     """Displaced files that reach ``target`` dB in fewer bytes than the plain file's ``plain_bytes``: the
     displaced search at that size, then the budget of its best candidate's image, base and share bisected
     down to a 50th of it (:data:`PSNR_BUDGET_STEPS` steps at most). Those that reach ``target``.
     """
-    probes = _displaced_candidates(images, mesh, reference, plain_bytes, tried, say)
+    probes = _displaced_candidates(images, surface, reference, plain_bytes, tried, say)
     reaching = [c for c, *_ in probes if c.psnr_db >= target]
     if not reaching:
         return []
     _, full, base, share = max(probes, key=lambda p: p[0].psnr_db)
-    surface = _Surface(mesh)                 # (the search's own is gone with it: built again, 1-2 % of the time)
     lo, hi = plain_bytes // 4, min(c.nbytes for c in reaching)
     say(f"searching the fewest bytes of a displaced image at {full.shape[0]} x {full.shape[1]} on "
         f"{base.shape[0]} x {base.shape[1]}")
@@ -446,10 +449,11 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
         tried.append({"resolution": n, "bytes": len(data), "psnr_db": round(db, 2), "level": round(level, 2)})
         found.append(Compressed(data, decoded, n, float(level), float(db)))
     if mesh is not None and not (colors or normals):
+        surface = _Surface(mesh)                 # its tree built at the first displaced candidate, if any
         if max_bytes is not None:
-            found += [c for c, *_ in _displaced_candidates(images, mesh, reference, int(max_bytes), tried, say)]
+            found += [c for c, *_ in _displaced_candidates(images, surface, reference, int(max_bytes), tried, say)]
         elif found:
-            found += _displaced_for_psnr(images, mesh, reference, float(psnr or 0.0),
+            found += _displaced_for_psnr(images, surface, reference, float(psnr or 0.0),
                                          min(c.nbytes for c in found), tried, say)
     if not found:
         if max_bytes is not None:
