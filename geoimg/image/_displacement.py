@@ -26,7 +26,9 @@ from __future__ import annotations
 
 import numpy as np
 
+import filters
 from ._domain import Domain
+from ._image import GeometryImage
 
 __all__ = ["base_frame", "displace", "PAD", "NORMAL_SMOOTHING"]
 
@@ -76,10 +78,7 @@ def base_frame(base: np.ndarray, domain: Domain, shape: tuple[int, int]) -> tupl
                        for c in range(3)], axis=-1)
     points = domain.average_glued(points)
     sigma = NORMAL_SMOOTHING * (height - 1) / max(b.shape[0] - 1, 1)      # in the upsampled image's pixels
-    reach = int(3 * sigma) + 1
-    wide = domain.pad(points, reach)
-    smooth = np.stack([ndimage.gaussian_filter(wide[..., c], sigma) for c in range(3)], axis=-1)[reach:-reach,
-                                                                                                   reach:-reach]
+    smooth = GeometryImage(points, None, domain).apply(filters.gaussian_filter, sigma).pixels   # across the glue
     around = domain.pad(smooth, 1)
     normals = np.cross(around[1:-1, 2:] - around[1:-1, :-2], around[2:, 1:-1] - around[:-2, 1:-1]) * domain.orientation
     normals = domain.average_glued(normals)
