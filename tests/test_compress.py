@@ -273,7 +273,7 @@ def test_damaged_displaced_files_and_bad_offsets_are_refused(displaced_ball, spo
     base, offsets, data = displaced_ball
     second = data.rindex(b"jp2c") + 4
     damaged = data[:second] + data[second:].replace(b"\xff\x51", b"\xff\x01", 1)
-    with pytest.raises(geoimg.ImageFileError, match="offsets' JPEG 2000 codestream cannot be decoded"):
+    with pytest.raises(geoimg.ImageFileError, match="^data: the offsets' JPEG 2000 codestream cannot be decoded"):
         decode(damaged)
     other = encode(base, 0, offsets=offsets[:33, :33], offsets_level=80)   # the other file's offsets: 33^2
     swapped = data[:second - 8] + other[other.rindex(b"jp2c") - 4:]       # its whole box in place of ours

@@ -460,6 +460,8 @@ def decode(data: bytes, where: str = "data", *, max_bytes: int | None = None) ->
         if levels is not None:
             meta["jpeg2000_levels"] = levels
         return GeometryImage(pixels.astype(np.float32), mask, domain, normals=normals, metadata=meta, colors=colors)
+    except ImageFileError:                   # the offsets' codestream: said in its own words
+        raise
     except (TypeError, ValueError, zlib.error) as e:
         raise ImageFileError(f"{where}: geoimg's record does not fit its pixels ({' '.join(str(e).split())[:120]})"
                              ) from None
