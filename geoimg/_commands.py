@@ -216,7 +216,8 @@ def cmd_compress(args) -> int:
             what = (f"{t['bytes']} bytes, {t['psnr_db']} dB" if "bytes" in t else
                     f"needs at least {t['least_bytes']} bytes" if "least_bytes" in t else
                     f"at best {t['best_psnr_db']} dB")
-            base = f" on {t['base']} x {t['base']} ({t['share']:.0%} of the budget)" if "base" in t else ""
+            fit = f", offsets fitted, bending {t['fitted']}" if "fitted" in t else ""
+            base = f" on {t['base']} x {t['base']} ({t['share']:.0%} of the budget{fit})" if "base" in t else ""
             print(f"  {t['resolution']} x {t['resolution']}{base}: {what}")
     return 0
 

@@ -26,6 +26,7 @@ import numpy as np
 from ._atomic import atomic_path
 from ._choices import READ_IMAGE_FORMATS
 from ._convert import mesh_to_image
+from ._offset_fit import BENDINGS, fit_offsets
 from ._threads import fixed_order
 from ._types import Progress
 from .errors import InputError, InputTypeError
@@ -219,11 +220,28 @@ class _Surface:
             h += ((closest.reshape(points.shape) - moved) * normals).sum(axis=-1)
         return h
 
+    def closest(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """For points ``q`` (m, 3): their squared distances to the mesh, the closest faces' unit normals and
+        the closest points.
+        """
+        vertices, tris, tree = self._tree
+        squared, faces, on = tree.squared_distance(vertices, tris, np.ascontiguousarray(q, np.float64))
+        return squared, self._face_normals[faces], on
+
+    @functools.cached_property
+    def _face_normals(self) -> np.ndarray:
+        vertices, tris, _ = self._tree
+        n = np.cross(vertices[tris[:, 1]] - vertices[tris[:, 0]], vertices[tris[:, 2]] - vertices[tris[:, 0]])
+        length = np.linalg.norm(n, axis=1, keepdims=True)
+        return np.divide(n, length, out=np.zeros_like(n), where=length > 0)
+
 
 def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Surface, max_bytes: int,
-                         share: float) -> tuple[float, bytes] | None:
+                         share: float, bending: float | None = None) -> tuple[float, bytes] | None:
     """A displaced file of ``full``'s size on ``base`` (coded in ``share`` of the budget) within
-    ``max_bytes``: the offsets' level bisected; None where the budget holds no such file.
+    ``max_bytes``: the offsets' level bisected; None where the budget holds no such file. ``bending``: the
+    offsets fitted to the mesh in least squares with this bending (:mod:`geoimg._offset_fit`), not only where
+    each line meets it.
     """
     got = _level_for_bytes(base, int(share * max_bytes), {})
     if isinstance(got, int):
@@ -231,6 +249,8 @@ def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Sur
     base_level, base_data = got
     points, normals = base_frame(decode(base_data).pixels, full.domain, full.shape)
     offsets = surface.offsets(points, normals)
+    if bending is not None:
+        offsets = fit_offsets(offsets, points, normals, surface.closest, bending)
     # the file is the base's, the record and the offsets' codestream: only the last changes with its level
     coded = functools.cache(lambda level: len(offsets_codestream(offsets, level)[0]))     # each level coded once
     fixed = len(encode(base, base_level, offsets=offsets, offsets_level=LEVELS[0])) - coded(LEVELS[0])
@@ -241,19 +261,21 @@ def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Sur
 
 
 def _measured_displaced(full: GeometryImage, base: GeometryImage, surface: _Surface, reference, max_bytes: int,
-                        tried: list, out: list, share: float) -> float:
-    """The displaced candidate with the base in ``share`` of the budget, decoded and measured: its figures added
-    to ``tried``, ``(candidate, full, base, share)`` to ``out``; its PSNR (-inf where no such file fits).
+                        tried: list, out: list, share: float, bending: float | None = None) -> float:
+    """The displaced candidate with the base in ``share`` of the budget (``bending`` as for
+    :func:`_displaced_for_bytes`), decoded and measured: its figures added to ``tried``, ``(candidate, full,
+    base, share)`` to ``out``; its PSNR (-inf where no such file fits).
     """
-    got = _displaced_for_bytes(full, base, surface, max_bytes, share)
+    got = _displaced_for_bytes(full, base, surface, max_bytes, share, bending)
     if got is None:
         return -math.inf
     level, data = got
     decoded = decode(data)
     db = _error_db(reference, decoded)
     n = full.shape[0]
+    fitted = {} if bending is None else {"fitted": bending}
     tried.append({"resolution": n, "base": base.shape[0], "share": share, "bytes": len(data),
-                  "psnr_db": round(db, 2), "level": round(level, 2)})
+                  "psnr_db": round(db, 2), "level": round(level, 2), **fitted})
     out.append((Compressed(data, decoded, n, float(level), float(db), base=base.shape[0]), full, base, share))
     return db
 
@@ -361,14 +383,16 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
     """Compress a shape into a JPEG 2000 geometry image of at most ``max_bytes`` bytes with the least error,
     or of the fewest bytes that reach ``psnr`` dB.
 
-    A mesh is converted (the faithful default, one map) at each of ``resolutions``; for each the coder's rate
-    is searched (bisection on its target PSNR; lossless when that fits), and every candidate is decoded and
-    measured against the mesh (exact two-sided RMS; PSNR = 20 log10(diagonal / RMS)): the best is kept. With a
-    byte budget, a mesh is also tried as *displaced* files (:mod:`geoimg.image._displacement`: each image of at
-    least :data:`DISPLACED_FROM` a side on a base of 1/2 and of 1/4 its side, coded in 40 % and 50 % of the
-    budget and on in steps of 10 % while that gains, and one channel of offsets along the base's normals for
-    the rest),
-    which at low rates hold 1-9 dB more. With a PSNR target, the plain files' search comes first; then the
+    A mesh is converted (the faithful default, one map: the prefilter or the mesh resampled as it is,
+    whichever lies closer, as ``geoimg image`` does) at each of ``resolutions``; masked pixels are set to the
+    smooth continuation of the valid ones (:func:`geoimg.image._jp2.continue_masked`); for each the coder's
+    rate is searched (bisection on its target PSNR; lossless when that fits), and every candidate is decoded
+    and measured against the mesh (exact two-sided RMS; PSNR = 20 log10(diagonal / RMS)): the best is kept.
+    With a byte budget, a mesh is also tried as *displaced* files (:mod:`geoimg.image._displacement`: each
+    image of at least :data:`DISPLACED_FROM` a side on a base of 1/2 and of 1/4 its side, coded in 40 % and
+    50 % of the budget and on in steps of 10 % while that gains, and one channel of offsets along the base's
+    normals for the rest), which at low rates hold 1-9 dB more; the best of them is tried again with its
+    offsets fitted to the mesh in least squares (:mod:`geoimg._offset_fit`, each of its ``BENDINGS``). With a PSNR target, the plain files' search comes first; then the
     displaced search at the plain file's size, and the budget of its best candidate bisected down. An image is
     coded at its own size and measured against its own pixels.
 
@@ -456,7 +480,15 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
     if mesh is not None and not (colors or normals):
         surface = _Surface(mesh)                 # its tree built at the first displaced candidate, if any
         if max_bytes is not None:
-            found += [c for c, *_ in _displaced_candidates(images, surface, reference, int(max_bytes), tried, say)]
+            displaced = _displaced_candidates(images, surface, reference, int(max_bytes), tried, say)
+            found += [c for c, *_ in displaced]
+            if displaced:            # the best again with its offsets fitted to the mesh: kept where it is closer
+                _, full, base, share = max(displaced, key=lambda d: d[0].psnr_db)
+                say(f"fitting the offsets of the best displaced image ({full.shape[0]} on {base.shape[0]})")
+                refit: list[tuple] = []
+                for bending in BENDINGS:
+                    _measured_displaced(full, base, surface, reference, int(max_bytes), tried, refit, share, bending)
+                found += [c for c, *_ in refit]
         elif found:
             found += _displaced_for_psnr(images, surface, reference, float(psnr or 0.0),
                                          min(c.nbytes for c in found), tried, say)

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import geoimg
+from geoimg._offset_fit import BENDINGS
 from geoimg.cli import main
 from geoimg.image._jp2 import HEADROOM, continue_masked, decode, encode
 from geoimg.mesh import topology
@@ -337,10 +338,35 @@ def test_a_low_budget_is_spent_on_a_displaced_image_that_beats_the_plain_ones(tm
         assert {0.4, 0.5} <= {t["share"] for t in displaced if t["base"] == base}
     assert made.base in (33, 65) and made.nbytes <= 3000
     assert made.psnr_db > max(t["psnr_db"] for t in plain) + 1.0
+    fitted = [t for t in displaced if "fitted" in t]          # the best again, its offsets fitted: the closest kept
+    best = max((t for t in displaced if "fitted" not in t), key=lambda t: t["psnr_db"])
+    assert [t["fitted"] for t in fitted] == list(BENDINGS)
+    assert all((t["base"], t["share"]) == (best["base"], best["share"]) for t in fitted)
+    assert made.psnr_db == pytest.approx(max(t["psnr_db"] for t in fitted + [best]), abs=0.005)
     read = geoimg.load_image(path)
     assert np.array_equal(read.pixels, made.image.pixels) and read.shape == (129, 129)
     assert topology(read.to_mesh()).closed and topology(read.to_mesh()).genus == 0
     assert imagecodecs.jpeg2k_decode(made.data).shape == (made.base, made.base, 3)
+
+
+def test_fitted_offsets_bring_quads_across_a_ridge_closer_than_where_each_line_meets_it():
+    from geoimg._compress import _Surface
+    from geoimg._offset_fit import fit_offsets
+    roof = geoimg.Mesh([[-1, -1, -0.2], [0, -1, 0.3], [1, -1, -0.2], [-1, 1, -0.2], [0, 1, 0.3], [1, 1, -0.2]],
+                       [[0, 1, 4, 3], [1, 2, 5, 4]])          # two planes meeting at a ridge x = 0, between columns
+    u, v = np.meshgrid(np.linspace(-1, 1, 10), np.linspace(-1, 1, 10))
+    points = np.dstack([u, v, 0 * u])
+    normals = np.zeros_like(points)
+    normals[..., 2] = 1.0
+    surface = _Surface(roof)
+    start = surface.offsets(points, normals)
+    kept = start.copy()
+    fitted = fit_offsets(start, points, normals, surface.closest, bending=0.03)
+    assert np.array_equal(start, kept)                                       # the input left as it was
+    assert np.allclose(start, 0.3 - 0.5 * np.abs(u), atol=1e-3)              # each line meets the roof
+    rms = [geoimg.mesh.surface_distance(roof, geoimg.GeometryImage((points + h[..., None] * normals).astype(
+           np.float32)).to_mesh(), n=20_000)["rms"] for h in (start, fitted)]
+    assert rms[1] < 0.8 * rms[0]
 
 
 @pytest.mark.slow
