@@ -392,8 +392,9 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
     image of at least :data:`DISPLACED_FROM` a side on a base of 1/2 and of 1/4 its side, coded in 40 % and
     50 % of the budget and on in steps of 10 % while that gains, and one channel of offsets along the base's
     normals for the rest), which at low rates hold 1-9 dB more; the best of them is tried again with its
-    offsets fitted to the mesh in least squares (:mod:`geoimg._offset_fit`, each of its ``BENDINGS``). With a PSNR target, the plain files' search comes first; then the
-    displaced search at the plain file's size, and the budget of its best candidate bisected down. An image is
+    offsets fitted to the mesh in least squares (:mod:`geoimg._offset_fit`, each of its ``BENDINGS``). With a
+    PSNR target, the plain files' search comes first; then the displaced search at the plain file's size, and
+    the budget of its best candidate bisected down (its offsets where each line meets the mesh). An image is
     coded at its own size and measured against its own pixels.
 
     Parameters

@@ -24,6 +24,7 @@ DEFERRED = {("geoimg.cli", "geoimg._commands"),     # the parser runs without th
             ("geoimg.mesh._weld", "scipy*"),                 # reading and writing meshes start without scipy
             ("geoimg.image._perimeter", "scipy*"),           # reading an image starts without scipy
             ("geoimg.image._displacement", "scipy*"),        # ... a displaced one's splines need it
+            ("geoimg.image._jp2", "skimage*"),               # ... its masked pixels continued only when coding
             ("geoimg.parametrization._layout", "scipy*"),    # the cut and charts domains: without scipy
             ("geoimg.parametrization._octahedral", "scipy*"),    # the octahedral domain: without scipy, numba
             ("geoimg.parametrization._octahedral", "geoimg.parametrization._octahedral_kernels")}
