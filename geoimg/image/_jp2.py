@@ -118,8 +118,8 @@ def continue_masked(image: GeometryImage) -> GeometryImage:
     """The image with each masked pixel set to the smooth continuation of the valid ones (their biharmonic
     inpainting, scikit-image), the mask kept: what a wavelet coder codes in fewest bytes where a reader reads
     nothing. A constant in the holes makes a step at every chart's edge that the coder pays for at every level
-    (a 129² multi-chart image of an 11-hole beetle at the same error: 6,472 bytes with the holes constant,
-    3,501 continued). An image without a mask comes back as it is.
+    (a 129² multi-chart image of an 11-hole beetle at the coder's same target: 6,472 bytes and 56.2 dB from
+    its pixels with the holes constant, 3,501 bytes and 55.4 dB continued). An image without a mask comes back as it is.
 
     Examples
     --------
