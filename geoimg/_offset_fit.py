@@ -97,7 +97,8 @@ def _solve(a: sparse.csr_matrix, b: np.ndarray) -> np.ndarray:
     """``a^-1 b`` for a symmetric positive definite ``a`` by conjugate gradients, Jacobi preconditioned, to
     :data:`CG_TOLERANCE` of ``b`` or :data:`CG_STEPS` steps.
     """
-    inverse_diagonal = 1.0 / a.diagonal()
+    diagonal = a.diagonal()
+    inverse_diagonal = np.divide(1.0, diagonal, out=np.zeros_like(diagonal), where=diagonal > 0)
     x = np.zeros_like(b)
     r = b.copy()
     z = inverse_diagonal * r
@@ -108,7 +109,10 @@ def _solve(a: sparse.csr_matrix, b: np.ndarray) -> np.ndarray:
         if _dot(r, r) <= stop:
             break
         q = a @ p
-        alpha = rz / _dot(p, q)
+        curvature = _dot(p, q)
+        if not curvature > 0.0:
+            break
+        alpha = rz / curvature
         x += alpha * p
         r -= alpha * q
         z = inverse_diagonal * r
@@ -164,6 +168,8 @@ def fit_offsets(start: np.ndarray, points: np.ndarray, normals: np.ndarray,
         normal = (jacobian.T @ jacobian).tocsr()
         diagonal = normal.diagonal()
         mean = float(np.add.reduce(diagonal)) / n
+        if not mean > 0.0:           # no offset moves a point nearer or farther (normals all zero): as they are
+            break
         weight = bending * mean
         system = (normal + weight * bend + sparse.diags(DAMPING * diagonal + FLOOR * mean)).tocsr()
         step = _solve(system, -(jacobian.T @ residual) - weight * (bend @ h))

@@ -364,6 +364,7 @@ def test_fitted_offsets_bring_quads_across_a_ridge_closer_than_where_each_line_m
     fitted = fit_offsets(start, points, normals, surface.closest, bending=0.03)
     assert np.array_equal(start, kept)                                       # the input left as it was
     assert np.allclose(start, 0.3 - 0.5 * np.abs(u), atol=1e-3)              # each line meets the roof
+    assert np.array_equal(fit_offsets(start, points, 0 * normals, surface.closest), start)   # no normals: as is
     rms = [geoimg.mesh.surface_distance(roof, geoimg.GeometryImage((points + h[..., None] * normals).astype(
            np.float32)).to_mesh(), n=20_000)["rms"] for h in (start, fitted)]
     assert rms[1] < 0.8 * rms[0]
