@@ -212,12 +212,11 @@ class _Surface:
         distance along the normal, then ``rounds`` times the closest point's to the point so moved (a line
         that crosses the surface at a slant converges to where it crosses).
         """
-        vertices, tris, tree = self._tree
         h = np.zeros(points.shape[:2])
         for _ in range(rounds + 1):
             moved = points + h[..., None] * normals
-            _, _, closest = tree.squared_distance(vertices, tris, moved.reshape(-1, 3))
-            h += ((closest.reshape(points.shape) - moved) * normals).sum(axis=-1)
+            on = self.closest(moved.reshape(-1, 3))[2]
+            h += ((on.reshape(points.shape) - moved) * normals).sum(axis=-1)
         return h
 
     def closest(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -237,20 +236,33 @@ class _Surface:
 
 
 def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Surface, max_bytes: int,
-                         share: float, bending: float | None = None) -> tuple[float, bytes] | None:
-    """A displaced file of ``full``'s size on ``base`` (coded in ``share`` of the budget) within
-    ``max_bytes``: the offsets' level bisected; None where the budget holds no such file. ``bending``: the
-    offsets fitted to the mesh in least squares with this bending (:mod:`geoimg._offset_fit`), not only where
-    each line meets it.
+                         share: float, bendings: tuple = (None,)) -> list[tuple[Any, float, bytes]]:
+    """Displaced files of ``full``'s size on ``base`` (coded in ``share`` of the budget) within ``max_bytes``,
+    one for each of ``bendings`` (None: the offsets where each line meets the mesh; a number: those offsets
+    fitted to the mesh in least squares with this bending, :mod:`geoimg._offset_fit`), the base coded, its
+    frame and the lines' offsets found once for all: ``(bending, level, file)`` each, the offsets' level
+    bisected; none where the budget holds no such file.
     """
     got = _level_for_bytes(base, int(share * max_bytes), {})
     if isinstance(got, int):
-        return None
+        return []
     base_level, base_data = got
     points, normals = base_frame(decode(base_data).pixels, full.domain, full.shape)
-    offsets = surface.offsets(points, normals)
-    if bending is not None:
-        offsets = fit_offsets(offsets, points, normals, surface.closest, bending)
+    crossing = surface.offsets(points, normals)
+    files = []
+    for bending in bendings:
+        offsets = crossing if bending is None else fit_offsets(crossing, points, normals, surface.closest, bending)
+        coded = _offsets_level_for_bytes(base, base_level, offsets, max_bytes)
+        if coded is not None:
+            files.append((bending, *coded))
+    return files
+
+
+def _offsets_level_for_bytes(base: GeometryImage, base_level: float, offsets: np.ndarray,
+                             max_bytes: int) -> tuple[float, bytes] | None:
+    """The highest level of the offsets whose displaced file (``base`` coded at ``base_level``) fits
+    ``max_bytes``, and the file; None where even the lowest does not fit.
+    """
     # the file is the base's, the record and the offsets' codestream: only the last changes with its level
     coded = functools.cache(lambda level: len(offsets_codestream(offsets, level)[0]))     # each level coded once
     fixed = len(encode(base, base_level, offsets=offsets, offsets_level=LEVELS[0])) - coded(LEVELS[0])
@@ -261,23 +273,22 @@ def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Sur
 
 
 def _measured_displaced(full: GeometryImage, base: GeometryImage, surface: _Surface, reference, max_bytes: int,
-                        tried: list, out: list, share: float, bending: float | None = None) -> float:
-    """The displaced candidate with the base in ``share`` of the budget (``bending`` as for
-    :func:`_displaced_for_bytes`), decoded and measured: its figures added to ``tried``, ``(candidate, full,
-    base, share)`` to ``out``; its PSNR (-inf where no such file fits).
+                        tried: list, out: list, share: float, bendings: tuple = (None,)) -> float:
+    """The displaced candidates with the base in ``share`` of the budget (one for each of ``bendings``, as
+    for :func:`_displaced_for_bytes`), decoded and measured: their figures added to ``tried``, ``(candidate,
+    full, base, share)`` to ``out``; the best one's PSNR (-inf where no such file fits).
     """
-    got = _displaced_for_bytes(full, base, surface, max_bytes, share, bending)
-    if got is None:
-        return -math.inf
-    level, data = got
-    decoded = decode(data)
-    db = _error_db(reference, decoded)
-    n = full.shape[0]
-    fitted = {} if bending is None else {"fitted": bending}
-    tried.append({"resolution": n, "base": base.shape[0], "share": share, "bytes": len(data),
-                  "psnr_db": round(db, 2), "level": round(level, 2), **fitted})
-    out.append((Compressed(data, decoded, n, float(level), float(db), base=base.shape[0]), full, base, share))
-    return db
+    best = -math.inf
+    for bending, level, data in _displaced_for_bytes(full, base, surface, max_bytes, share, bendings):
+        decoded = decode(data)
+        db = _error_db(reference, decoded)
+        n = full.shape[0]
+        fitted = {} if bending is None else {"fitted": bending}
+        tried.append({"resolution": n, "base": base.shape[0], "share": share, "bytes": len(data),
+                      "psnr_db": round(db, 2), "level": round(level, 2), **fitted})
+        out.append((Compressed(data, decoded, n, float(level), float(db), base=base.shape[0]), full, base, share))
+        best = max(best, db)
+    return best
 
 
 def _walk_shares(attempt: Callable[[float], float]) -> None:
@@ -487,8 +498,7 @@ def compress(source: Any, path: Any = None, *, max_bytes: int | None = None, psn
                 _, full, base, share = max(displaced, key=lambda d: d[0].psnr_db)
                 say(f"fitting the offsets of the best displaced image ({full.shape[0]} on {base.shape[0]})")
                 refit: list[tuple] = []
-                for bending in BENDINGS:
-                    _measured_displaced(full, base, surface, reference, int(max_bytes), tried, refit, share, bending)
+                _measured_displaced(full, base, surface, reference, int(max_bytes), tried, refit, share, BENDINGS)
                 found += [c for c, *_ in refit]
         elif found:
             found += _displaced_for_psnr(images, surface, reference, float(psnr or 0.0),

@@ -398,7 +398,7 @@ def test_disk_and_cut_open_shapes_are_displaced_and_keep_their_rims_and_handles(
     displaced = [t for t in made.tried if "base" in t]             # their all-true masks are no masks
     assert len(displaced) >= 2 and all(t["base"] == 65 and t["bytes"] <= 3000 for t in displaced)
     full, base = (geoimg.mesh_to_image(mesh, r, fidelity=False) for r in (129, 65))
-    _, data = _displaced_for_bytes(full, dataclasses.replace(base, mask=None), _Surface(mesh), 3000, 0.5)
+    [(_, _, data)] = _displaced_for_bytes(full, dataclasses.replace(base, mask=None), _Surface(mesh), 3000, 0.5)
     back = decode(data)
     assert back.domain.kind == kind and back.shape == (129, 129) and len(data) <= 3000
     top = topology(back.to_mesh())

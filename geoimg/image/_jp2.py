@@ -104,8 +104,8 @@ def _quantized(image: GeometryImage) -> tuple[np.ndarray, dict]:
     valid = image.valid
     if not np.isfinite(p[valid]).all():
         raise ImageError("pixels: NaN or infinite coordinates cannot be coded")
-    kept = p[valid]
-    lo, step = _grid(kept.min(axis=0), float((kept.max(axis=0) - kept.min(axis=0)).max()))
+    shape = p[valid]
+    lo, step = _grid(shape.min(axis=0), float((shape.max(axis=0) - shape.min(axis=0)).max()))
     q = _to_levels(p, lo, step)           # a masked pixel too: a reader skips it (see continue_masked)
     kept = {k: v for k, v in image.metadata_record().items() if k in KEPT or k in type(image.domain).METADATA_KEYS}
     record = {"offset": lo.tolist(), "step": step, "headroom": HEADROOM, "meta": kept}
