@@ -64,8 +64,11 @@ class _Op(argparse.Action):
 
 def _positive(kind):
     def check(text):
-        value = kind(text)
-        if value <= 0:
+        try:
+            value = kind(text)
+        except ValueError:           # argparse would say "invalid check value": the function's name
+            value = None
+        if value is None or not value > 0:
             raise argparse.ArgumentTypeError(f"expected a positive number, got {text}")
         return value
     return check

@@ -49,6 +49,16 @@ def test_errors_exit_2_with_a_message(tmp_path, capsys):
         main(["image", str(MOUNTAIN), "-o", str(exr), "--s", "-1"])
 
 
+@pytest.mark.parametrize("value", ["abc", "0", "-5", "nan", ""])
+def test_a_positive_option_says_what_it_expected_for_any_bad_value(tmp_path, capsys, value):
+    # argparse names the checking function ("invalid check value") unless the check says it in its own words
+    with pytest.raises(SystemExit) as stop:
+        main(["compress", str(MOUNTAIN), "-o", str(tmp_path / "m.jp2"), "--bytes", value])
+    err = capsys.readouterr().err.strip()
+    assert stop.value.code == 2 and f"expected a positive number, got {value}" in err and "check" not in err
+    assert not (tmp_path / "m.jp2").exists()
+
+
 def test_demo_writes_its_files(tmp_path, capsys):
     assert main(["demo", "-o", str(tmp_path), "--res", "48"]) == 0
     out = capsys.readouterr().out
