@@ -10,6 +10,9 @@ linearly through the map, 50,000 area samples a side against the mesh). The Sobo
 the Gauss-Newton steps to the bit (``NEWTON_VERTICES = -1``: no Gauss-Newton steps, no conformal folds
 opened). With ``--progressive`` they differ only in how a coarse-to-fine map is balanced at every size: 30
 Sobolev steps and 60 sweeps (``PROGRESSIVE_NEWTON = False``) or at most 4 Gauss-Newton steps (the default).
+With ``--multilevel`` they differ only in how the map from a decimated copy (meshes of 20,000 triangles and
+more) is balanced on the fine mesh: 10 Sobolev steps, 60 sweeps and 10 steps again (before, 2026-12-07:
+``MULTILEVEL_STEPS = 10``, ``MULTILEVEL_SWEEP_ROUNDS = 1``) or at most 30 steps, not swept (the default).
 """
 from __future__ import annotations
 
@@ -35,6 +38,7 @@ MESHES = [ROOT / "tests" / "data" / "spot.obj", SHARED / "closed_genus0" / "bunn
 
 
 PROGRESSIVE = False     # --progressive: the two ways differ only in the coarse-to-fine map's balancing
+MULTILEVEL = False      # --multilevel: ... only in the fine balancing of the map from the decimated copy
 
 
 def run(path: Path, rounds: int, sizes: list[int]) -> None:
@@ -44,9 +48,15 @@ def run(path: Path, rounds: int, sizes: list[int]) -> None:
     def mapped():
         return geoimg.parametrize(mesh, "sphere")
 
-    before = ("PROGRESSIVE_NEWTON", False) if PROGRESSIVE else ("NEWTON_VERTICES", -1)
-    best = best_alternating(rounds, {"sobolev": lambda: with_attribute(sphere, *before, mapped),
-                                     "gauss-newton": mapped})
+    if MULTILEVEL:
+        def before():
+            return with_attribute(sphere, "MULTILEVEL_STEPS", 10,
+                                  lambda: with_attribute(sphere, "MULTILEVEL_SWEEP_ROUNDS", 1, mapped))
+    else:
+        changed = ("PROGRESSIVE_NEWTON", False) if PROGRESSIVE else ("NEWTON_VERTICES", -1)
+        def before():
+            return with_attribute(sphere, *changed, mapped)
+    best = best_alternating(rounds, {"sobolev": before, "gauss-newton": mapped})
     cells = [map_cell(wall, p, base, [image_psnr(mesh, p, res, ref) for res in sizes], stages=True)
              for wall, p in (best["sobolev"], best["gauss-newton"])]
     print(f"| {path.name} ({mesh.n_faces}) | {base:.3f} s | {' | '.join(cells)} |", flush=True)
@@ -59,13 +69,17 @@ def main() -> None:
     ap.add_argument("--only", action="store_true", help="only the extra meshes")
     ap.add_argument("--progressive", action="store_true",
                     help="before: the coarse-to-fine map balanced by Sobolev steps and sweeps at every size")
+    ap.add_argument("--multilevel", action="store_true",
+                    help="before: the map from the decimated copy balanced by steps, sweeps and steps again")
     ap.add_argument("extra", nargs="*", help="more closed genus-0 meshes")
     args = ap.parse_args()
-    global PROGRESSIVE
-    PROGRESSIVE = args.progressive
+    global PROGRESSIVE, MULTILEVEL
+    PROGRESSIVE, MULTILEVEL = args.progressive, args.multilevel
     warnings.simplefilter("ignore")
     geoimg.parametrize(geoimg.load_mesh(ROOT / "tests" / "data" / "spot.obj"), "sphere")      # numba compiled
-    print(f"| mesh (faces) | linear map | Sobolev steps and sweeps (before) | Gauss-Newton first (now) "
+    ways = ("steps, sweeps, steps (before)", "30 steps (now)") if MULTILEVEL else (
+        "Sobolev steps and sweeps (before)", "Gauss-Newton first (now)")
+    print(f"| mesh (faces) | linear map | {ways[0]} | {ways[1]} "
           f"[PSNR at {' / '.join(map(str, args.res))}] |\n|---|---:|---|---|")
     for path in [*([] if args.only else MESHES), *map(Path, args.extra)]:
         run(path, args.rounds, args.res)
