@@ -6,6 +6,7 @@ an AABB tree, 100,000 samples a side; PSNR = 20 log10(diagonal / RMS)).
     python benchmarks/bench_compress.py --stream MESH [--kb 1 2 4 8 16] [--picture stream.png]
     python benchmarks/bench_compress.py --bunny9k      # bunny.off decimated to 8,902 vertices, at 3,000 bytes
     python benchmarks/bench_compress.py --normals MESH [--kb 4 8 16]    # what coding the normals costs
+    python benchmarks/bench_compress.py --weights-ab [MESH ...]     # offsets area-weighted or not, both ways
 
 For each mesh: Draco at 8, 10 and 11 quantization bits (its size and PSNR); geoimg at Draco q8's size and at
 each budget of ``--kb`` (resolution and rate chosen by ``compress``); the decoded quad mesh's boundary loops
@@ -14,6 +15,9 @@ and genus against the input's (closed in, closed out). ``--curve`` draws PSNR ag
 ``--stream``: one file of the largest budget, and what its first k bytes decode to (``load_image(...,
 max_bytes=k)``: the shape as far as its whole wavelet levels go) against a file compressed to k bytes;
 ``--picture`` renders both rows.
+
+``--weights-ab``: each mesh at Draco q8's size and 10 % above it, compressed with a displaced file's offsets
+coded as they are (before 2026-12-07: every weight 1) and area-weighted (now), in one process, alternating.
 """
 from __future__ import annotations
 
@@ -156,6 +160,31 @@ def curve(rows: list[dict], out: Path) -> None:
     print(f"wrote {out}")
 
 
+def weights_ab(paths: list[Path]) -> None:
+    """Each mesh at Draco q8's size and 10 % above it, its offsets unweighted (before) and area-weighted (now)."""
+    import geoimg._compress as compressing
+    import geoimg.image._jp2 as jp2
+
+    def unweighted(points, domain):
+        return np.ones(np.shape(points)[:2])
+
+    weighted = jp2.area_weights
+    print("| mesh | before, q8's size | now | gain | before, 10 % more | now | gain |\n|---|---|---|---:|---|---|---:|")
+    for path in paths:
+        mesh = geoimg.load_mesh(path)
+        q8 = draco(mesh, 8)[0]
+        cells = []
+        for budget in (q8, int(1.1 * q8)):
+            got = []
+            for weights in (unweighted, weighted):
+                compressing.area_weights = jp2.area_weights = weights     # the writer's and the reader's alike
+                got.append(ours(mesh, budget))
+            compressing.area_weights = jp2.area_weights = weighted
+            cells += [f"{g['bytes']} B {g['psnr_db']} ({where(g)})" for g in got]
+            cells.append(f"{got[1]['psnr_db'] - got[0]['psnr_db']:+.2f}")
+        print(f"| {path.name} | " + " | ".join(cells) + " |", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("meshes", nargs="*", type=Path)
@@ -167,6 +196,7 @@ def main() -> None:
     ap.add_argument("--picture", type=Path, default=None, help="with --stream: render the shapes to this PNG")
     ap.add_argument("--bunny9k", action="store_true", help="a 9k-vertex bunny (bunny.off decimated) at 3,000 B")
     ap.add_argument("--normals", type=Path, default=None, help="one mesh: what coding its normals costs")
+    ap.add_argument("--weights-ab", action="store_true", help="the offsets area-weighted against unweighted")
     args = ap.parse_args()
     warnings.simplefilter("ignore")
     if args.bunny9k:
@@ -181,6 +211,9 @@ def main() -> None:
         return
     if args.normals:
         normals_cost(args.normals, args.kb or [4, 8, 16])
+        return
+    if args.weights_ab:
+        weights_ab(args.meshes or default_meshes())
         return
     if args.from_json:
         curve(json.loads(args.from_json.read_text()), args.curve or Path("compress_curve.png"))

@@ -31,7 +31,7 @@ from ._threads import fixed_order
 from ._types import Progress
 from .errors import InputError, InputTypeError
 from .image import GeometryImage, load_image
-from .image._displacement import base_frame
+from .image._displacement import area_weights, base_frame
 from .image._jp2 import LOSSLESS, continue_masked, decode, encode, offsets_codestream
 from .mesh import Mesh, load_mesh
 from .mesh._metrics import ReferenceDistances
@@ -249,27 +249,32 @@ def _displaced_for_bytes(full: GeometryImage, base: GeometryImage, surface: _Sur
     base_level, base_data = got
     points, normals = base_frame(decode(base_data).pixels, full.domain, full.shape)
     crossing = surface.offsets(points, normals)
+    weights = area_weights(points, full.domain)       # the coder's error least in the surface's measure
     files = []
     for bending in bendings:
         offsets = crossing if bending is None else fit_offsets(crossing, points, normals, surface.closest, bending)
-        coded = _offsets_level_for_bytes(base, base_level, offsets, max_bytes)
+        coded = _offsets_level_for_bytes(base, base_level, offsets, max_bytes, weights)
         if coded is not None:
             files.append((bending, *coded))
     return files
 
 
-def _offsets_level_for_bytes(base: GeometryImage, base_level: float, offsets: np.ndarray,
-                             max_bytes: int) -> tuple[float, bytes] | None:
-    """The highest level of the offsets whose displaced file (``base`` coded at ``base_level``) fits
-    ``max_bytes``, and the file; None where even the lowest does not fit.
+def _offsets_level_for_bytes(base: GeometryImage, base_level: float, offsets: np.ndarray, max_bytes: int,
+                             weights: np.ndarray) -> tuple[float, bytes] | None:
+    """The highest level of the offsets (coded with ``weights``, see :func:`offsets_codestream`) whose displaced
+    file (``base`` coded at ``base_level``) fits ``max_bytes``, and the file; None where even the lowest does
+    not fit.
     """
     # the file is the base's, the record and the offsets' codestream: only the last changes with its level
-    coded = functools.cache(lambda level: len(offsets_codestream(offsets, level)[0]))     # each level coded once
-    fixed = len(encode(base, base_level, offsets=offsets, offsets_level=LEVELS[0])) - coded(LEVELS[0])
+    coded = functools.cache(lambda level: len(offsets_codestream(offsets, level, weights)[0]))   # each coded once
+    def file(level: float) -> bytes:
+        return encode(base, base_level, offsets=offsets, offsets_level=level, offsets_weights=weights)
+
+    fixed = len(file(LEVELS[0])) - coded(LEVELS[0])
     found = _bisect_level(lambda level: (fixed + coded(level), None), max_bytes)
     if isinstance(found, int):
         return None
-    return found[0], encode(base, base_level, offsets=offsets, offsets_level=found[0])
+    return found[0], file(found[0])
 
 
 def _measured_displaced(full: GeometryImage, base: GeometryImage, surface: _Surface, reference, max_bytes: int,

@@ -326,6 +326,35 @@ def test_damaged_displaced_files_and_bad_offsets_are_refused(displaced_ball, spo
     assert np.isfinite(offsets).all() and offsets.shape == (65, 65)       # the input left as it was
 
 
+def test_weighted_offsets_come_back_divided_by_the_bases_area_weights(displaced_ball, monkeypatch):
+    from geoimg.image import _jp2
+    from geoimg.image._displacement import WEIGHT_RANGE, area_weights, base_frame
+    base, offsets, plain = displaced_ball
+    points, _ = base_frame(decode(encode(base, 0)).pixels, base.domain, offsets.shape)
+    weights = area_weights(points, base.domain)
+    assert 0.5 < np.percentile(weights, 1) < 0.9 < 1.1 < weights.max() < 2     # the octahedral sphere's cells
+    assert weights.min() >= WEIGHT_RANGE ** -0.5 - 1e-12            # a pinched cell (edge midpoints) clipped
+    kept = weights.copy()
+    data = encode(base, 0, offsets=offsets, offsets_level=0, offsets_weights=weights)
+    assert _jp2._record(data, "data")["offsets"]["weighted"] == "area"
+    assert "weighted" not in _jp2._record(plain, "data")["offsets"]          # files before it: as they were
+    radius = np.linalg.norm(decode(data).pixels.astype(np.float64), axis=-1)
+    assert np.abs(radius - 1).max() < 1e-4                                   # lossless: the sphere itself
+    wrong = encode(base, 0, offsets=offsets, offsets_level=0, offsets_weights=2 * weights)
+    off = np.abs(np.linalg.norm(decode(wrong).pixels.astype(np.float64), axis=-1) - 1).max()
+    assert off > 0.4 * np.abs(offsets).max()               # the reader divides by the base's own weights
+    assert np.array_equal(weights, kept)
+    for bad in (np.zeros_like(weights), np.full_like(weights, np.nan), weights[:5]):
+        with pytest.raises(geoimg.ImageError, match="positive finite weights"):
+            encode(base, 0, offsets=offsets, offsets_weights=bad)
+    coded = _jp2.offsets_codestream
+    monkeypatch.setattr(_jp2, "offsets_codestream",
+                        lambda *a: (lambda cs, f: (cs, {**f, "weighted": "volume"}))(*coded(*a)))
+    unknown = encode(base, 0, offsets=offsets, offsets_level=80, offsets_weights=weights)
+    with pytest.raises(geoimg.ImageFileError, match="offsets weighted by 'volume', which this reader does not know"):
+        decode(unknown)
+
+
 @pytest.mark.slow
 def test_a_low_budget_is_spent_on_a_displaced_image_that_beats_the_plain_ones(tmp_path):
     import imagecodecs

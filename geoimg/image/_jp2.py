@@ -43,7 +43,7 @@ import numpy as np
 from .._optional import require
 from ..errors import ImageError, ImageFileError, InputError
 from ..parametrization._octahedral import sphere_to_square, square_to_sphere
-from ._displacement import base_frame, displace
+from ._displacement import area_weights, base_frame, displace
 from ._domain import Domain
 from ._image import GeometryImage
 from ._j2k_packets import cut_after, read_layout, resolution_ends, without_comments
@@ -212,7 +212,8 @@ def _unpack_record(payload: bytes) -> dict:
 
 
 def encode(image: GeometryImage, level: float, *, resolutions: int | None = None, colors: bool = False,
-           normals: bool = False, offsets: np.ndarray | None = None, offsets_level: float | None = None) -> bytes:
+           normals: bool = False, offsets: np.ndarray | None = None, offsets_level: float | None = None,
+           offsets_weights: np.ndarray | None = None) -> bytes:
     """A JP2 file of ``image``: coded to about ``level`` dB of the coder's own PSNR (over the 16-bit range;
     ``0``: reversible, lossless after the quantization), geoimg's record in a box before the codestream.
 
@@ -237,6 +238,9 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
         knows only the first shows the base).
     offsets_level : float, optional
         The coder's target PSNR for the offsets (0: reversible); ``level`` by default.
+    offsets_weights : numpy.ndarray, optional
+        (H, W): the offsets coded multiplied by these weights, which the reader divides by (see
+        :func:`offsets_codestream`); none by default.
 
     Returns
     -------
@@ -273,12 +277,13 @@ def encode(image: GeometryImage, level: float, *, resolutions: int | None = None
                                    resolutions=resolutions)
     after = b""
     if offsets is not None:
-        cs, record["offsets"] = offsets_codestream(offsets, level if offsets_level is None else offsets_level)
+        cs, record["offsets"] = offsets_codestream(offsets, level if offsets_level is None else offsets_level,
+                                                   offsets_weights)
         after = struct.pack(">I4s", 8 + len(cs), b"jp2c") + cs
     return _with_record(bytes(data), record, after)
 
 
-def offsets_codestream(offsets: np.ndarray, level: float) -> tuple[bytes, dict]:
+def offsets_codestream(offsets: np.ndarray, level: float, weights: np.ndarray | None = None) -> tuple[bytes, dict]:
     """The offsets (H, W) of a displaced image as one channel of 16-bit levels coded at ``level`` (a raw
     codestream without the coder's comment), and the record that turns the levels back into distances.
 
@@ -288,11 +293,15 @@ def offsets_codestream(offsets: np.ndarray, level: float) -> tuple[bytes, dict]:
         (H, W) distances, finite.
     level : float
         The coder's target PSNR in dB, or 0 for reversible coding.
+    weights : numpy.ndarray, optional
+        (H, W), positive: the offsets are coded multiplied by them, and the record says ``"weighted":
+        "area"``: a reader divides by :func:`geoimg.image._displacement.area_weights` of the upsampled base,
+        which these must be (the coder's error is then least in the surface's measure).
 
     Returns
     -------
     bytes, dict
-        The codestream, and ``{"shape", "offset", "step"}``.
+        The codestream, and ``{"shape", "offset", "step"}`` (and ``"weighted"``).
 
     Examples
     --------
@@ -305,12 +314,18 @@ def offsets_codestream(offsets: np.ndarray, level: float) -> tuple[bytes, dict]:
         raise ImageError(f"offsets: expected an (H, W) array of at least 2 x 2, got shape {h.shape}")
     if not np.isfinite(h).all():
         raise ImageError("offsets: NaN or infinite distances cannot be coded")
+    fields: dict = {}
+    if weights is not None:
+        w = np.asarray(weights, np.float64)
+        if w.shape != h.shape or not (np.isfinite(w).all() and (w > 0).all()):
+            raise ImageError(f"offsets: expected {h.shape} positive finite weights, got shape {w.shape}")
+        h, fields = h * w, {"weighted": "area"}
     lows, step = _grid(np.array([h.min()]), float(np.ptp(h)))
     lo = float(lows[0])
     q = _to_levels(h, lo, step).astype(np.uint16)
     cs = _codec().jpeg2k_encode(q, level=float(level), codecformat="j2k", reversible=level == LOSSLESS,
                                 resolutions=_wavelet_levels(q.shape))
-    return without_comments(bytes(cs)), {"shape": list(q.shape), "offset": lo, "step": step}
+    return without_comments(bytes(cs)), {"shape": list(q.shape), "offset": lo, "step": step, **fields}
 
 
 def _with_record(data: bytes, record: dict, after: bytes = b"") -> bytes:
@@ -510,8 +525,13 @@ def _displaced(base: np.ndarray, domain: Domain, fields: dict, cs: bytes, headro
     if q.shape != shape or q.dtype != np.uint16:
         raise ImageFileError(f"{where}: offsets of shape {q.shape} and type {q.dtype}; its record asks for {shape} "
                              "16-bit levels")
+    weighted = fields.get("weighted")
+    if weighted not in (None, "area"):
+        raise ValueError(f"offsets weighted by {str(weighted)[:40]!r}, which this reader does not know")
     distances = _from_levels(q, float(fields["offset"]), float(fields["step"]), headroom)
     points, normals = base_frame(base, domain, shape)
+    if weighted is not None:
+        distances = distances / area_weights(points, domain)
     return displace(points, normals, distances, domain)
 
 

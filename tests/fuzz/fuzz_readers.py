@@ -81,11 +81,12 @@ def write_seeds(fmt: str, folder: Path) -> list[Path]:
             sphere = geoimg.mesh_to_image(geoimg.load_mesh(DATA / "sphere.obj"), 9, fidelity=False)
             written.append(save(sphere, folder / f"sphere.{fmt}"))
             if fmt == "jp2":                     # a displaced file: the 9^2 sphere as the base of offsets at 17^2
-                from geoimg.image._displacement import base_frame
+                from geoimg.image._displacement import area_weights, base_frame
                 from geoimg.image._jp2 import decode
                 points, _ = base_frame(decode(encode(sphere, 60)).pixels, sphere.domain, (17, 17))
-                offsets = 1.0 - np.linalg.norm(points, axis=-1)
-                (folder / "displaced.jp2").write_bytes(encode(sphere, 60, offsets=offsets, offsets_level=50))
+                offsets = 1.0 - np.linalg.norm(points, axis=-1)           # area-weighted, as compress writes them
+                (folder / "displaced.jp2").write_bytes(encode(sphere, 60, offsets=offsets, offsets_level=50,
+                                                              offsets_weights=area_weights(points, sphere.domain)))
                 written.append(folder / "displaced.jp2")
             return written
         quad = geoimg.Mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
