@@ -317,8 +317,12 @@ def offsets_codestream(offsets: np.ndarray, level: float, weights: np.ndarray | 
     fields: dict = {}
     if weights is not None:
         w = np.asarray(weights, np.float64)
-        if w.shape != h.shape or not (np.isfinite(w).all() and (w > 0).all()):
+        if w.shape != h.shape:
             raise ImageError(f"offsets: expected {h.shape} positive finite weights, got shape {w.shape}")
+        bad = int(np.sum(~(np.isfinite(w) & (w > 0))))
+        if bad:
+            raise ImageError(f"offsets: expected {h.shape} positive finite weights; {bad} of them are 0 or less, "
+                             "NaN or infinite")
         h, fields = h * w, {"weighted": "area"}
     lows, step = _grid(np.array([h.min()]), float(np.ptp(h)))
     lo = float(lows[0])
