@@ -1,6 +1,6 @@
 """A starting map of a large closed genus-0 mesh onto the sphere, made on a coarse copy of it.
 
-1. The mesh is decimated (libigl's edge collapses) to a few thousand triangles.
+1. The mesh is decimated (edge collapses to the midpoint, :mod:`._decimate`) to a few thousand triangles.
 2. ``coarse_map(U, G)`` maps the coarse mesh and balances its areas: cheap, and it converges, where the
    fine mesh's balancing from its conformal map needs hundreds of slow steps (that map squeezes ears and
    limbs exponentially).
@@ -33,6 +33,7 @@ import numpy as np
 
 from ..mesh import Mesh, topology
 from ._balance import local_sizes
+from ._decimate import decimate as collapse_edges
 from ._orientation import chord_orientation
 
 __all__ = ["multilevel_start", "decimate", "transfer", "untangle", "open_folds", "COARSE_TRIANGLES"]
@@ -45,14 +46,10 @@ OPEN_SHARE = 1e-3              # ... and count as opened above this share of tha
 
 
 def decimate(x: np.ndarray, tris: np.ndarray, triangles: int):
-    """Edge collapses (libigl) down to at most ``triangles``; ``(U, G)`` or None when libigl fails or the
+    """Edge collapses (:func:`._decimate.decimate`) down to at most ``triangles``; ``(U, G)`` or None when the
     result is not a closed genus-0 surface in one piece.
     """
-    try:
-        U, G, _, _ = igl.decimate(np.asfortranarray(x, np.float64), np.asfortranarray(tris, np.int32), int(triangles))
-    except Exception:       # pragma: no cover - libigl refuses a mesh it cannot collapse
-        return None
-    U, G = np.ascontiguousarray(U, np.float64), np.ascontiguousarray(G, np.int64)
+    U, G = collapse_edges(x, tris, triangles)
     topo = topology(Mesh(U, G)) if len(G) >= 4 else None
     if topo is None or not (topo.closed and topo.components == 1 and topo.genus == 0):
         return None

@@ -17,6 +17,7 @@ from numba import njit, types
 from numba.extending import intrinsic
 
 from ._orientation import facing_out
+from ._vertex_tables import collapse, edge_heap, has, may_collapse, tables
 
 __all__ = ["simplify", "progressive_sphere"]
 
@@ -52,34 +53,6 @@ def simplify(x: np.ndarray, tris: np.ndarray, target: int, max_valence: int = 12
 
 
 @njit(cache=True)
-def _remove(table, count, i, item):
-    for k in range(count[i]):
-        if table[i, k] == item:
-            count[i] -= 1
-            table[i, k] = table[i, count[i]]
-            return
-
-
-@njit(cache=True)
-def _add(table, count, i, item):
-    for k in range(count[i]):
-        if table[i, k] == item:
-            return
-    if count[i] == table.shape[1]:      # cannot happen on a closed manifold; never write past the row
-        raise ValueError("simplify: a vertex has more neighbours or faces than a closed manifold allows")
-    table[i, count[i]] = item
-    count[i] += 1
-
-
-@njit(cache=True)
-def _has(table, count, i, item):
-    for k in range(count[i]):
-        if table[i, k] == item:
-            return True
-    return False
-
-
-@njit(cache=True)
 def _length(x, a, b):
     d = x[a] - x[b]
     return np.sqrt(_dot(d, d))
@@ -91,26 +64,12 @@ def _collapse(x, tris, target, max_valence, cap):
     ``cap`` (no vertex gains any: the kept one has at most ``max_valence``).
     """
     n = len(x)
-    nbrs = np.empty((n, cap), np.int64)
-    n_nbrs = np.zeros(n, np.int64)
-    faces = np.empty((n, cap), np.int64)
-    n_faces = np.zeros(n, np.int64)
-    alive = np.zeros(n, np.bool_)
+    nbrs, n_nbrs, faces, n_faces, alive = tables(tris, n, cap)
+    lengths = np.empty(tris.shape)
     for f in range(len(tris)):
         for i in range(3):
-            w = tris[f, i]
-            alive[w] = True
-            _add(faces, n_faces, w, f)
-            _add(nbrs, n_nbrs, w, tris[f, (i + 1) % 3])
-            _add(nbrs, n_nbrs, w, tris[f, (i + 2) % 3])
-    heap = [(0.0, 0, 0)]
-    heap.pop()
-    for f in range(len(tris)):
-        for i in range(3):
-            a, b = tris[f, i], tris[f, (i + 1) % 3]
-            if a < b:
-                heap.append((_length(x, a, b), a, b))
-    heapq.heapify(heap)
+            lengths[f, i] = _length(x, tris[f, i], tris[f, (i + 1) % 3])
+    heap = edge_heap(tris, lengths)
     count = int(alive.sum())
     rec_v = np.empty(n, np.int64)
     rec_u = np.empty(n, np.int64)
@@ -122,29 +81,12 @@ def _collapse(x, tris, target, max_valence, cap):
     shared = np.empty(cap, np.int64)
     while count > target and len(heap) > 0:
         _, a, b = heapq.heappop(heap)
-        if not (alive[a] and alive[b] and _has(nbrs, n_nbrs, a, b)):
+        if not (alive[a] and alive[b] and has(nbrs, n_nbrs, a, b)):
             continue
         v, u = (a, b) if n_nbrs[a] <= n_nbrs[b] else (b, a)
         if n_nbrs[u] + n_nbrs[v] - 4 > max_valence:
             continue
-        # the link condition: two faces on the edge, their third corners distinct and the only common neighbours
-        m = 0
-        for j in range(n_faces[v]):
-            f = faces[v, j]
-            if tris[f, 0] == u or tris[f, 1] == u or tris[f, 2] == u:
-                shared[m] = f
-                m += 1
-        if m != 2:
-            continue
-        if shared[0] > shared[1]:
-            shared[0], shared[1] = shared[1], shared[0]
-        o0 = tris[shared[0], 0] + tris[shared[0], 1] + tris[shared[0], 2] - u - v
-        o1 = tris[shared[1], 0] + tris[shared[1], 1] + tris[shared[1], 2] - u - v
-        common = 0
-        for j in range(n_nbrs[u]):
-            if _has(nbrs, n_nbrs, v, nbrs[u, j]):
-                common += 1
-        if o0 == o1 or common != 2:
+        if not may_collapse(tris, nbrs, n_nbrs, faces, n_faces, u, v, shared):
             continue
         base = changed_ptr[k]
         c = 0
@@ -156,27 +98,9 @@ def _collapse(x, tris, target, max_valence, cap):
         changed[base:base + c].sort()
         changed_ptr[k + 1] = base + c
         for r in range(2):
-            f = shared[r]
-            rec_removed[k, r] = f
-            rec_rows[k, r] = tris[f]
-            for i in range(3):
-                _remove(faces, n_faces, tris[f, i], f)
-            tris[f] = -1
-        for j in range(base, base + c):
-            f = changed[j]
-            for i in range(3):
-                if tris[f, i] == v:
-                    tris[f, i] = u
-            _add(faces, n_faces, u, f)
-        n_faces[v] = 0
-        for j in range(n_nbrs[v]):
-            w = nbrs[v, j]
-            _remove(nbrs, n_nbrs, w, v)
-            if w != u:
-                _add(nbrs, n_nbrs, w, u)
-                _add(nbrs, n_nbrs, u, w)
-        n_nbrs[v] = 0
-        alive[v] = False
+            rec_removed[k, r] = shared[r]
+            rec_rows[k, r] = tris[shared[r]]
+        collapse(tris, nbrs, n_nbrs, faces, n_faces, alive, u, v, shared)
         count -= 1
         rec_v[k], rec_u[k] = v, u
         k += 1

@@ -42,7 +42,7 @@ from scipy import sparse
 
 from ..errors import InputError, ParametrizationError
 from ..mesh import Mesh, topology
-from ._balance import DEFAULT_STEPS, SWEEPS, balance, relax_locally, settle
+from ._balance import DEFAULT_STEPS, SWEEPS, balance, relax_locally, settle, sobolev_factor_later
 from ._laplacian import (corner_angles, cotangent_weights, factor_symmetric, laplacian, mean_value_weights, solve_free,
                          triangle_areas, vertex_areas)
 from ._multilevel import UNTANGLE_RINGS, multilevel_start, open_folds
@@ -429,9 +429,11 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
     info: dict = {}
     stages: list[str] = []
     s = None
+    cache: dict | None = None
     if steps is None and len(tris) >= MULTILEVEL_TRIANGLES and used.all():
         if progress is not None:
             progress(f"{len(tris)} triangles: mapping a coarse copy first")
+        cache = sobolev_factor_later(x, tris, used, lap, vertex_area)   # made beside the coarse copy's map
         s, extra = multilevel_start(x, tris, _decimated_map(beta), progress=progress)
         info.update(extra)
         stages.append("multilevel" if s is not None else f"multilevel ({extra['multilevel']})")
@@ -473,7 +475,7 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
         s, done, energy = newton
     else:
         s, done, energy = settle(s, x, tris, rounds, lap, vertex_area, used, float(beta), steps, progress,
-                                 shares=shares)
+                                 shares=shares, cache=cache)
     info["gauss_newton"] = newton is not None
     s[idx] = _align(s[idx], x[idx], vertex_area[idx])
     turn, gain = sampling_rotation(s, x, tris, bend)     # the octahedral image's best sampling of the mesh
