@@ -6,6 +6,8 @@ Nothing is triangulated, merged or reordered.
 """
 from __future__ import annotations
 
+import weakref
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -15,7 +17,30 @@ from numpy.typing import ArrayLike
 
 from ..errors import MeshError
 
-__all__ = ["Mesh", "pad_faces", "reverse_corners"]
+__all__ = ["Mesh", "pad_faces", "reverse_corners", "once"]
+
+_MADE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def once(mesh: Mesh, key: Any, make: Callable[[], Any]) -> Any:
+    """``make()`` of ``mesh``, made once while the mesh lives and handed out again: a mesh's arrays are
+    read-only, so what is made of them alone stays true (its topology, its edges, its triangles: the
+    repairs, the choice of a map, the map and the measurement each ask). Arrays are handed out read-only.
+
+    Examples
+    --------
+    >>> m = Mesh(np.eye(3), [[0, 1, 2]])
+    >>> once(m, "corners", lambda: m.faces.sum()) is once(m, "corners", lambda: None)
+    True
+    """
+    known = _MADE.setdefault(mesh, {})
+    if key not in known:
+        value = make()
+        for a in value if isinstance(value, tuple) else (value,):
+            if isinstance(a, np.ndarray):
+                a.setflags(write=False)
+        known[key] = value
+    return known[key]
 
 
 MAX_PADDED_ENTRIES = 200_000_000     # the padded (F, K) face table: 1.6 GB
@@ -439,6 +464,9 @@ class Mesh:
         """
         if quads not in ("fan", "shorter"):
             raise MeshError(f"quads: expected 'fan' or 'shorter', got {quads!r}")
+        return once(self, ("triangle_corners", quads), lambda: self._triangle_corners(quads))
+
+    def _triangle_corners(self, quads: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         f = self.faces
         quad = self.face_sizes == 4
         turn = self._shorter_turns(quad) if quads == "shorter" and quad.any() else None

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit, prange
-from scipy.spatial import cKDTree
 
 from ..errors import InputError, InputTypeError
 from ._bvh import TriangleTree, morton_codes
@@ -385,6 +384,8 @@ def nearest_on_segments(pts: np.ndarray, seg: np.ndarray, h: float) -> tuple:
     length = np.linalg.norm(b - a, axis=1)
     h = h if h > 0 else float(length.max() or 1.0)
     samples, owner = _along(seg, h)
+    from scipy.spatial import cKDTree      # here: measuring a mesh's surface starts without scipy.spatial
+
     tree = cKDTree(samples)
     d0, _ = tree.query(pts)
     near = tree.query_ball_point(pts, d0 + 0.5 * h * (1 + 1e-9) + 1e-300)

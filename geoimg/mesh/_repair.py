@@ -20,7 +20,7 @@ from scipy import sparse
 from scipy.sparse.csgraph import connected_components
 
 from ..errors import MeshError
-from ._mesh import Mesh, reverse_corners
+from ._mesh import Mesh, once, reverse_corners
 from ._topology import corner_fans, edge_uses
 
 SOUP_SHARE = 0.05      # a mesh with more than this share of its edges shared by 3 faces or more is refused ...
@@ -118,18 +118,34 @@ def drop_degenerate_faces(mesh: Mesh) -> tuple[Mesh, int]:
     return mesh.derived(f[keep], face_source=np.flatnonzero(keep)), int((~keep).sum())
 
 
-def _winding_keys(f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Each face's corners as a set (sorted, padding last) and its winding as seen from its smallest corner
-    (True where the corner after it is smaller than the one before it).
+def _face_sets(mesh: Mesh) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each face's corners as a set, the sets numbered in order: the first face of each set, each face's
+    set and each set's number of faces (one count for :func:`drop_inner_walls` and
+    :func:`drop_duplicate_faces`; triangles by a single integer key, which sorts as the rows do).
+    """
+    return once(mesh, "face_sets", lambda: _count_face_sets(mesh.faces, mesh.n_vertices))
+
+
+def _count_face_sets(f: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    key = np.sort(np.where(f >= 0, f, np.iinfo(np.int64).max), axis=1)     # the corners as a set (padding last)
+    axis: int | None = 0
+    if f.shape[1] == 3 and n < 2 ** 20:
+        key, axis = (key[:, 0] * n + key[:, 1]) * n + key[:, 2], None      # rows sort as these keys do
+    _, first, inverse, counts = np.unique(key, return_index=True, return_inverse=True, return_counts=True, axis=axis)
+    return first, inverse.ravel(), counts
+
+
+def _windings(f: np.ndarray) -> np.ndarray:
+    """Each face's winding as seen from its smallest corner (True where the corner after it is smaller than
+    the one before it).
     """
     valid = f >= 0
-    key = np.sort(np.where(valid, f, np.iinfo(np.int64).max), axis=1)
     sizes = valid.sum(axis=1)
     rows = np.arange(len(f))
     first = np.argmin(np.where(valid, f, np.iinfo(np.int64).max), axis=1)
     after = f[rows, (first + 1) % np.maximum(sizes, 1)]
     before = f[rows, (first - 1) % np.maximum(sizes, 1)]
-    return key, after < before
+    return after < before
 
 
 def drop_inner_walls(mesh: Mesh) -> tuple[Mesh, int]:
@@ -166,12 +182,11 @@ def drop_inner_walls(mesh: Mesh) -> tuple[Mesh, int]:
     (10, 2)
     """
     f = mesh.faces
-    key, winding = _winding_keys(f)
-    _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    inverse = inverse.ravel()
+    _, inverse, counts = _face_sets(mesh)
     twice = counts[inverse] == 2
     if not twice.any():
         return mesh, 0
+    winding = _windings(f)
     ups = np.bincount(inverse[twice], winding[twice].astype(np.int64), minlength=len(counts))
     wall = twice & (ups[inverse] == 1)                    # the two copies run opposite ways
     if not wall.any() or wall.all():
@@ -235,8 +250,7 @@ def drop_duplicate_faces(mesh: Mesh) -> tuple[Mesh, int]:
     ([[0, 1, 2], [0, 1, 3]], 2)
     """
     f = mesh.faces
-    key = np.sort(np.where(f >= 0, f, np.iinfo(np.int64).max), axis=1)     # the corners as a set (padding last)
-    _, first = np.unique(key, axis=0, return_index=True)
+    first = _face_sets(mesh)[0]
     if len(first) == len(f):
         return mesh, 0
     keep = np.zeros(len(f), bool)
@@ -285,6 +299,8 @@ def split_fans(mesh: Mesh) -> tuple[Mesh, np.ndarray, int, int]:
     first[1:] = fan_vertex[1:] != fan_vertex[:-1]
     new_index = np.where(first, fan_vertex, mesh.n_vertices + np.cumsum(~first) - 1)
     extra = fan_vertex[~first]
+    if not len(extra):                                  # one fan at every vertex: the mesh itself
+        return mesh, np.arange(mesh.n_vertices), 0, n_nonmanifold
     pinch_vertices = int(len(np.unique(extra)))
     faces = mesh.faces.copy()
     faces[faces >= 0] = new_index[fan_of_corner]
@@ -380,6 +396,8 @@ def split_components(mesh: Mesh) -> list[tuple[Mesh, np.ndarray]]:
                                     directed=False)
     face_label = label[mesh.n_vertices:]
     labels, sizes = np.unique(face_label, return_counts=True)
+    if len(labels) == 1 and mesh.referenced_vertices().all():
+        return [(mesh, np.arange(mesh.n_vertices))]     # one piece, every vertex on it: the mesh itself
     if len(labels) > MAX_PIECES:
         raise MeshError(f"mesh: {len(labels)} separate pieces (the largest of {int(sizes.max())} faces), more than "
                         f"the {MAX_PIECES} geoimg converts one by one: a soup of faces rather than a surface; "

@@ -8,7 +8,7 @@ from scipy import sparse
 from scipy.sparse.csgraph import connected_components
 
 from ..errors import InputError
-from ._mesh import Mesh
+from ._mesh import Mesh, once
 
 __all__ = ["Topology", "topology", "boundary_loops", "boundary_edges", "edge_uses", "corner_fans"]
 
@@ -122,6 +122,10 @@ def topology(mesh: Mesh) -> Topology:
     >>> t.components, t.boundary_loops, t.genus, t.describe()
     (1, 1, 0, 'open surface with 1 boundary loop (a disk), 1 component')
     """
+    return once(mesh, "topology", lambda: _topology(mesh))
+
+
+def _topology(mesh: Mesh) -> Topology:
     f = mesh.faces
     valid = f >= 0
     a, b = f[valid], mesh.next_vertices()[valid]
@@ -176,6 +180,11 @@ def corner_fans(mesh: Mesh, *, across_nonmanifold: bool = True) -> tuple[np.ndar
     >>> len(set(fan[v == 0].tolist()))                  # the pinch vertex 0 has two fans
     2
     """
+    joins_all = bool(across_nonmanifold) or not (edge_uses(mesh)[4] > 2).any()    # the same fans where no edge
+    return once(mesh, ("corner_fans", joins_all), lambda: _corner_fans(mesh, joins_all))   # has more than two faces
+
+
+def _corner_fans(mesh: Mesh, across_nonmanifold: bool) -> tuple[np.ndarray, np.ndarray]:
     f = mesh.faces
     valid = f >= 0
     corner_v = f[valid]
@@ -248,6 +257,10 @@ def edge_uses(mesh: Mesh) -> tuple:
     >>> counts[inv].tolist()
     [1, 1, 2, 2, 1, 1]
     """
+    return once(mesh, "edge_uses", lambda: _edge_uses(mesh))
+
+
+def _edge_uses(mesh: Mesh) -> tuple:
     f = mesh.faces
     valid = f >= 0
     a, b = f[valid], mesh.next_vertices()[valid]

@@ -33,7 +33,6 @@ from collections.abc import Sequence
 
 import igl
 import numpy as np
-from scipy.optimize import Bounds, LinearConstraint, milp
 from scipy.sparse import coo_matrix, hstack, identity
 from scipy.sparse.csgraph import dijkstra
 
@@ -348,6 +347,8 @@ def _solve_quanta(targets: np.ndarray, unit_of: list, fewest: np.ndarray, least:
     """Whole quanta per unit (at least ``fewest``) and per square's side (at least ``least``), each square's segments
     summing to four times its side, near ``targets`` and ``wanted`` (``scipy.optimize.milp``).
     """
+    from scipy.optimize import Bounds, LinearConstraint, milp    # here: other maps start without scipy.optimize
+
     u, k = len(targets), len(unit_of)
     rows = [c for c, units in enumerate(unit_of) for _ in units]
     A = coo_matrix((np.ones(len(rows)), (rows, [x for units in unit_of for x in units])), shape=(k, u))

@@ -13,7 +13,6 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial import ConvexHull
 
 from .._choices import AXES, DEFAULT_DISK_BALANCE, PARAMETRIZATION_METHODS
 from ..errors import InputTypeError, ParametrizationError
@@ -439,6 +438,8 @@ def _outline_gap(mesh: Mesh, coords: np.ndarray, topo) -> float:
         return 0.0
     xy = coords[loops[0]]
     inside = 0.5 * abs(np.sum(xy[:, 0] * np.roll(xy[:, 1], -1) - xy[:, 1] * np.roll(xy[:, 0], -1)))
+    from scipy.spatial import ConvexHull      # here: choosing a map starts without scipy.spatial
+
     hull = ConvexHull(xy).volume
     return float(max(0.0, 1.0 - inside / hull)) if hull > 0 else 0.0
 

@@ -12,7 +12,6 @@ import warnings
 
 import cv2
 import numpy as np
-from scipy.spatial import cKDTree
 
 from .._budget import check_memory
 from ..image import Domain
@@ -60,6 +59,8 @@ def locate(points: np.ndarray, corners: np.ndarray, candidates: int = CANDIDATES
     ok = np.abs(det) > 1e-14 * np.maximum(scale, 1e-300)
     inverse = np.zeros_like(lifted)
     inverse[ok] = np.linalg.inv(lifted[ok])              # q = b @ M  =>  b = q @ M^-1
+    from scipy.spatial import cKDTree      # here: a conversion without attributes starts without it
+
     tree = cKDTree(corners.mean(axis=1))
     triangle = np.empty(len(points), np.int64)
     bary = np.empty((len(points), 3))

@@ -470,7 +470,7 @@ def _octant_sides() -> np.ndarray:
     """
     out = np.empty((8, 3, 3))
     for oc in range(8):
-        c = np.array(_octant(oc)[3]).reshape(3, 2)
+        c = np.array(_octant.py_func(oc)[3]).reshape(3, 2)      # in Python: no compiling at import
         for k in range(3):
             p, q, r = c[k], c[(k + 1) % 3], c[(k + 2) % 3]
             ga, gb = p[1] - q[1], q[0] - p[0]             # normal to the side q - p

@@ -14,7 +14,6 @@ from typing import Any
 from collections.abc import Callable
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..errors import InputError
 from ..image import Domain
@@ -191,6 +190,8 @@ def _reach(fm, s, s_face, s_map, weights, n, tol):
             radius = np.full_like(sigma, np.inf)
     else:
         k = min(int(n), len(fm.d))
+        from scipy.spatial import cKDTree      # here: a conversion by other weights starts without it
+
         dist, _ = cKDTree(fm.centres).query(fm.centres, k=k)
         radius = np.asarray(dist).reshape(len(fm.d), -1)[:, -1].copy()
         radius = np.maximum(radius, fm.d * 1e-6)  # a lone face still covers itself

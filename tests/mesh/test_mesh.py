@@ -118,3 +118,17 @@ def test_a_mesh_of_quads_only_splits_as_the_general_rule_does(quads):
         for mine, general in zip(q.triangle_corners(quads), mixed.triangle_corners(quads)):
             assert np.array_equal(mine, general[:len(mine)])
 
+
+
+def test_what_is_made_of_a_mesh_is_made_once_and_read_only():
+    from geoimg.mesh import topology
+    from geoimg.mesh._topology import edge_uses
+    m = Mesh([[0, 0, 0], [2, 0, 0], [3, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]])
+    fan, shorter = m.triangulate(), m.triangulate("shorter")
+    assert m.triangulate()[0] is fan[0] and m.triangulate("shorter")[0] is shorter[0]
+    assert fan[0].tolist() == [[0, 1, 2], [0, 2, 3]] and shorter[0].tolist() == [[1, 2, 3], [1, 3, 0]]
+    assert topology(m) is topology(m) and edge_uses(m)[4] is edge_uses(m)[4]
+    with pytest.raises(ValueError):
+        fan[0][0, 0] = 3                       # shared with every later caller: nobody may change it
+    other = Mesh(m.vertices, [[0, 1, 3]])      # another mesh of the same vertices counts its own
+    assert other.triangulate()[0].tolist() == [[0, 1, 3]] and topology(other).faces == 1

@@ -15,6 +15,8 @@ from geoimg.mesh import Mesh, repair, topology
 from geoimg.mesh._mesh import LARGE_POLYGON, _halving
 from geoimg.mesh._repair import MAX_PIECES, drop_inner_walls, refuse_face_soup
 
+import meshes
+
 from helpers import DATA
 
 
@@ -198,3 +200,25 @@ def test_an_exr_whose_header_claims_66_gb_is_refused_in_geoimg_words(tmp_path, c
     assert len(err.strip().splitlines()) == 1
     assert "header declares an image of 66.3 GiB in a file of" in err and "GEOIMG_MAX_MEMORY" in err
     assert "limits:" not in err and "OIIO" not in err
+
+
+def test_a_mesh_that_needs_no_repair_comes_back_as_it_is():
+    """One piece, one fan at every vertex, faces that agree: the repairs hand back the mesh itself (what was
+    counted of it, its topology and edges, is then not counted again)."""
+    from geoimg.mesh._repair import repair, split_components, split_fans
+    ball = meshes.icosphere(2)
+    assert split_fans(ball)[0] is ball and split_components(ball)[0][0] is ball
+    (only,) = repair(ball)
+    assert only.mesh is ball and np.array_equal(only.source_vertices, np.arange(ball.n_vertices))
+
+
+def test_triangles_and_polygons_stored_twice_are_found_alike():
+    """Triangles' corner sets are counted by one integer key, polygons' by rows: the same faces go."""
+    from geoimg.mesh._repair import drop_duplicate_faces
+    v = np.random.default_rng(0).normal(size=(6, 3))
+    tris = [[0, 1, 2], [2, 1, 0], [1, 2, 3], [3, 4, 5], [5, 3, 4]]
+    kept, dropped = drop_duplicate_faces(geoimg.Mesh(v, tris))
+    assert kept.faces.tolist() == [[0, 1, 2], [1, 2, 3], [3, 4, 5]] and dropped == 2
+    quads = [[0, 1, 2, 3], [3, 2, 1, 0], [1, 2, 3, 4], [0, 1, 2, -1], [2, 0, 1, -1]]
+    kept, dropped = drop_duplicate_faces(geoimg.Mesh(v, [[c for c in q if c >= 0] for q in quads]))
+    assert kept.n_faces == 3 and dropped == 2
