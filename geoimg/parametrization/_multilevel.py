@@ -128,10 +128,9 @@ def _local_descent(s, near, moving, eps, floor, steps):
         low = d < eps
         r = (eps - d[low])[:, None]
         t, a, b, c = near[low], a[low], b[low], c[low]
-        g = np.zeros_like(s)
-        np.add.at(g, t[:, 0], -r * np.cross(b, c))
-        np.add.at(g, t[:, 1], -r * np.cross(c, a))
-        np.add.at(g, t[:, 2], -r * np.cross(a, b))
+        pull = np.concatenate([-r * np.cross(b, c), -r * np.cross(c, a), -r * np.cross(a, b)])
+        at = t.T.ravel()                        # the corners in np.add.at's order: all first ones, then ...
+        g = np.stack([np.bincount(at, pull[:, k], minlength=len(s)) for k in range(3)], axis=1)
         g[~moving] = 0.0
         g -= np.einsum("ij,ij->i", g, s)[:, None] * s             # tangent to the sphere
         h = local_sizes(s, edges, ignore_below=1e-9)       # vertices on one point move apart by other edges
