@@ -33,7 +33,9 @@ DEFERRED = {("geoimg.cli", "geoimg._commands"),     # the parser runs without th
             ("geoimg.surface._gaussian_planar", "scipy.spatial"),      # the paper's weights alone
             ("geoimg.surface._attributes", "scipy.spatial"),           # colours alone
             ("geoimg.parametrization._parametrize", "scipy.spatial"),  # a disk map's outline alone
-            ("geoimg.parametrization._charts", "scipy.optimize")}      # charts alone
+            ("geoimg.parametrization._charts", "scipy.optimize"),      # charts alone
+            ("geoimg.image._image", "cv2"),                            # a notebook's picture alone
+            ("geoimg.surface._attributes", "cv2")}                     # a texture alone
 HEAVY = ("numba", "trimesh", "scipy", "cv2", "OpenImageIO", "skimage", "igl", "PIL")
 
 

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import warnings
 
-import cv2
 import numpy as np
 
 from .._budget import check_memory
@@ -100,6 +99,8 @@ def _texture_lookup(texture: np.ndarray, uv: np.ndarray) -> np.ndarray:
     """Bilinear texture colours in [0, 1] at texture coordinates (P, 2), OBJ's (0, 0) the bottom-left
     corner; coordinates outside [0, 1] repeat the texture.
     """
+    import cv2          # here: a conversion without a texture starts without OpenCV
+
     h, w = texture.shape[:2]
     n = len(uv)
     width = 1024                                          # OpenCV's maps: under 32767 pixels a side
