@@ -60,7 +60,8 @@ def bending(x: np.ndarray, tris: np.ndarray) -> np.ndarray:
     face_normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     area = triangle_areas(x, tris)
     corner_normal = np.repeat(face_normal, 3, axis=0)      # area-weighted, summed per vertex in order (np.add.at's)
-    normal = np.stack([np.bincount(tris.ravel(), corner_normal[:, c], minlength=n) for c in range(3)], axis=1)
+    normal: np.ndarray = np.stack([np.bincount(tris.ravel(), corner_normal[:, c], minlength=n) for c in range(3)],
+                                  axis=1)
     normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
     cot = np.clip(corner_cotangents(x, tris), 0.0, COT_CAP)
     energy = np.zeros(len(tris))                    # twice the normals' Dirichlet energy over each triangle
