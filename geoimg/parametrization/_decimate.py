@@ -7,7 +7,8 @@ would break the link condition (or flatten a tetrahedron) is refused, and the re
 once a collapse beside it has changed the faces around it. Here in numba, without the GIL, so that the fine
 mesh's Sobolev factor is made meanwhile (:func:`._balance.sobolev_factor_later`): the same coarse mesh as
 libigl's, bit for bit, on the twelve closed meshes of 14k-100k faces measured, 1.4-2.0x faster
-(``benchmarks/bench_decimate.py``).
+(``benchmarks/bench_decimate.py``). Edges of exactly one length go by their vertex numbers here, by libigl's
+edge numbers there: where many tie (a UV sphere's rings) the two copies differ, each as good.
 
 Examples
 --------

@@ -84,3 +84,15 @@ def test_a_factor_that_fails_in_the_background_fails_where_it_is_used():
     cache = sobolev_factor_later(x, tris, np.ones(len(x), bool))
     with pytest.raises(RuntimeError, match="singular"):
         sobolev_factor(x, tris, np.ones(len(x), bool), cache=cache).solve(np.ones(len(x)))
+
+
+def test_poles_of_high_valence_and_edges_of_one_length():
+    """A UV sphere: poles of valence 128 (wider than the rows' least width) and rings of edges that tie."""
+    import trimesh
+    ball = trimesh.creation.uv_sphere(count=[64, 64])
+    x, tris = np.asarray(ball.vertices), np.asarray(ball.faces, np.int64)
+    assert np.bincount(tris.ravel()).max() == 128
+    U, G = decimate(x, tris, 2000)
+    t = topology(Mesh(U, G))
+    assert len(G) == 2000 and t.closed and t.genus == 0 and t.components == 1
+    assert np.allclose(np.linalg.norm(U, axis=1), 1.0, atol=0.05)       # midpoints of short edges stay near it
