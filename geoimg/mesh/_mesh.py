@@ -412,7 +412,8 @@ class Mesh:
         -------
         triangles : numpy.ndarray, shape (T, 3)
         face_index : numpy.ndarray, shape (T,)
-            The face each triangle came from.
+            The face each triangle came from. Both are made once per mesh and ``quads`` and handed out
+            again, read-only (copy them to change them).
 
         Parameters
         ----------
