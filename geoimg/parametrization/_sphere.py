@@ -377,10 +377,9 @@ def sphere_coords(mesh: Mesh, *, steps: int | None = None, beta: float = DEFAULT
         30 steps (``MULTILEVEL_STEPS``) from it, not swept; where that gives no one-to-one start, the direct
         maps are used, and coarse to fine where the conformal map folds. By default the balancing of a map
         made otherwise is followed by single-vertex sweeps and balanced again (``SPHERE_SWEEP_ROUNDS``); a
-        map made directly (not from
-        the coarse copy) of at most ``NEWTON_VERTICES`` vertices is balanced by Gauss-Newton steps instead
-        (the Sobolev steps and sweeps where they stall). Given ``steps``, the decimated copy is not used,
-        no Gauss-Newton steps are taken, and the balancing is not swept.
+        map made directly (not from the coarse copy) of at most ``NEWTON_VERTICES`` vertices is balanced by
+        Gauss-Newton steps instead (the Sobolev steps and sweeps where they stall). Given ``steps``, the
+        decimated copy is not used, no Gauss-Newton steps are taken, and the balancing is not swept.
     beta : float, default 0.3
         Weight of angle (conformal) distortion against area distortion while balancing.
     progress : callable, optional
