@@ -90,7 +90,8 @@ def _collapse_to(x, tris, target, cap):
 
 def decimate(x: np.ndarray, tris: np.ndarray, triangles: int) -> tuple[np.ndarray, np.ndarray]:
     """The closed manifold triangle mesh ``x, tris`` decimated to at most ``triangles`` triangles (fewer
-    collapses where no edge may go); the inputs are left as they are.
+    collapses where no edge may go; none where it has no more: libigl's collapses one edge even then); the
+    inputs are left as they are.
 
     Parameters
     ----------
